@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# s3m set-up: installs every Debian 12 package the project needs and builds in Release.
+# Non-interactive and idempotent; safe to run again. Usage: scripts/setup.sh [--with-ros] [--no-build]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+with_ros=0
+build=1
+for arg in "$@"; do
+  case "$arg" in
+    --with-ros) with_ros=1 ;;
+    --no-build) build=0 ;;
+    *) echo "setup.sh: unknown option '$arg' (expected --with-ros or --no-build)" >&2; exit 2 ;;
+  esac
+done
+
+packages=(
+  build-essential cmake ninja-build pkg-config ccache git
+  libopencv-dev libeigen3-dev libceres-dev liboctomap-dev libembree-dev libtbb-dev
+  libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-numpy python3-matplotlib python3-torch python3-onnx
+)
+if [ "$with_ros" = 1 ]; then
+  packages+=(ros-core-dev libroscpp-dev librosbag-dev libsensor-msgs-dev libcv-bridge-dev
+             libtf2-ros-dev libnav-msgs-dev libgeometry-msgs-dev)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "setup.sh: installing ${#missing[@]} Debian packages: ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" = 0 ] || SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "setup.sh: all Debian packages present"
+fi
+
+if [ "$build" = 1 ]; then
+  ros_flag=OFF
+  [ "$with_ros" = 1 ] && ros_flag=ON
+  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DS3M_WITH_ROS=$ros_flag
+  cmake --build build -j "$(nproc)"
+  echo "setup.sh: built into build/ (CLI: build/src/apps/s3m)"
+fi

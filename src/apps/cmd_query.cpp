@@ -1,0 +1,13 @@
+// Not yet implemented: issue #8 replaces this file with the real command.
+#include "commands.hpp"
+#include "s3m/core/error.hpp"
+
+namespace s3m::apps {
+
+void register_query(CLI::App& app) {
+  auto* cmd = app.add_subcommand("query", "Query a semantic map (not implemented yet, issue #8)");
+  cmd->allow_extras();
+  cmd->callback([] { throw Error("'s3m query' is not implemented yet (issue #8)"); });
+}
+
+}  // namespace s3m::apps

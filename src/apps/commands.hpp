@@ -1,0 +1,17 @@
+#pragma once
+// Each sub-command lives in its own cmd_<name>.cpp and registers itself on the root app.
+// The callback throws s3m::Error on failure; main() turns that into a message and exit code 1.
+#include <CLI/CLI.hpp>
+
+namespace s3m::apps {
+
+void register_eval(CLI::App& app);     // trajectory evaluation (ATE/RPE, plots)
+void register_sim(CLI::App& app);      // synthetic RGB-D sequences
+void register_run(CLI::App& app);      // full pipeline on a dataset
+void register_demo(CLI::App& app);     // simulate + run + report, no arguments
+void register_segeval(CLI::App& app);  // segmentation evaluation
+void register_query(CLI::App& app);    // semantic map queries
+void register_export(CLI::App& app);   // map export (PLY, ColorOcTree, .bt)
+void register_vocab(CLI::App& app);    // bag-of-words vocabulary training
+
+}  // namespace s3m::apps

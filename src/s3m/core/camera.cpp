@@ -1,0 +1,62 @@
+#include "s3m/core/camera.hpp"
+
+#include <cmath>
+
+#include "s3m/core/error.hpp"
+
+namespace s3m {
+
+void PinholeCamera::validate() const {
+  auto finite_positive = [](double v) { return std::isfinite(v) && v > 0; };
+  require(finite_positive(fx) && finite_positive(fy),
+          "camera: focal lengths fx, fy must be finite and > 0 (got fx=" + std::to_string(fx) +
+              ", fy=" + std::to_string(fy) + ")");
+  require(std::isfinite(cx) && std::isfinite(cy), "camera: principal point cx, cy must be finite");
+  require(width > 0 && height > 0 && width <= 16384 && height <= 16384,
+          "camera: width and height must be in 1..16384 (got " + std::to_string(width) + "x" +
+              std::to_string(height) + ")");
+  require(finite_positive(depth_factor),
+          "camera: depth_factor must be finite and > 0 (got " + std::to_string(depth_factor) + ")");
+  for (double d : dist) require(std::isfinite(d), "camera: distortion coefficients must be finite");
+  require(std::isfinite(bf) && bf >= 0, "camera: bf (baseline times fx) must be finite and >= 0");
+}
+
+bool PinholeCamera::has_distortion() const {
+  for (double d : dist)
+    if (d != 0.0) return true;
+  return false;
+}
+
+PinholeCamera PinholeCamera::scaled(double s) const {
+  PinholeCamera c = *this;
+  c.fx *= s;
+  c.fy *= s;
+  // Pixel-centre convention: centre of pixel 0 stays at 0 after scaling about the corner (-0.5, -0.5).
+  c.cx = (cx + 0.5) * s - 0.5;
+  c.cy = (cy + 0.5) * s - 0.5;
+  c.width = static_cast<int>(std::lround(width * s));
+  c.height = static_cast<int>(std::lround(height * s));
+  c.bf *= s;
+  return c;
+}
+
+std::optional<PinholeCamera> camera_preset(const std::string& name) {
+  // Values from the TUM RGB-D benchmark's "Intrinsic Camera Calibration of the Kinect" page.
+  PinholeCamera c;
+  c.depth_factor = 5000.0;
+  if (name == "tum_fr1") {
+    c.fx = 517.3; c.fy = 516.5; c.cx = 318.6; c.cy = 255.3;
+    c.dist = {0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
+  } else if (name == "tum_fr2") {
+    c.fx = 520.9; c.fy = 521.0; c.cx = 325.1; c.cy = 249.7;
+    c.dist = {0.2312, -0.7849, -0.0033, -0.0001, 0.9172};
+  } else if (name == "tum_fr3") {
+    c.fx = 535.4; c.fy = 539.2; c.cx = 320.1; c.cy = 247.6;
+    c.dist = {0, 0, 0, 0, 0};
+  } else {
+    return std::nullopt;
+  }
+  return c;
+}
+
+}  // namespace s3m

@@ -1,0 +1,15 @@
+#pragma once
+// One RGB-D observation as it flows through the system.
+#include <opencv2/core.hpp>
+
+namespace s3m {
+
+struct RgbdFrame {
+  int index = 0;         // position in the sequence (0-based)
+  double t_s = 0.0;      // timestamp [s]
+  cv::Mat rgb;           // CV_8UC3, BGR channel order (OpenCV convention)
+  cv::Mat depth_m;       // CV_32FC1, metres; 0 or NaN = no measurement
+  cv::Mat labels;        // optional CV_16UC1 ground-truth class ids (simulator); empty when unknown
+};
+
+}  // namespace s3m

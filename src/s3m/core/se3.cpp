@@ -1,0 +1,87 @@
+#include "s3m/core/se3.hpp"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+
+namespace s3m {
+
+SE3 make_se3(const Vec3& t_m, const Quat& q) {
+  SE3 T = SE3::Identity();
+  T.linear() = q.normalized().toRotationMatrix();
+  T.translation() = t_m;
+  return T;
+}
+
+SE3 make_se3(const Mat3& R, const Vec3& t_m) {
+  SE3 T = SE3::Identity();
+  T.linear() = R;
+  T.translation() = t_m;
+  return T;
+}
+
+Mat3 skew(const Vec3& v) {
+  Mat3 S;
+  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return S;
+}
+
+Mat3 so3_exp(const Vec3& phi) {
+  const double theta = phi.norm();
+  if (theta < 1e-12) return Mat3::Identity() + skew(phi);
+  return Eigen::AngleAxisd(theta, phi / theta).toRotationMatrix();
+}
+
+Vec3 so3_log(const Mat3& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+double rotation_angle_rad(const Mat3& R) {
+  const double c = std::clamp((R.trace() - 1.0) * 0.5, -1.0, 1.0);
+  return std::acos(c);
+}
+
+namespace {
+// Left Jacobian of SO(3) and its inverse, needed to map translations of the twist.
+Mat3 left_jacobian(const Vec3& phi) {
+  const double theta = phi.norm();
+  const Mat3 K = skew(phi);
+  if (theta < 1e-8) return Mat3::Identity() + 0.5 * K;
+  const double t2 = theta * theta;
+  return Mat3::Identity() + (1 - std::cos(theta)) / t2 * K + (theta - std::sin(theta)) / (t2 * theta) * K * K;
+}
+}  // namespace
+
+SE3 se3_exp(const Vec6& xi) {
+  const Vec3 rho = xi.head<3>();
+  const Vec3 phi = xi.tail<3>();
+  return make_se3(so3_exp(phi), left_jacobian(phi) * rho);
+}
+
+Vec6 se3_log(const SE3& T) {
+  const Vec3 phi = so3_log(T.linear());
+  Vec6 xi;
+  xi.head<3>() = left_jacobian(phi).inverse() * T.translation();
+  xi.tail<3>() = phi;
+  return xi;
+}
+
+SE3 orthonormalized(const SE3& T) {
+  Eigen::JacobiSVD<Mat3> svd(T.linear(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Mat3 R = svd.matrixU() * svd.matrixV().transpose();
+  if (R.determinant() < 0) {
+    Mat3 U = svd.matrixU();
+    U.col(2) *= -1;
+    R = U * svd.matrixV().transpose();
+  }
+  return make_se3(R, T.translation());
+}
+
+SE3 interpolate(const SE3& T0, const SE3& T1, double s) {
+  const Quat q0(T0.linear()), q1(T1.linear());
+  const Vec3 t = (1 - s) * T0.translation() + s * T1.translation();
+  return make_se3(t, q0.slerp(s, q1));
+}
+
+}  // namespace s3m

@@ -1,0 +1,37 @@
+#pragma once
+// Rigid transforms. Naming: T_a_b maps points expressed in frame b into frame a,
+// so p_a = T_a_b * p_b and T_a_c = T_a_b * T_b_c. Translations in metres, angles in radians.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace s3m {
+
+using SE3 = Eigen::Isometry3d;
+using Vec3 = Eigen::Vector3d;
+using Vec6 = Eigen::Matrix<double, 6, 1>;  // twist [rho (m); phi (rad)]
+using Mat3 = Eigen::Matrix3d;
+using Quat = Eigen::Quaterniond;
+
+// Builds T from a translation [m] and a (not necessarily normalised) quaternion.
+SE3 make_se3(const Vec3& t_m, const Quat& q);
+SE3 make_se3(const Mat3& R, const Vec3& t_m);
+
+// Rotation / twist exponential and logarithm maps (SO(3), SE(3)).
+Mat3 so3_exp(const Vec3& phi_rad);
+Vec3 so3_log(const Mat3& R);
+SE3 se3_exp(const Vec6& xi);
+Vec6 se3_log(const SE3& T);
+
+// Rotation angle of R in radians, in [0, pi].
+double rotation_angle_rad(const Mat3& R);
+
+// Re-orthonormalises the rotation part (SVD) so accumulated products stay in SO(3).
+SE3 orthonormalized(const SE3& T);
+
+// Geodesic interpolation between T0 (s=0) and T1 (s=1).
+SE3 interpolate(const SE3& T0, const SE3& T1, double s);
+
+// Skew-symmetric matrix [v]x.
+Mat3 skew(const Vec3& v);
+
+}  // namespace s3m

@@ -1,0 +1,29 @@
+#include "s3m/core/yaml_util.hpp"
+
+#include <algorithm>
+#include <filesystem>
+
+namespace s3m {
+
+YAML::Node load_yaml_file(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw ParseError(path, 0, "file not found", "a YAML file");
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw ParseError(path, e.mark.line + 1, "YAML syntax error: " + e.msg, "valid YAML");
+  }
+}
+
+void check_known_keys(const YAML::Node& node, const std::vector<std::string>& known, const std::string& ctx) {
+  if (!node.IsMap()) return;
+  for (const auto& kv : node) {
+    const auto key = kv.first.as<std::string>();
+    if (std::find(known.begin(), known.end(), key) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw ParseError(ctx, kv.first.Mark().line + 1, "unknown key '" + key + "'", "one of: " + list);
+    }
+  }
+}
+
+}  // namespace s3m

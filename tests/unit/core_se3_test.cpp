@@ -1,0 +1,72 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "s3m/core/se3.hpp"
+
+using namespace s3m;
+
+namespace {
+SE3 random_pose(std::mt19937& rng) {
+  std::normal_distribution<double> n(0, 1);
+  Vec6 xi;
+  for (int i = 0; i < 6; ++i) xi[i] = n(rng);
+  return se3_exp(xi);
+}
+}  // namespace
+
+TEST(Se3, ExpLogRoundTrip) {
+  std::mt19937 rng(42);
+  for (int i = 0; i < 200; ++i) {
+    std::normal_distribution<double> n(0, 0.8);
+    Vec6 xi;
+    for (int k = 0; k < 6; ++k) xi[k] = n(rng);
+    if (xi.tail<3>().norm() > 3.0) continue;  // log is unique only for angles < pi
+    EXPECT_LT((se3_log(se3_exp(xi)) - xi).norm(), 1e-9);
+  }
+}
+
+TEST(Se3, QuaternionRoundTrip) {
+  std::mt19937 rng(1);
+  for (int i = 0; i < 100; ++i) {
+    const SE3 T = random_pose(rng);
+    const Quat q(T.linear());
+    const SE3 T2 = make_se3(T.translation(), q);
+    EXPECT_LT((T.matrix() - T2.matrix()).norm(), 1e-12);
+  }
+}
+
+TEST(Se3, CompositionFollowsFrameNames) {
+  // T_w_r = T_w_c * T_c_r : a point at the robot origin lands where the calibration puts it.
+  const SE3 T_w_c = make_se3(Vec3(1, 2, 3), Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ())));
+  const SE3 T_c_r = make_se3(Vec3(0.1, 0, 0), Quat::Identity());
+  const SE3 T_w_r = T_w_c * T_c_r;
+  // Robot origin in camera frame is (0.1,0,0); rotated 90 deg about z gives (0,0.1,0) + (1,2,3).
+  EXPECT_LT((T_w_r.translation() - Vec3(1, 2.1, 3)).norm(), 1e-12);
+}
+
+TEST(Se3, KnownExpValues) {
+  Vec6 xi = Vec6::Zero();
+  xi[5] = M_PI / 2;  // 90 deg about z, no translation
+  const SE3 T = se3_exp(xi);
+  EXPECT_NEAR((T * Vec3(1, 0, 0) - Vec3(0, 1, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR(rotation_angle_rad(T.linear()), M_PI / 2, 1e-12);
+}
+
+TEST(Se3, OrthonormalizeFixesDrift) {
+  SE3 T = make_se3(Vec3(1, 0, 0), Quat(Eigen::AngleAxisd(0.3, Vec3::UnitX())));
+  T.linear()(0, 1) += 1e-4;
+  const SE3 Tn = orthonormalized(T);
+  EXPECT_LT((Tn.linear() * Tn.linear().transpose() - Mat3::Identity()).norm(), 1e-12);
+  EXPECT_NEAR(Tn.linear().determinant(), 1.0, 1e-12);
+}
+
+TEST(Se3, InterpolateEndpointsAndMidpoint) {
+  const SE3 A = make_se3(Vec3(0, 0, 0), Quat::Identity());
+  const SE3 B = make_se3(Vec3(2, 0, 0), Quat(Eigen::AngleAxisd(1.0, Vec3::UnitY())));
+  EXPECT_LT((interpolate(A, B, 0).matrix() - A.matrix()).norm(), 1e-12);
+  EXPECT_LT((interpolate(A, B, 1).matrix() - B.matrix()).norm(), 1e-12);
+  const SE3 M = interpolate(A, B, 0.5);
+  EXPECT_NEAR(M.translation().x(), 1.0, 1e-12);
+  EXPECT_NEAR(rotation_angle_rad(M.linear()), 0.5, 1e-12);
+}
