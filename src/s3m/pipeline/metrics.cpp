@@ -1,0 +1,123 @@
+#include "s3m/pipeline/metrics.hpp"
+
+#include <filesystem>
+
+#include "s3m/core/classes.hpp"
+#include "s3m/io/atomic_file.hpp"
+#include "s3m/pipeline/evaluation.hpp"
+
+namespace s3m::pipeline {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+json timings_json(const StageTimings& t) {
+  json j = json::object();
+  for (const auto& [stage, s] : t.summary())
+    j[stage] = {{"mean", s.mean_ms}, {"p50", s.p50_ms}, {"p95", s.p95_ms}, {"max", s.max_ms}, {"count", s.count}};
+  return j;
+}
+
+json per_class_json(const std::map<ClassId, double>& iou) {
+  json j = json::object();
+  const ClassList& classes = indoor_classes();
+  for (const auto& [id, v] : iou) j[id < classes.size() ? classes.at(id).name : std::to_string(id)] = v;
+  return j;
+}
+
+json classes_json() {
+  json j = json::array();
+  for (const auto& c : indoor_classes().all()) j.push_back({{"id", c.id}, {"name", c.name}, {"rgb", {c.r, c.g, c.b}}});
+  return j;
+}
+
+json segmentation_json(const Pipeline& p) {
+  const semantics::SegMetrics m = p.confusion().metrics();
+  if (m.evaluated_px == 0) return json::object();
+  std::map<ClassId, double> iou;
+  for (ClassId c : m.evaluated) iou[c] = m.iou[c];
+  return {{"miou", m.miou},
+          {"pixel_accuracy", m.pixel_accuracy},
+          {"per_class_iou", per_class_json(iou)},
+          {"frames", p.counters().segmented},
+          {"note", "argmax of each segmented frame vs the dataset's label image; unknown (0) not evaluated"}};
+}
+
+json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& dataset_dir) {
+  const MapIntegrator* map = p.map();
+  if (!map) return json::object();
+  const PipelineCounters& c = p.counters();
+  json j = map->describe();
+  j["kept_clouds"] = p.kept_clouds().size();
+  j["kept_clouds_mb"] = p.kept_clouds().bytes() / 1e6;
+  j["raw_cloud_points"] = c.raw_points;
+  j["raw_cloud_bytes"] = c.raw_points * kRawPointBytes;
+  j["inserted_points"] = c.inserted_points;
+  j["rebuilds"] = c.rebuilds;
+  if (!paths.map_ot.empty() && fs::exists(paths.map_ot)) {
+    const auto bytes = fs::file_size(paths.map_ot);
+    j["file_bytes"] = bytes;
+    if (bytes > 0) j["raw_over_file_ratio"] = static_cast<double>(c.raw_points * kRawPointBytes) / bytes;
+  }
+  if (const std::string gt = find_gt_voxel_map(dataset_dir); !gt.empty()) {
+    const MapScore s = score_map(*map, gt);
+    j["gt_voxel_map"] = gt;
+    j["miou"] = s.miou;
+    j["per_class_iou"] = per_class_json(s.per_class_iou);
+    j["gt_voxels_observed"] = s.gt_observed;
+    j["gt_voxels"] = s.gt_total;
+  }
+  return j;
+}
+
+}  // namespace
+
+std::string find_gt_voxel_map(const std::string& dataset_dir) {
+  for (const char* name : {"gt_voxels.txt", "groundtruth_voxels.txt", "gt_voxel_map.txt"}) {
+    const fs::path p = fs::path(dataset_dir) / name;
+    if (fs::exists(p)) return p.string();
+  }
+  return "";
+}
+
+json compute_metrics(const Pipeline& p, const io::TumDataset& dataset, const PipelineConfig& config,
+                     const RunInfo& info, const OutputPaths& paths) {
+  const PipelineCounters& c = p.counters();
+  json m;
+  m["inputs"] = {{"dataset", info.dataset_dir},
+                 {"config", info.config_file.empty() ? "(built-in defaults)" : info.config_file},
+                 {"poses", info.poses},
+                 {"segmenter", info.segmenter},
+                 {"mode", config.threads.deterministic ? "deterministic (1 thread)" : "threaded"}};
+  m["frames"] = c.frames;
+  m["frames_total"] = info.frames_total;
+  m["interrupted"] = info.interrupted;
+  m["tracked"] = c.tracked;
+  m["keyframes"] = c.keyframes;
+  m["integrated"] = c.integrated;
+  m["corrections"] = c.corrections;
+  m["wall_time_s"] = info.wall_time_s;
+  m["fps"] = info.wall_time_s > 0 ? c.frames / info.wall_time_s : 0.0;
+  json lost = json::object();
+  for (const auto& f : p.frames())
+    if (!f.tracked) lost[f.state] = lost.value(f.state, 0) + 1;
+  m["untracked_by_state"] = lost;
+  m["timings_ms"] = timings_json(p.timings());
+  m["trajectory"] = evaluate_trajectory(p, dataset, config, paths);
+  m["segmentation"] = segmentation_json(p);
+  m["map"] = map_json(p, paths, dataset.dir());
+  m["classes"] = classes_json();
+  m["outputs"] = {{"trajectory_camera", paths.trajectory_camera},
+                  {"trajectory_robot", paths.trajectory_robot},
+                  {"keyframes", paths.keyframes},
+                  {"map_ot", paths.map_ot},
+                  {"map_ply", paths.map_ply}};
+  return m;
+}
+
+void write_metrics(const json& metrics, const OutputPaths& paths) {
+  io::write_text_atomic(paths.metrics, metrics.dump(2) + "\n");
+}
+
+}  // namespace s3m::pipeline

@@ -1,0 +1,33 @@
+#pragma once
+// metrics.json of a run: counts, timings per stage (mean/p50/p95 ms), trajectory error against
+// ground truth (ATE/RPE), segmentation mIoU against ground-truth labels, map statistics and map
+// mIoU against a ground-truth voxel map, whenever the dataset provides them.
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "s3m/io/tum_dataset.hpp"
+#include "s3m/pipeline/outputs.hpp"
+#include "s3m/pipeline/pipeline.hpp"
+
+namespace s3m::pipeline {
+
+struct RunInfo {
+  std::string dataset_dir, config_file, poses, segmenter;
+  double wall_time_s = 0;
+  bool interrupted = false;
+  std::size_t frames_total = 0;
+};
+
+// Files a dataset may carry for evaluation (s3m simulator output): ground-truth voxel map.
+std::string find_gt_voxel_map(const std::string& dataset_dir);  // "" when absent
+
+nlohmann::json compute_metrics(const Pipeline& pipeline, const io::TumDataset& dataset,
+                               const PipelineConfig& config, const RunInfo& info, const OutputPaths& paths);
+
+// Side effect: with ground truth, evaluate_trajectory() writes the plot script's inputs
+// (report/trajectory_aligned.txt, report/groundtruth.txt, report/rpe_series.txt).
+// Writes metrics.json atomically.
+void write_metrics(const nlohmann::json& metrics, const OutputPaths& paths);
+
+}  // namespace s3m::pipeline

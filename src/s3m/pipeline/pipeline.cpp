@@ -1,0 +1,212 @@
+#include "s3m/pipeline/pipeline.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include "s3m/core/error.hpp"
+#include "s3m/core/timing.hpp"
+
+namespace s3m::pipeline {
+
+Pipeline::Pipeline(PipelineConfig config, PinholeCamera camera, std::unique_ptr<PoseSource> poses,
+                   std::unique_ptr<semantics::Segmenter> segmenter, std::unique_ptr<MapIntegrator> map)
+    : config_(std::move(config)),
+      camera_(camera),
+      poses_(std::move(poses)),
+      segmenter_(std::move(segmenter)),
+      map_(std::move(map)) {
+  require(poses_ != nullptr, "Pipeline: a pose source is required");
+  config_.validate();
+  camera_.validate();
+  poses_->set_correction_listener([this](const std::map<KeyframeId, SE3>& T_w_kf) {
+    std::lock_guard lock(corrections_mutex_);
+    for (const auto& [id, T] : T_w_kf) pending_corrections_.insert_or_assign(id, T);
+  });
+  if (!config_.threads.deterministic) start_threads();
+}
+
+Pipeline::~Pipeline() {
+  try {
+    finish();
+  } catch (...) {  // a destructor must not throw; finish() already reported through its caller
+  }
+}
+
+void Pipeline::process(RgbdFrame frame) {
+  if (!threads_.empty()) {
+    {
+      std::lock_guard lock(error_mutex_);
+      if (error_) std::rethrow_exception(error_);
+    }
+    if (q_track_->push(std::move(frame))) return;  // blocks while the tracker is behind (back-pressure)
+    std::lock_guard lock(error_mutex_);
+    if (error_) std::rethrow_exception(error_);
+    throw Error("Pipeline::process() called after finish()");
+  }
+  Work w = step1_track(std::move(frame));
+  step2_segment(w);
+  steps3to5_map(w);
+}
+
+// 1. track: pose, state, keyframe decision. Decides whether the frame will be integrated.
+Pipeline::Work Pipeline::step1_track(RgbdFrame frame) {
+  Stopwatch sw;
+  Work w;
+  w.track = poses_->track(frame);
+  timings_.add("track", sw.elapsed_ms());
+  const bool wanted = config_.flow.integrate == IntegrateMode::kAllFrames || w.track.keyframe;
+  w.integrate = map_ != nullptr && w.track.ok && wanted && w.track.keyframe_id >= 0;
+  w.frame = std::move(frame);
+  {
+    std::lock_guard lock(state_mutex_);
+    last_state_ = w.track.state;
+  }
+  return w;
+}
+
+// 2. segment: top-k labels for frames that go into the map (or every frame, when configured).
+void Pipeline::step2_segment(Work& w) {
+  if (!segmenter_) return;
+  if (!w.integrate && config_.flow.segment != SegmentMode::kAllFrames) return;
+  Stopwatch sw;
+  w.labels = segmenter_->segment(w.frame);
+  timings_.add("segment", sw.elapsed_ms());
+}
+
+void Pipeline::steps3to5_map(Work& w) {
+  const RgbdFrame& f = w.frame;
+  if (w.integrate) {
+    apply_pending_corrections();
+    // 3. cloud: back-project the labelled, range-filtered pixels; keep a downsampled copy.
+    Stopwatch sw;
+    const CloudConfig& cc = config_.cloud;
+    LabelledCloud cloud = backproject(camera_, f.depth_m, f.rgb, w.labels,
+                                      {cc.min_depth_m, cc.max_depth_m, cc.pixel_stride});
+    cloud = voxel_downsample(cloud, cc.keyframe_voxel_m > 0 ? cc.keyframe_voxel_m : map_->resolution_m());
+    cv::Mat in_range;
+    cv::inRange(f.depth_m, cc.min_depth_m, cc.max_depth_m, in_range);
+    counters_.raw_points += static_cast<std::size_t>(cv::countNonZero(in_range));
+    counters_.inserted_points += cloud.size();
+    timings_.add("cloud", sw.elapsed_ms());
+    // 4. map: insert at the current pose; keep the cloud so a correction can re-integrate it.
+    sw.reset();
+    if (w.track.keyframe) store_.note_keyframe(w.track.keyframe_id, w.track.T_w_c);
+    else if (!store_.keyframes().count(w.track.keyframe_id)) store_.note_keyframe(w.track.keyframe_id, w.track.T_w_kf);
+    map_->insert(cloud, w.track.T_w_c);
+    store_.add(w.track.keyframe_id, w.track.T_w_c, f.index, std::move(cloud));
+    timings_.add("map", sw.elapsed_ms());
+  } else if (w.track.keyframe) {
+    store_.note_keyframe(w.track.keyframe_id, w.track.T_w_c);
+  }
+  // 5. record: outcome, counters, segmentation against ground-truth labels when the dataset has them.
+  if (!w.labels.empty() && !f.labels.empty()) confusion_.add(f.labels, w.labels.argmax);
+  FrameOutcome o{f.index, f.t_s, w.track.T_w_c, w.track.state, w.track.ok, w.track.keyframe,
+                 !w.labels.empty(), w.integrate};
+  counters_.frames++;
+  counters_.tracked += o.tracked;
+  counters_.keyframes += o.keyframe;
+  counters_.segmented += o.segmented;
+  counters_.integrated += o.integrated;
+  outcomes_.push_back(std::move(o));
+  frames_done_.fetch_add(1);
+}
+
+// Moves kept clouds to corrected keyframe poses and rebuilds the map, so it never disagrees with
+// the trajectory. Sub-millimetre changes (BA jitter) are not worth a rebuild mid-run; the final
+// re-integration in finish() picks them up.
+void Pipeline::apply_pending_corrections() {
+  std::map<KeyframeId, SE3> corrections;
+  {
+    std::lock_guard lock(corrections_mutex_);
+    corrections.swap(pending_corrections_);
+  }
+  if (corrections.empty() || !map_) return;
+  counters_.corrections++;
+  Stopwatch sw;
+  if (store_.update_poses(corrections) > 1e-3) {
+    map_->rebuild(store_);
+    counters_.rebuilds++;
+    timings_.add("rebuild", sw.elapsed_ms());
+  }
+}
+
+void Pipeline::finish() {
+  if (finished_) return;
+  finished_ = true;
+  if (!threads_.empty()) {
+    // Close stage by stage so every queued frame still flows through all steps.
+    q_track_->close();
+    threads_[0].join();
+    q_segment_->close();
+    threads_[1].join();
+    q_map_->close();
+    threads_[2].join();
+    threads_.clear();
+  }
+  poses_->finish();
+  {
+    std::lock_guard lock(error_mutex_);
+    if (error_) std::rethrow_exception(error_);
+  }
+  apply_pending_corrections();
+  if (map_ && config_.flow.final_reintegration && store_.size() > 0) {
+    Stopwatch sw;
+    store_.update_poses(poses_->keyframe_poses());
+    map_->rebuild(store_);
+    counters_.rebuilds++;
+    timings_.add("rebuild", sw.elapsed_ms());
+  }
+}
+
+std::string Pipeline::last_state() const {
+  std::lock_guard lock(state_mutex_);
+  return last_state_;
+}
+
+void Pipeline::fail(std::exception_ptr e) {
+  {
+    std::lock_guard lock(error_mutex_);
+    if (!error_) error_ = e;
+  }
+  // Unblock everyone: producers see push() fail, consumers drain and stop.
+  q_track_->close();
+  q_segment_->close();
+  q_map_->close();
+}
+
+void Pipeline::run_stage(const char* name, const std::function<void()>& body) {
+  try {
+    body();
+  } catch (const std::exception& e) {
+    fail(std::make_exception_ptr(Error(std::string(name) + " thread: " + e.what())));
+  } catch (...) {
+    fail(std::current_exception());
+  }
+}
+
+void Pipeline::start_threads() {
+  const auto cap = static_cast<std::size_t>(config_.threads.queue_capacity);
+  q_track_ = std::make_unique<BoundedQueue<RgbdFrame>>(cap);
+  q_segment_ = std::make_unique<BoundedQueue<Work>>(cap);
+  q_map_ = std::make_unique<BoundedQueue<Work>>(cap);
+  threads_.emplace_back([this] {
+    run_stage("tracking", [this] {
+      while (auto f = q_track_->pop())
+        if (!q_segment_->push(step1_track(std::move(*f)))) return;
+    });
+  });
+  threads_.emplace_back([this] {
+    run_stage("segmentation", [this] {
+      while (auto w = q_segment_->pop()) {
+        step2_segment(*w);
+        if (!q_map_->push(std::move(*w))) return;
+      }
+    });
+  });
+  threads_.emplace_back([this] {
+    run_stage("mapping", [this] {
+      while (auto w = q_map_->pop()) steps3to5_map(*w);
+    });
+  });
+}
+
+}  // namespace s3m::pipeline

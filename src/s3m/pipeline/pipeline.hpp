@@ -1,0 +1,127 @@
+#pragma once
+// The end-to-end pipeline: poses (SLAM), per-pixel labels (segmenter), semantic OctoMap.
+//
+// One frame goes through Pipeline::process() in five numbered steps:
+//   1. track      pose T_w_c, tracking state, keyframe decision           (PoseSource)
+//   2. segment    top-k labels per pixel, for frames that need them         (Segmenter)
+//   3. cloud      keyframe? back-project the labelled cloud (range filter, downsample) and keep it
+//   4. map        insert the cloud into the semantic map (after applying loop-closure corrections)
+//   5. record     per-frame outcome, timings, segmentation confusion vs ground-truth labels
+// In deterministic mode process() runs the five steps inline (one thread, identical output run to
+// run). Otherwise step 1, step 2 and steps 3-5 each run on their own thread, connected by
+// BoundedQueues: process() blocks when the tracking queue is full (back-pressure up to the reader).
+#include <atomic>
+#include <exception>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "s3m/core/bounded_queue.hpp"
+#include "s3m/core/camera.hpp"
+#include "s3m/core/rgbd_frame.hpp"
+#include "s3m/pipeline/keyframe_store.hpp"
+#include "s3m/pipeline/map_integrator.hpp"
+#include "s3m/pipeline/pipeline_config.hpp"
+#include "s3m/pipeline/pose_source.hpp"
+#include "s3m/pipeline/stage_timings.hpp"
+#include "s3m/semantics/seg_metrics.hpp"
+#include "s3m/semantics/segmenter.hpp"
+
+namespace s3m::pipeline {
+
+// What happened to one frame.
+struct FrameOutcome {
+  int index = 0;
+  double t_s = 0;
+  SE3 T_w_c = SE3::Identity();
+  std::string state;
+  bool tracked = false;     // pose usable
+  bool keyframe = false;
+  bool segmented = false;
+  bool integrated = false;  // its cloud went into the map
+};
+
+struct PipelineCounters {
+  std::size_t frames = 0, tracked = 0, keyframes = 0, segmented = 0, integrated = 0;
+  std::size_t raw_points = 0;        // valid in-range depth pixels of integrated frames (full resolution)
+  std::size_t inserted_points = 0;   // points actually inserted (after stride and downsampling)
+  std::size_t corrections = 0;       // loop-closure / optimisation corrections received
+  std::size_t rebuilds = 0;          // map rebuilds from kept clouds
+};
+
+class Pipeline {
+ public:
+  // segmenter and map may be null (--slam-only / --segmenter none: no labels; no map at all
+  // when map is null). The pipeline owns all three.
+  Pipeline(PipelineConfig config, PinholeCamera camera, std::unique_ptr<PoseSource> poses,
+           std::unique_ptr<semantics::Segmenter> segmenter, std::unique_ptr<MapIntegrator> map);
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  void process(RgbdFrame frame);
+  // Drains the queues, stops the threads, applies the final keyframe poses to the map. Rethrows the
+  // first error a worker thread hit. Idempotent.
+  void finish();
+
+  // Live (any thread): frames through all five steps, and the latest tracking state.
+  std::size_t frames_done() const { return frames_done_.load(); }
+  std::string last_state() const;
+
+  // After finish():
+  const std::vector<FrameOutcome>& frames() const { return outcomes_; }
+  const PoseSource& poses() const { return *poses_; }
+  const MapIntegrator* map() const { return map_.get(); }
+  const KeyframeStore& kept_clouds() const { return store_; }
+  const StageTimings& timings() const { return timings_; }
+  const PipelineCounters& counters() const { return counters_; }
+  const semantics::ConfusionMatrix& confusion() const { return confusion_; }
+  bool has_semantics() const { return segmenter_ != nullptr; }
+
+ private:
+  struct Work {
+    RgbdFrame frame;
+    TrackOutput track;
+    bool integrate = false;
+    semantics::LabelMap labels;
+  };
+
+  Work step1_track(RgbdFrame frame);
+  void step2_segment(Work& w);
+  void steps3to5_map(Work& w);
+  void apply_pending_corrections();
+  void start_threads();
+  void run_stage(const char* name, const std::function<void()>& body);
+  void fail(std::exception_ptr e);
+
+  PipelineConfig config_;
+  PinholeCamera camera_;
+  std::unique_ptr<PoseSource> poses_;
+  std::unique_ptr<semantics::Segmenter> segmenter_;
+  std::unique_ptr<MapIntegrator> map_;
+
+  KeyframeStore store_;  // touched only by the mapping step
+  StageTimings timings_;
+  PipelineCounters counters_;
+  semantics::ConfusionMatrix confusion_{cls::kCount};
+  std::vector<FrameOutcome> outcomes_;
+  std::atomic<std::size_t> frames_done_{0};
+
+  mutable std::mutex state_mutex_;
+  std::string last_state_;
+  std::mutex corrections_mutex_;
+  std::map<KeyframeId, SE3> pending_corrections_;  // filled by the SLAM listener, used by step 4
+
+  // Threaded mode.
+  std::unique_ptr<BoundedQueue<RgbdFrame>> q_track_;
+  std::unique_ptr<BoundedQueue<Work>> q_segment_, q_map_;
+  std::vector<std::thread> threads_;
+  std::mutex error_mutex_;
+  std::exception_ptr error_;
+  bool finished_ = false;
+};
+
+}  // namespace s3m::pipeline

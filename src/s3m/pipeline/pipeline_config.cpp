@@ -1,0 +1,196 @@
+#include "s3m/pipeline/pipeline_config.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include "s3m/core/error.hpp"
+#include "s3m/core/yaml_util.hpp"
+
+namespace s3m::pipeline {
+namespace {
+
+std::string num(double v) { return std::to_string(v); }
+
+// Reads a fixed-length numeric list (e.g. t_m: [x, y, z]); names file, line and expected shape.
+template <int N>
+Eigen::Matrix<double, N, 1> read_vector(const YAML::Node& n, const std::string& key, const std::string& ctx) {
+  const YAML::Node v = n[key];
+  if (!v.IsSequence() || static_cast<int>(v.size()) != N)
+    throw ParseError(ctx, v.Mark().line + 1, "bad value for '" + key + "'",
+                     "a list of " + std::to_string(N) + " numbers");
+  Eigen::Matrix<double, N, 1> out;
+  for (int i = 0; i < N; ++i) {
+    try {
+      out[i] = v[i].as<double>();
+    } catch (const YAML::Exception&) {
+      throw ParseError(ctx, v[i].Mark().line + 1, "bad number in '" + key + "'", "a number");
+    }
+  }
+  return out;
+}
+
+// Reads an enum given as a string; the message lists the allowed spellings.
+template <typename E>
+void read_enum(const YAML::Node& n, const std::string& key, E& out,
+               const std::vector<std::pair<std::string, E>>& names, const std::string& ctx) {
+  if (!n[key]) return;
+  std::string s;
+  yaml_get(n, key, s, ctx);
+  std::string allowed;
+  for (const auto& [name, value] : names) {
+    if (name == s) {
+      out = value;
+      return;
+    }
+    allowed += (allowed.empty() ? "" : " | ") + name;
+  }
+  throw ParseError(ctx, n[key].Mark().line + 1, "bad value '" + s + "' for '" + key + "'", allowed);
+}
+
+// A section must be a map; returns an empty node when absent.
+YAML::Node section(const YAML::Node& root, const std::string& key, const std::string& ctx) {
+  const YAML::Node n = root[key];
+  if (n && !n.IsMap())
+    throw ParseError(ctx, n.Mark().line + 1, "section '" + key + "' is not a map", "key: value pairs");
+  return n;
+}
+
+// Wraps validate() so a bad value names the config file (validate() alone cannot know it).
+template <typename C>
+void validate_in(const C& c, const std::string& ctx, const std::string& sec) {
+  try {
+    c.validate();
+  } catch (const ParseError&) {
+    throw;
+  } catch (const Error& e) {
+    throw ParseError(ctx, 0, "section '" + sec + "': " + e.what(), "a valid value");
+  }
+}
+
+void load_dataset(const YAML::Node& n, DatasetConfig& c, const std::string& ctx) {
+  check_known_keys(n, {"camera", "max_dt_s"}, ctx);
+  yaml_get(n, "camera", c.camera, ctx);
+  yaml_get(n, "max_dt_s", c.max_dt_s, ctx);
+}
+
+void load_calibration(const YAML::Node& n, CalibrationConfig& c, const std::string& ctx) {
+  check_known_keys(n, {"t_c_r_m", "q_c_r_xyzw"}, ctx);
+  if (n["t_c_r_m"]) c.t_c_r_m = read_vector<3>(n, "t_c_r_m", ctx);
+  if (n["q_c_r_xyzw"]) {
+    const Eigen::Vector4d q = read_vector<4>(n, "q_c_r_xyzw", ctx);
+    if (std::abs(q.norm() - 1.0) > 1e-3)
+      throw ParseError(ctx, n["q_c_r_xyzw"].Mark().line + 1,
+                       "quaternion 'q_c_r_xyzw' has norm " + num(q.norm()), "a unit quaternion [qx, qy, qz, qw]");
+    c.q_c_r = Quat(q[3], q[0], q[1], q[2]).normalized();
+  }
+}
+
+void load_cloud(const YAML::Node& n, CloudConfig& c, const std::string& ctx) {
+  check_known_keys(n, {"min_depth_m", "max_depth_m", "pixel_stride", "keyframe_voxel_m"}, ctx);
+  yaml_get(n, "min_depth_m", c.min_depth_m, ctx);
+  yaml_get(n, "max_depth_m", c.max_depth_m, ctx);
+  yaml_get(n, "pixel_stride", c.pixel_stride, ctx);
+  yaml_get(n, "keyframe_voxel_m", c.keyframe_voxel_m, ctx);
+}
+
+void load_threads(const YAML::Node& n, ThreadingConfig& c, const std::string& ctx) {
+  check_known_keys(n, {"deterministic", "queue_capacity"}, ctx);
+  yaml_get(n, "deterministic", c.deterministic, ctx);
+  yaml_get(n, "queue_capacity", c.queue_capacity, ctx);
+}
+
+void load_flow(const YAML::Node& n, FlowConfig& c, const std::string& ctx) {
+  check_known_keys(n, {"integrate", "segment", "final_reintegration"}, ctx);
+  read_enum(n, "integrate", c.integrate,
+            {{"keyframes", IntegrateMode::kKeyframes}, {"all_frames", IntegrateMode::kAllFrames}}, ctx);
+  read_enum(n, "segment", c.segment,
+            {{"integrated", SegmentMode::kIntegrated}, {"all_frames", SegmentMode::kAllFrames}}, ctx);
+  yaml_get(n, "final_reintegration", c.final_reintegration, ctx);
+}
+
+void load_eval(const YAML::Node& n, EvalConfig& c, const std::string& ctx) {
+  check_known_keys(n, {"rpe_delta_s", "gt_max_dt_s", "align", "plots"}, ctx);
+  yaml_get(n, "rpe_delta_s", c.rpe_delta_s, ctx);
+  yaml_get(n, "gt_max_dt_s", c.gt_max_dt_s, ctx);
+  yaml_get(n, "align", c.align, ctx);
+  yaml_get(n, "plots", c.plots, ctx);
+}
+
+}  // namespace
+
+void DatasetConfig::validate() const {
+  require(std::isfinite(max_dt_s) && max_dt_s > 0 && max_dt_s < 1.0,
+          "dataset.max_dt_s must be in (0, 1) s (got " + num(max_dt_s) + ")");
+}
+
+SE3 CalibrationConfig::T_c_r() const { return make_se3(t_c_r_m, q_c_r); }
+
+void CalibrationConfig::validate() const {
+  require(t_c_r_m.allFinite() && t_c_r_m.norm() < 10.0,
+          "calibration.t_c_r_m must be finite and shorter than 10 m");
+  require(std::abs(q_c_r.norm() - 1.0) < 1e-3, "calibration.q_c_r_xyzw must be a unit quaternion");
+}
+
+void CloudConfig::validate() const {
+  require(std::isfinite(min_depth_m) && min_depth_m >= 0,
+          "cloud.min_depth_m must be >= 0 m (got " + num(min_depth_m) + ")");
+  require(std::isfinite(max_depth_m) && max_depth_m > min_depth_m && max_depth_m <= 100,
+          "cloud.max_depth_m must be in (min_depth_m, 100] m (got " + num(max_depth_m) + ")");
+  require(pixel_stride >= 1 && pixel_stride <= 32,
+          "cloud.pixel_stride must be in 1..32 px (got " + std::to_string(pixel_stride) + ")");
+  require(std::isfinite(keyframe_voxel_m) && keyframe_voxel_m >= 0 && keyframe_voxel_m <= 1.0,
+          "cloud.keyframe_voxel_m must be in [0, 1] m (got " + num(keyframe_voxel_m) + ")");
+}
+
+void ThreadingConfig::validate() const {
+  require(queue_capacity >= 1 && queue_capacity <= 256,
+          "threads.queue_capacity must be in 1..256 frames (got " + std::to_string(queue_capacity) + ")");
+}
+
+void FlowConfig::validate() const {}
+
+void EvalConfig::validate() const {
+  require(std::isfinite(rpe_delta_s) && rpe_delta_s > 0,
+          "eval.rpe_delta_s must be > 0 s (got " + num(rpe_delta_s) + ")");
+  require(std::isfinite(gt_max_dt_s) && gt_max_dt_s > 0,
+          "eval.gt_max_dt_s must be > 0 s (got " + num(gt_max_dt_s) + ")");
+  require(align == "se3" || align == "sim3" || align == "none",
+          "eval.align must be se3 | sim3 | none (got '" + align + "')");
+}
+
+void PipelineConfig::validate() const {
+  dataset.validate();
+  calibration.validate();
+  cloud.validate();
+  threads.validate();
+  flow.validate();
+  eval.validate();
+}
+
+PipelineConfig load_pipeline_config(const std::string& path) {
+  const YAML::Node root = load_yaml_file(path);
+  PipelineConfig c;
+  c.source = path;
+  if (!root || root.IsNull()) return c;  // an empty preset means "all defaults"
+  if (!root.IsMap()) throw ParseError(path, 1, "top level is not a map", "sections such as 'cloud:', 'slam:'");
+  check_known_keys(root, {"dataset", "calibration", "cloud", "threads", "flow", "eval"}, path);
+  if (const auto n = section(root, "dataset", path)) load_dataset(n, c.dataset, path);
+  if (const auto n = section(root, "calibration", path)) load_calibration(n, c.calibration, path);
+  if (const auto n = section(root, "cloud", path)) load_cloud(n, c.cloud, path);
+  if (const auto n = section(root, "threads", path)) load_threads(n, c.threads, path);
+  if (const auto n = section(root, "flow", path)) load_flow(n, c.flow, path);
+  if (const auto n = section(root, "eval", path)) load_eval(n, c.eval, path);
+  // A relative camera file is relative to the preset (presets live next to their camera files).
+  const auto& cam = c.dataset.camera;
+  if (!cam.empty() && cam.find(".yaml") != std::string::npos && std::filesystem::path(cam).is_relative())
+    c.dataset.camera = (std::filesystem::path(path).parent_path() / cam).lexically_normal().string();
+  validate_in(c.dataset, path, "dataset");
+  validate_in(c.calibration, path, "calibration");
+  validate_in(c.cloud, path, "cloud");
+  validate_in(c.threads, path, "threads");
+  validate_in(c.flow, path, "flow");
+  validate_in(c.eval, path, "eval");
+  return c;
+}
+
+}  // namespace s3m::pipeline

@@ -1,0 +1,84 @@
+#pragma once
+// Configuration of the end-to-end pipeline: its own parameters plus the configs of the modules it
+// wires together. Loaded from a YAML preset in config/ (see config/README.md for every key);
+// keys absent from the file keep the defaults below, unknown keys are refused with file and line.
+#include <string>
+
+#include "s3m/core/se3.hpp"
+
+namespace s3m::pipeline {
+
+// Which frames go into the semantic map.
+enum class IntegrateMode {
+  kKeyframes,  // only SLAM keyframes (the paper's choice; keeps the map consistent with loop closures)
+  kAllFrames,  // every tracked frame (denser evidence; clouds of non-keyframes are not re-integrated)
+};
+
+// Which frames are segmented.
+enum class SegmentMode {
+  kIntegrated,  // only frames that go into the map (cheapest)
+  kAllFrames,   // every frame (needed for per-frame segmentation mIoU on every frame)
+};
+
+struct DatasetConfig {
+  std::string camera;      // camera preset ("tum_fr1") or YAML file; empty = <dataset>/camera.yaml
+  double max_dt_s = 0.02;  // max rgb/depth timestamp gap when associating by nearest time [s]
+  void validate() const;
+};
+
+struct CalibrationConfig {
+  // T_c_r: robot (body) frame -> camera frame, so that T_w_r = T_w_c * T_c_r (the paper's calibration).
+  Vec3 t_c_r_m = Vec3::Zero();           // translation [m], robot origin expressed in the camera frame
+  Quat q_c_r = Quat::Identity();         // rotation robot -> camera (YAML: q_xyzw)
+  SE3 T_c_r() const;
+  void validate() const;
+};
+
+struct CloudConfig {
+  double min_depth_m = 0.2;    // pixels closer than this are dropped before back-projection [m]
+  double max_depth_m = 4.0;    // pixels farther than this are dropped (sensor noise grows with z^2) [m]
+  int pixel_stride = 2;        // back-project every n-th pixel in u and v (1 = all) [px]
+  // Keyframe clouds kept for re-integration after loop closure are voxel-downsampled to this size;
+  // 0 = the map resolution. What is kept is exactly what was inserted, so a rebuild is exact. [m]
+  double keyframe_voxel_m = 0.0;
+  void validate() const;
+};
+
+struct ThreadingConfig {
+  bool deterministic = false;  // single thread, identical output run to run (tests, debugging)
+  int queue_capacity = 4;      // frames buffered between stages; a full queue blocks the producer
+  void validate() const;
+};
+
+struct FlowConfig {
+  IntegrateMode integrate = IntegrateMode::kKeyframes;
+  SegmentMode segment = SegmentMode::kAllFrames;
+  // Re-integrate all kept keyframe clouds with the final optimised keyframe poses at the end, so the
+  // saved map agrees with the saved (bundle-adjusted) keyframe trajectory.
+  bool final_reintegration = true;
+  void validate() const;
+};
+
+struct EvalConfig {
+  double rpe_delta_s = 1.0;         // RPE over this time delta [s]
+  double gt_max_dt_s = 0.02;        // max timestamp gap estimate <-> ground truth [s]
+  std::string align = "se3";        // trajectory alignment before ATE: se3 | sim3 | none
+  bool plots = true;                // write OUT/report/ (PNG plots + report.html) via tools/*.py
+  void validate() const;
+};
+
+struct PipelineConfig {
+  DatasetConfig dataset;
+  CalibrationConfig calibration;
+  CloudConfig cloud;
+  ThreadingConfig threads;
+  FlowConfig flow;
+  EvalConfig eval;
+  std::string source;  // file the config was loaded from ("" = defaults), for messages
+  void validate() const;
+};
+
+// Loads and validates a preset. Errors name the file, the line and what was expected.
+PipelineConfig load_pipeline_config(const std::string& path);
+
+}  // namespace s3m::pipeline

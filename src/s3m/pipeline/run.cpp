@@ -1,0 +1,118 @@
+#include "s3m/pipeline/run.hpp"
+
+#include <filesystem>
+
+#include <spdlog/spdlog.h>
+
+#include "s3m/core/error.hpp"
+#include "s3m/core/timing.hpp"
+#include "s3m/io/tum_dataset.hpp"
+#include "s3m/pipeline/factories.hpp"
+#include "s3m/pipeline/metrics.hpp"
+#include "s3m/pipeline/outputs.hpp"
+#include "s3m/pipeline/pipeline.hpp"
+#include "s3m/pipeline/progress.hpp"
+#include "s3m/pipeline/report.hpp"
+
+namespace s3m::pipeline {
+namespace fs = std::filesystem;
+
+SegmenterSpec parse_segmenter_spec(const std::string& spec) {
+  SegmenterSpec s;
+  if (spec.empty()) return s;
+  if (spec == "oracle") {
+    s.kind = SegmenterSpec::Kind::kOracle;
+  } else if (spec == "none") {
+    s.kind = SegmenterSpec::Kind::kNone;
+  } else if (spec.rfind("onnx:", 0) == 0 && spec.size() > 5) {
+    s.kind = SegmenterSpec::Kind::kOnnx;
+    s.model = spec.substr(5);
+  } else {
+    throw Error("--segmenter: unknown value '" + spec + "' (expected onnx:MODEL_DIR_OR_CARD | oracle | none)");
+  }
+  return s;
+}
+
+namespace {
+
+// Components the run is made of, built from the options (each factory names what is wrong).
+struct Components {
+  io::TumDataset dataset;
+  std::unique_ptr<Pipeline> pipeline;
+  RunInfo info;
+};
+
+Components build(const RunOptions& o) {
+  io::TumDatasetOptions dopt;
+  dopt.max_dt_s = o.config.dataset.max_dt_s;
+  dopt.camera = o.config.dataset.camera;
+  Components c{io::TumDataset::open(o.dataset_dir, dopt), nullptr, {}};
+  const PinholeCamera& cam = c.dataset.camera();
+  c.info.dataset_dir = o.dataset_dir;
+  c.info.config_file = o.config.source;
+  auto poses = make_pose_source(o.poses, c.dataset, o.config);
+  c.info.poses = poses->name();
+  std::unique_ptr<semantics::Segmenter> segmenter;
+  std::unique_ptr<MapIntegrator> map;
+  if (!o.slam_only) {
+    segmenter = make_segmenter(parse_segmenter_spec(o.segmenter), o.config, c.dataset.has_labels());
+    map = make_map_integrator(o.config);
+  }
+  c.info.segmenter = segmenter ? segmenter->name() : (o.slam_only ? "none (--slam-only)" : "none");
+  c.pipeline = std::make_unique<Pipeline>(o.config, cam, std::move(poses), std::move(segmenter), std::move(map));
+  return c;
+}
+
+bool stop_requested(const RunOptions& o, std::size_t done) {
+  if (o.stop && o.stop->load()) return true;
+  return o.stop_after_frames >= 0 && static_cast<long>(done) >= o.stop_after_frames;
+}
+
+}  // namespace
+
+RunResult run_dataset(const RunOptions& o) {
+  require(!o.out_dir.empty(), "run: an output directory is required (--out)");
+  o.config.validate();
+  Components c = build(o);
+  fs::create_directories(o.out_dir);
+
+  RunResult r;
+  r.frames_total = c.dataset.size();
+  if (o.max_frames >= 0) r.frames_total = std::min<std::size_t>(r.frames_total, o.max_frames);
+  require(r.frames_total > 0, "run: dataset " + o.dataset_dir + " has no frames");
+  spdlog::info("run: {} frames from {} (poses: {}, segmenter: {})", r.frames_total, o.dataset_dir,
+               c.info.poses, c.info.segmenter);
+
+  ProgressLine progress(r.frames_total, o.progress);
+  Stopwatch wall;
+  std::size_t submitted = 0;
+  for (; submitted < r.frames_total; ++submitted) {
+    if (stop_requested(o, submitted)) {
+      r.interrupted = true;
+      break;
+    }
+    c.pipeline->process(c.dataset.load(submitted));
+    progress.update(c.pipeline->frames_done(), c.pipeline->last_state());
+  }
+  c.pipeline->finish();
+  c.info.wall_time_s = wall.elapsed_ms() / 1000.0;
+  c.info.interrupted = r.interrupted;
+  c.info.frames_total = r.frames_total;
+  r.frames_done = c.pipeline->frames_done();
+  progress.finish(r.frames_done, r.interrupted ? "interrupted" : c.pipeline->last_state());
+  if (r.interrupted) spdlog::warn("run: stopped after {} of {} frames; writing what was processed", r.frames_done, r.frames_total);
+
+  // Outputs first (trajectory and map are what a user keeps), then the evaluation of them.
+  const OutputPaths paths = write_outputs(*c.pipeline, o.config, o.out_dir);
+  r.metrics = compute_metrics(*c.pipeline, c.dataset, o.config, c.info, paths);
+  write_metrics(r.metrics, paths);
+  if (o.report && o.config.eval.plots) {
+    const ReportResult rep = make_report(o.out_dir);
+    r.report_html = rep.html;
+    r.report_error = rep.error;
+    if (!rep.error.empty()) spdlog::warn("run: report not made: {}", rep.error);
+  }
+  return r;
+}
+
+}  // namespace s3m::pipeline

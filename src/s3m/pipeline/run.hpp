@@ -1,0 +1,50 @@
+#pragma once
+// `s3m run` as a library call: a TUM-layout dataset in, every output file in OUT (trajectories,
+// keyframes, semantic map, metrics, report). Used by the CLI, `s3m demo` and the integration tests.
+#include <atomic>
+#include <cstddef>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "s3m/pipeline/pipeline_config.hpp"
+
+namespace s3m::pipeline {
+
+struct RunOptions {
+  std::string dataset_dir;
+  std::string out_dir;
+  PipelineConfig config;
+  // Segmenter: "" = the config's segmenter section; "onnx:MODEL_DIR_OR_CARD", "oracle", "none".
+  std::string segmenter;
+  std::string poses = "slam";      // slam | gt (ground-truth poses: evaluates semantics/mapping alone)
+  bool slam_only = false;          // trajectories only: no segmentation, no map
+  long max_frames = -1;            // < 0: all frames
+  // Set by the caller (e.g. a SIGINT handler) to stop early; outputs so far are still written.
+  const std::atomic<bool>* stop = nullptr;
+  bool progress = false;           // live progress line on stderr
+  bool report = true;              // plots + report.html via tools/plot_report.py
+  // Stop after this many frames as if `stop` had been set (tests of the interrupted path); < 0: off.
+  long stop_after_frames = -1;
+};
+
+struct RunResult {
+  std::size_t frames_total = 0;    // frames in the dataset (after max_frames)
+  std::size_t frames_done = 0;     // frames that went through the pipeline
+  bool interrupted = false;
+  std::string report_html;         // empty when no report was made
+  std::string report_error;        // why the report is missing, if it is
+  nlohmann::json metrics;          // what metrics.json holds
+};
+
+// Throws s3m::Error / ParseError for bad input (dataset, config, model), with file and line.
+RunResult run_dataset(const RunOptions& options);
+
+// Parses "onnx:PATH" / "oracle" / "none" (throws Error listing the accepted forms).
+struct SegmenterSpec {
+  enum class Kind { kFromConfig, kOnnx, kOracle, kNone } kind = Kind::kFromConfig;
+  std::string model;  // onnx: model card file or directory holding one
+};
+SegmenterSpec parse_segmenter_spec(const std::string& spec);
+
+}  // namespace s3m::pipeline

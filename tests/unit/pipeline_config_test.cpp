@@ -1,0 +1,95 @@
+// PipelineConfig: defaults validate, YAML presets load, bad values are refused naming file and key.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "s3m/core/error.hpp"
+#include "s3m/pipeline/pipeline_config.hpp"
+
+namespace s3m::pipeline {
+namespace {
+
+std::string write_tmp(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / "s3m_pipeline_config_test";
+  std::filesystem::create_directories(dir);
+  const auto path = (dir / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string error_of(const std::string& yaml) {
+  try {
+    load_pipeline_config(write_tmp("bad.yaml", yaml));
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PipelineConfig, DefaultsValidate) { EXPECT_NO_THROW(PipelineConfig{}.validate()); }
+
+TEST(PipelineConfig, LoadsValuesAndKeepsDefaultsForAbsentKeys) {
+  const auto c = load_pipeline_config(write_tmp("ok.yaml", R"(
+cloud:
+  max_depth_m: 3.5
+  pixel_stride: 4
+calibration:
+  t_c_r_m: [0.1, 0.0, -0.05]
+  q_c_r_xyzw: [0.0, 0.0, 0.7071067811865476, 0.7071067811865476]
+threads: {deterministic: true, queue_capacity: 8}
+flow: {integrate: all_frames, segment: integrated}
+)"));
+  EXPECT_DOUBLE_EQ(c.cloud.max_depth_m, 3.5);
+  EXPECT_EQ(c.cloud.pixel_stride, 4);
+  EXPECT_DOUBLE_EQ(c.cloud.min_depth_m, CloudConfig{}.min_depth_m);
+  EXPECT_TRUE(c.threads.deterministic);
+  EXPECT_EQ(c.threads.queue_capacity, 8);
+  EXPECT_EQ(c.flow.integrate, IntegrateMode::kAllFrames);
+  EXPECT_EQ(c.flow.segment, SegmentMode::kIntegrated);
+  // 90 deg about z: the robot's x axis is the camera's y axis.
+  const SE3 T = c.calibration.T_c_r();
+  EXPECT_NEAR((T.linear() * Vec3::UnitX() - Vec3::UnitY()).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((T.translation() - Vec3(0.1, 0.0, -0.05)).norm(), 0.0, 1e-12);
+}
+
+TEST(PipelineConfig, ErrorsNameFileLineAndExpectation) {
+  std::string e = error_of("cloud:\n  max_depth_m: far\n");
+  EXPECT_NE(e.find("bad.yaml:2"), std::string::npos) << e;
+  EXPECT_NE(e.find("max_depth_m"), std::string::npos) << e;
+
+  e = error_of("cloud:\n  max_dept_m: 3\n");  // typo
+  EXPECT_NE(e.find("unknown key 'max_dept_m'"), std::string::npos) << e;
+  EXPECT_NE(e.find("max_depth_m"), std::string::npos) << e;  // the list of valid keys
+
+  e = error_of("cloud:\n  min_depth_m: 5\n  max_depth_m: 4\n");
+  EXPECT_NE(e.find("bad.yaml"), std::string::npos) << e;
+  EXPECT_NE(e.find("cloud.max_depth_m"), std::string::npos) << e;
+
+  e = error_of("flow:\n  integrate: sometimes\n");
+  EXPECT_NE(e.find("keyframes | all_frames"), std::string::npos) << e;
+
+  e = error_of("calibration:\n  q_c_r_xyzw: [0, 0, 0, 2]\n");
+  EXPECT_NE(e.find("unit quaternion"), std::string::npos) << e;
+
+  e = error_of("calibration:\n  t_c_r_m: [1, 2]\n");
+  EXPECT_NE(e.find("a list of 3 numbers"), std::string::npos) << e;
+
+  e = error_of("threads: 4\n");
+  EXPECT_NE(e.find("section 'threads' is not a map"), std::string::npos) << e;
+
+  e = error_of("cloud: [1\n");
+  EXPECT_NE(e.find("YAML syntax error"), std::string::npos) << e;
+}
+
+TEST(PipelineConfig, MissingFileIsAClearError) {
+  try {
+    load_pipeline_config("/nonexistent/preset.yaml");
+    FAIL();
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/preset.yaml"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace s3m::pipeline

@@ -1,0 +1,312 @@
+#!/usr/bin/python3
+"""Plots and a one-page HTML report for an `s3m run` output directory.
+
+Usage: /usr/bin/python3 tools/plot_report.py OUT_DIR
+
+Reads what `s3m run` wrote into OUT_DIR:
+  metrics.json                    numbers, class list, per-class IoU, paths of the inputs
+  trajectory_camera.txt           estimated camera trajectory (TUM format)
+  report/trajectory_aligned.txt   the same, aligned to ground truth by s3m's evaluator (when GT exists)
+  report/groundtruth.txt          ground truth for the estimated timestamps (when GT exists)
+  report/rpe_series.txt           't trans_err_m rot_err_deg' per RPE pair (when GT exists)
+  map.ply                         semantic map voxels (x y z, class id, colour by class)
+and writes report/*.png plus report/report.html. Trajectory plots are delegated to
+tools/plot_trajectories.py (the evaluator's plot script) so both commands draw them the same way.
+
+matplotlib (Debian's python3-matplotlib) is used for the same reason evo uses it: real axes,
+legends and equal-aspect plots in a few lines, and PNGs anyone can open.
+"""
+import html
+import json
+import os
+import subprocess
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def load_tum(path):
+    """Returns an (N, 8) array t tx ty tz qx qy qz qw, or None when the file is absent/empty."""
+    if not os.path.exists(path):
+        return None
+    rows = []
+    with open(path) as f:
+        for line in f:
+            line = line.strip()
+            if line and not line.startswith("#"):
+                rows.append([float(v) for v in line.split()[:8]])
+    return np.array(rows) if rows else None
+
+
+def read_ply(path):
+    """Minimal PLY reader (ascii and binary_little_endian, vertex element only) -> dict of arrays."""
+    types = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "<i2", "int16": "<i2",
+             "ushort": "<u2", "uint16": "<u2", "int": "<i4", "int32": "<i4", "uint": "<u4",
+             "uint32": "<u4", "float": "<f4", "float32": "<f4", "double": "<f8", "float64": "<f8"}
+    with open(path, "rb") as f:
+        if f.readline().strip() != b"ply":
+            raise ValueError(f"{path}: not a PLY file")
+        fmt, count, props, element = None, 0, [], None
+        while True:
+            line = f.readline()
+            if not line:
+                raise ValueError(f"{path}: PLY header has no end_header")
+            words = line.decode("ascii", "replace").split()
+            if not words:
+                continue
+            if words[0] == "format":
+                fmt = words[1]
+            elif words[0] == "element":
+                element = words[1]
+                if element == "vertex":
+                    count = int(words[2])
+            elif words[0] == "property" and element == "vertex":
+                if words[1] == "list":
+                    raise ValueError(f"{path}: list properties on vertices are not supported")
+                props.append((words[2], types[words[1]]))
+            elif words[0] == "end_header":
+                break
+        dtype = np.dtype(props)
+        if fmt == "binary_little_endian":
+            data = np.frombuffer(f.read(dtype.itemsize * count), dtype=dtype, count=count)
+        elif fmt == "ascii":
+            data = np.loadtxt(f, max_rows=count, ndmin=2)
+            data = {name: data[:, i] for i, (name, _) in enumerate(props)}
+        else:
+            raise ValueError(f"{path}: unsupported PLY format {fmt}")
+    return {name: np.asarray(data[name]) for name, _ in props}
+
+
+def class_palette(metrics):
+    """id -> (name, (r, g, b) in 0..1) from metrics.json's class list."""
+    out = {}
+    for c in metrics.get("classes", []):
+        out[int(c["id"])] = (c["name"], tuple(v / 255.0 for v in c["rgb"]))
+    return out
+
+
+def plot_trajectories(out_dir, report_dir):
+    """X-Y and X-Z trajectory plots and RPE over time. Prefers the evaluator's script."""
+    est = os.path.join(report_dir, "trajectory_aligned.txt")
+    gt = os.path.join(report_dir, "groundtruth.txt")
+    if not os.path.exists(est):
+        est, gt = os.path.join(out_dir, "trajectory_camera.txt"), None
+    script = os.path.join(HERE, "plot_trajectories.py")
+    if os.path.exists(script) and gt and os.path.exists(gt):
+        cmd = [sys.executable, script, "--gt", gt, "--est", est, "--label", "s3m", "--out", report_dir]
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode == 0:
+            return
+        print(f"plot_report: {os.path.basename(script)} failed ({r.stderr.strip()[-300:]}); "
+              "drawing trajectories here instead", file=sys.stderr)
+    draw_trajectories(load_tum(est), load_tum(gt) if gt else None, report_dir)
+
+
+def draw_trajectories(est, gt, report_dir):
+    if est is None:
+        return
+    for name, (a, b) in {"trajectory_xy.png": (1, 2), "trajectory_xz.png": (1, 3)}.items():
+        fig, ax = plt.subplots(figsize=(6, 5))
+        if gt is not None:
+            ax.plot(gt[:, a], gt[:, b], "k--", lw=1.5, label="ground truth")
+        ax.plot(est[:, a], est[:, b], "C0-", lw=1.2, label="s3m")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel(("y" if b == 2 else "z") + " [m]")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(alpha=0.3)
+        ax.legend()
+        ax.set_title("Camera trajectory " + ("X-Y" if b == 2 else "X-Z"))
+        fig.tight_layout()
+        fig.savefig(os.path.join(report_dir, name), dpi=110)
+        plt.close(fig)
+
+
+def plot_rpe(report_dir):
+    path = os.path.join(report_dir, "rpe_series.txt")
+    if not os.path.exists(path) or os.path.getsize(path) == 0:
+        return
+    rpe = np.loadtxt(path, ndmin=2)
+    if rpe.size == 0:
+        return
+    fig, ax1 = plt.subplots(figsize=(7, 3.5))
+    ax1.plot(rpe[:, 0] - rpe[0, 0], rpe[:, 1] * 100, "C0-", label="translation")
+    ax1.set_xlabel("time [s]")
+    ax1.set_ylabel("RPE translation [cm]", color="C0")
+    ax2 = ax1.twinx()
+    ax2.plot(rpe[:, 0] - rpe[0, 0], rpe[:, 2], "C1-", alpha=0.7, label="rotation")
+    ax2.set_ylabel("RPE rotation [deg]", color="C1")
+    ax1.grid(alpha=0.3)
+    ax1.set_title("Relative pose error over time")
+    fig.tight_layout()
+    fig.savefig(os.path.join(report_dir, "rpe.png"), dpi=110)
+    plt.close(fig)
+
+
+def plot_map_topdown(out_dir, report_dir, palette):
+    """Top-down view: per x-y cell the highest non-ceiling voxel, coloured by its class."""
+    path = os.path.join(out_dir, "map.ply")
+    if not os.path.exists(path):
+        return
+    ply = read_ply(path)
+    if "x" not in ply or len(ply["x"]) == 0:
+        return
+    key = next((k for k in ("class", "class_id", "label") if k in ply), None)
+    x, y, z = ply["x"].astype(float), ply["y"].astype(float), ply["z"].astype(float)
+    ids = ply[key].astype(int) if key else np.zeros(len(x), int)
+    up = vertical_axis(ids, x, y, z)
+    horiz = [a for a in (0, 1, 2) if a != up]
+    pts = np.stack([x, y, z], 1)
+    keep = ids != 3 if key else np.ones(len(x), bool)  # ceiling (id 3) would hide the room
+    pts, ids = pts[keep], ids[keep]
+    if len(pts) == 0:
+        return
+    # Sort by height so the highest voxel in each column is drawn last (on top).
+    sign = height_sign(pts[:, up], ids)
+    order = np.argsort(sign * pts[:, up])
+    pts, ids = pts[order], ids[order]
+    if key and palette:
+        colours = np.array([palette.get(i, ("?", (1, 0, 1)))[1] for i in ids])
+    elif all(c in ply for c in ("red", "green", "blue")):
+        colours = np.stack([ply[c][keep][order] for c in ("red", "green", "blue")], 1) / 255.0
+    else:
+        colours = "C0"
+    fig, ax = plt.subplots(figsize=(7, 6))
+    ax.scatter(pts[:, horiz[0]], pts[:, horiz[1]], c=colours, s=2, marker="s", linewidths=0)
+    ax.set_aspect("equal", adjustable="datalim")
+    names = "xyz"
+    ax.set_xlabel(f"{names[horiz[0]]} [m]")
+    ax.set_ylabel(f"{names[horiz[1]]} [m]")
+    ax.set_title(f"Semantic map, top-down ({len(x)} voxels; ceiling hidden)")
+    if key and palette:
+        present = sorted(set(ids.tolist()))
+        handles = [plt.Line2D([], [], marker="s", ls="", color=palette[i][1], label=palette[i][0])
+                   for i in present if i in palette]
+        ax.legend(handles=handles, loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(report_dir, "map_topdown.png"), dpi=110)
+    plt.close(fig)
+
+
+def vertical_axis(ids, x, y, z):
+    """The world's vertical axis: the one along which floor (2) and ceiling (3) voxels differ most;
+    without those classes, the axis with the smallest extent (rooms are wider than tall)."""
+    pts = np.stack([x, y, z], 1)
+    floor, ceil = pts[ids == 2], pts[ids == 3]
+    if len(floor) > 10 and len(ceil) > 10:
+        return int(np.argmax(np.abs(np.median(ceil, 0) - np.median(floor, 0))))
+    if len(floor) > 10:
+        return int(np.argmin(np.std(floor, 0)))  # the floor is flat along the vertical
+    return int(np.argmin(np.ptp(pts, 0)))
+
+
+def height_sign(h, ids):
+    """+1 if larger coordinates are higher (floor below the rest), -1 otherwise (camera y-down worlds)."""
+    floor = h[ids == 2]
+    if len(floor) > 10:
+        return 1.0 if np.median(floor) <= np.median(h) else -1.0
+    return 1.0
+
+
+def plot_class_iou(metrics, report_dir):
+    bars = {}
+    for section, label in (("segmentation", "single frame"), ("map", "fused map")):
+        per_class = metrics.get(section, {}).get("per_class_iou", {})
+        if per_class:
+            bars[label] = per_class
+    if not bars:
+        return
+    names = sorted({n for v in bars.values() for n in v})
+    fig, ax = plt.subplots(figsize=(max(6, 0.55 * len(names) + 2), 4))
+    width = 0.8 / len(bars)
+    for i, (label, per_class) in enumerate(bars.items()):
+        vals = [per_class.get(n, np.nan) for n in names]
+        ax.bar(np.arange(len(names)) + (i - (len(bars) - 1) / 2) * width, vals, width, label=label)
+    ax.set_xticks(np.arange(len(names)))
+    ax.set_xticklabels(names, rotation=45, ha="right")
+    ax.set_ylabel("IoU")
+    ax.set_ylim(0, 1)
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend()
+    ax.set_title("Per-class IoU")
+    fig.tight_layout()
+    fig.savefig(os.path.join(report_dir, "class_iou.png"), dpi=110)
+    plt.close(fig)
+
+
+def fmt_value(v):
+    if isinstance(v, float):
+        return f"{v:.4g}"
+    return html.escape(str(v))
+
+
+def summary_rows(metrics):
+    rows = [("frames", metrics.get("frames")), ("keyframes", metrics.get("keyframes")),
+            ("frames/s (wall clock)", metrics.get("fps")),
+            ("map voxels", metrics.get("map", {}).get("voxels"))]
+    traj = metrics.get("trajectory", {})
+    if "ate_rmse_m" in traj:
+        rows += [("ATE RMSE [m]", traj["ate_rmse_m"]), ("RPE trans RMSE [m]", traj.get("rpe_trans_rmse_m")),
+                 ("RPE rot RMSE [deg]", traj.get("rpe_rot_rmse_deg"))]
+    if "miou" in metrics.get("segmentation", {}):
+        rows.append(("segmentation mIoU (single frame)", metrics["segmentation"]["miou"]))
+    if "miou" in metrics.get("map", {}):
+        rows.append(("map mIoU (fused)", metrics["map"]["miou"]))
+    return [(k, v) for k, v in rows if v is not None]
+
+
+def write_html(metrics, report_dir):
+    parts = ["<!doctype html><html><head><meta charset='utf-8'><title>s3m report</title>",
+             "<style>body{font-family:sans-serif;max-width:1100px;margin:auto}"
+             "img{max-width:49%;border:1px solid #ccc;margin:2px}"
+             "td,th{padding:2px 10px;text-align:left}</style></head><body>",
+             "<h1>s3m run report</h1>"]
+    inputs = metrics.get("inputs", {})
+    parts.append("<p>" + "<br>".join(f"<b>{html.escape(k)}</b>: {fmt_value(v)}" for k, v in inputs.items()) + "</p>")
+    parts.append("<table>" + "".join(f"<tr><th>{html.escape(k)}</th><td>{fmt_value(v)}</td></tr>"
+                                     for k, v in summary_rows(metrics)) + "</table>")
+    timings = metrics.get("timings_ms", {})
+    if timings:
+        parts.append("<h2>Timings per stage [ms]</h2><table><tr><th>stage</th><th>mean</th><th>p50</th>"
+                     "<th>p95</th><th>count</th></tr>")
+        for stage, t in timings.items():
+            parts.append(f"<tr><td>{html.escape(stage)}</td><td>{t['mean']:.2f}</td><td>{t['p50']:.2f}</td>"
+                         f"<td>{t['p95']:.2f}</td><td>{t['count']}</td></tr>")
+        parts.append("</table>")
+    parts.append("<h2>Plots</h2>")
+    for png in ("trajectory_xy.png", "trajectory_xz.png", "rpe.png", "map_topdown.png", "class_iou.png"):
+        if os.path.exists(os.path.join(report_dir, png)):
+            parts.append(f"<img src='{png}' alt='{png}'>")
+    parts.append("<p>Full numbers: <a href='../metrics.json'>metrics.json</a></p></body></html>")
+    tmp = os.path.join(report_dir, "report.html.tmp")
+    with open(tmp, "w") as f:
+        f.write("\n".join(parts))
+    os.replace(tmp, os.path.join(report_dir, "report.html"))
+
+
+def main(argv):
+    if len(argv) != 2:
+        print(__doc__.split("\n\n")[1], file=sys.stderr)
+        return 2
+    out_dir = argv[1]
+    report_dir = os.path.join(out_dir, "report")
+    os.makedirs(report_dir, exist_ok=True)
+    with open(os.path.join(out_dir, "metrics.json")) as f:
+        metrics = json.load(f)
+    palette = class_palette(metrics)
+    plot_trajectories(out_dir, report_dir)
+    plot_rpe(report_dir)
+    plot_map_topdown(out_dir, report_dir, palette)
+    plot_class_iou(metrics, report_dir)
+    write_html(metrics, report_dir)
+    print(os.path.join(report_dir, "report.html"))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
