@@ -4,14 +4,12 @@
 Usage: /usr/bin/python3 tools/plot_report.py OUT_DIR
 
 Reads what `s3m run` wrote into OUT_DIR:
-  metrics.json                    numbers, class list, per-class IoU, paths of the inputs
-  trajectory_camera.txt           estimated camera trajectory (TUM format)
-  report/trajectory_aligned.txt   the same, aligned to ground truth by s3m's evaluator (when GT exists)
-  report/groundtruth.txt          ground truth for the estimated timestamps (when GT exists)
-  report/rpe_series.txt           't trans_err_m rot_err_deg' per RPE pair (when GT exists)
-  map.ply                         semantic map voxels (x y z, class id, colour by class)
-and writes report/*.png plus report/report.html. Trajectory plots are delegated to
-tools/plot_trajectories.py (the evaluator's plot script) so both commands draw them the same way.
+  metrics.json     numbers, class list, per-class IoU, paths of the inputs
+  map.ply          semantic map voxels (x y z, colour, label, confidence)
+  report/*.png     trajectory X-Y / X-Z, RPE over time and ATE plots, drawn before this script by
+                   tools/plot_trajectories.py (the evaluator's script, so `s3m eval` and `s3m run`
+                   draw trajectories the same way)
+and writes report/map_topdown.png, report/class_iou.png and the one-page report/report.html.
 
 matplotlib (Debian's python3-matplotlib) is used for the same reason evo uses it: real axes,
 legends and equal-aspect plots in a few lines, and PNGs anyone can open.
@@ -19,7 +17,6 @@ legends and equal-aspect plots in a few lines, and PNGs anyone can open.
 import html
 import json
 import os
-import subprocess
 import sys
 
 import matplotlib
@@ -27,22 +24,6 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-HERE = os.path.dirname(os.path.abspath(__file__))
-
-
-def load_tum(path):
-    """Returns an (N, 8) array t tx ty tz qx qy qz qw, or None when the file is absent/empty."""
-    if not os.path.exists(path):
-        return None
-    rows = []
-    with open(path) as f:
-        for line in f:
-            line = line.strip()
-            if line and not line.startswith("#"):
-                rows.append([float(v) for v in line.split()[:8]])
-    return np.array(rows) if rows else None
-
 
 def read_ply(path):
     """Minimal PLY reader (ascii and binary_little_endian, vertex element only) -> dict of arrays."""
@@ -89,63 +70,6 @@ def class_palette(metrics):
     for c in metrics.get("classes", []):
         out[int(c["id"])] = (c["name"], tuple(v / 255.0 for v in c["rgb"]))
     return out
-
-
-def plot_trajectories(out_dir, report_dir):
-    """X-Y and X-Z trajectory plots and RPE over time. Prefers the evaluator's script."""
-    est = os.path.join(report_dir, "trajectory_aligned.txt")
-    gt = os.path.join(report_dir, "groundtruth.txt")
-    if not os.path.exists(est):
-        est, gt = os.path.join(out_dir, "trajectory_camera.txt"), None
-    script = os.path.join(HERE, "plot_trajectories.py")
-    if os.path.exists(script) and gt and os.path.exists(gt):
-        cmd = [sys.executable, script, "--gt", gt, "--est", est, "--label", "s3m", "--out", report_dir]
-        r = subprocess.run(cmd, capture_output=True, text=True)
-        if r.returncode == 0:
-            return
-        print(f"plot_report: {os.path.basename(script)} failed ({r.stderr.strip()[-300:]}); "
-              "drawing trajectories here instead", file=sys.stderr)
-    draw_trajectories(load_tum(est), load_tum(gt) if gt else None, report_dir)
-
-
-def draw_trajectories(est, gt, report_dir):
-    if est is None:
-        return
-    for name, (a, b) in {"trajectory_xy.png": (1, 2), "trajectory_xz.png": (1, 3)}.items():
-        fig, ax = plt.subplots(figsize=(6, 5))
-        if gt is not None:
-            ax.plot(gt[:, a], gt[:, b], "k--", lw=1.5, label="ground truth")
-        ax.plot(est[:, a], est[:, b], "C0-", lw=1.2, label="s3m")
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel(("y" if b == 2 else "z") + " [m]")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.grid(alpha=0.3)
-        ax.legend()
-        ax.set_title("Camera trajectory " + ("X-Y" if b == 2 else "X-Z"))
-        fig.tight_layout()
-        fig.savefig(os.path.join(report_dir, name), dpi=110)
-        plt.close(fig)
-
-
-def plot_rpe(report_dir):
-    path = os.path.join(report_dir, "rpe_series.txt")
-    if not os.path.exists(path) or os.path.getsize(path) == 0:
-        return
-    rpe = np.loadtxt(path, ndmin=2)
-    if rpe.size == 0:
-        return
-    fig, ax1 = plt.subplots(figsize=(7, 3.5))
-    ax1.plot(rpe[:, 0] - rpe[0, 0], rpe[:, 1] * 100, "C0-", label="translation")
-    ax1.set_xlabel("time [s]")
-    ax1.set_ylabel("RPE translation [cm]", color="C0")
-    ax2 = ax1.twinx()
-    ax2.plot(rpe[:, 0] - rpe[0, 0], rpe[:, 2], "C1-", alpha=0.7, label="rotation")
-    ax2.set_ylabel("RPE rotation [deg]", color="C1")
-    ax1.grid(alpha=0.3)
-    ax1.set_title("Relative pose error over time")
-    fig.tight_layout()
-    fig.savefig(os.path.join(report_dir, "rpe.png"), dpi=110)
-    plt.close(fig)
 
 
 def plot_map_topdown(out_dir, report_dir, palette):
@@ -279,7 +203,8 @@ def write_html(metrics, report_dir):
                          f"<td>{t['p95']:.2f}</td><td>{t['count']}</td></tr>")
         parts.append("</table>")
     parts.append("<h2>Plots</h2>")
-    for png in ("trajectory_xy.png", "trajectory_xz.png", "rpe.png", "map_topdown.png", "class_iou.png"):
+    for png in ("trajectory_xy.png", "trajectory_xz.png", "rpe.png", "ate.png", "map_topdown.png",
+                "class_iou.png"):
         if os.path.exists(os.path.join(report_dir, png)):
             parts.append(f"<img src='{png}' alt='{png}'>")
     parts.append("<p>Full numbers: <a href='../metrics.json'>metrics.json</a></p></body></html>")
@@ -299,8 +224,6 @@ def main(argv):
     with open(os.path.join(out_dir, "metrics.json")) as f:
         metrics = json.load(f)
     palette = class_palette(metrics)
-    plot_trajectories(out_dir, report_dir)
-    plot_rpe(report_dir)
     plot_map_topdown(out_dir, report_dir, palette)
     plot_class_iou(metrics, report_dir)
     write_html(metrics, report_dir)

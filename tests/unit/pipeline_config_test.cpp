@@ -34,9 +34,8 @@ TEST(PipelineConfig, LoadsValuesAndKeepsDefaultsForAbsentKeys) {
 cloud:
   max_depth_m: 3.5
   pixel_stride: 4
-calibration:
-  t_c_r_m: [0.1, 0.0, -0.05]
-  q_c_r_xyzw: [0.0, 0.0, 0.7071067811865476, 0.7071067811865476]
+slam:
+  T_c_r: {t: [0.1, 0.0, -0.05], q: [0.0, 0.0, 0.7071067811865476, 0.7071067811865476]}
 threads: {deterministic: true, queue_capacity: 8}
 flow: {integrate: all_frames, segment: integrated}
 )"));
@@ -48,7 +47,7 @@ flow: {integrate: all_frames, segment: integrated}
   EXPECT_EQ(c.flow.integrate, IntegrateMode::kAllFrames);
   EXPECT_EQ(c.flow.segment, SegmentMode::kIntegrated);
   // 90 deg about z: the robot's x axis is the camera's y axis.
-  const SE3 T = c.calibration.T_c_r();
+  const SE3 T = c.slam.T_c_r;
   EXPECT_NEAR((T.linear() * Vec3::UnitX() - Vec3::UnitY()).norm(), 0.0, 1e-12);
   EXPECT_NEAR((T.translation() - Vec3(0.1, 0.0, -0.05)).norm(), 0.0, 1e-12);
 }
@@ -69,11 +68,11 @@ TEST(PipelineConfig, ErrorsNameFileLineAndExpectation) {
   e = error_of("flow:\n  integrate: sometimes\n");
   EXPECT_NE(e.find("keyframes | all_frames"), std::string::npos) << e;
 
-  e = error_of("calibration:\n  q_c_r_xyzw: [0, 0, 0, 2]\n");
-  EXPECT_NE(e.find("unit quaternion"), std::string::npos) << e;
+  e = error_of("map:\n  fusion:\n    policy: vote\n");
+  EXPECT_NE(e.find("vote"), std::string::npos) << e;
 
-  e = error_of("calibration:\n  t_c_r_m: [1, 2]\n");
-  EXPECT_NE(e.find("a list of 3 numbers"), std::string::npos) << e;
+  e = error_of("segmenter:\n  type: magic\n");
+  EXPECT_NE(e.find("segmenter.type must be onnx | oracle | none"), std::string::npos) << e;
 
   e = error_of("threads: 4\n");
   EXPECT_NE(e.find("section 'threads' is not a map"), std::string::npos) << e;
@@ -89,6 +88,22 @@ TEST(PipelineConfig, MissingFileIsAClearError) {
   } catch (const ParseError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/preset.yaml"), std::string::npos);
   }
+}
+
+TEST(PipelineConfig, EveryShippedPresetLoads) {
+  const auto dir = std::filesystem::path(S3M_TEST_DATA_DIR) / ".." / ".." / "config";
+  int n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    if (e.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(e.path().string());
+    const PipelineConfig c = load_pipeline_config(e.path().string());
+    EXPECT_NO_THROW(c.validate());
+    ++n;
+  }
+  EXPECT_GE(n, 6);  // sim, tum_fr1/2/3, realsense_d455, kitchen_7scenes
+  // The preset's camera file is resolved next to the preset.
+  const auto d455 = load_pipeline_config((dir / "realsense_d455.yaml").string());
+  EXPECT_TRUE(std::filesystem::exists(d455.dataset.camera)) << d455.dataset.camera;
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 
 namespace s3m::pipeline {
 
-void KeyframeStore::add(KeyframeId anchor, const SE3& T_w_c, int frame_index, LabelledCloud cloud) {
+void KeyframeStore::add(KeyframeId anchor, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud) {
   const auto it = keyframes_.find(anchor);
   require(it != keyframes_.end(), "KeyframeStore::add: keyframe " + std::to_string(anchor) + " was not noted");
   clouds_.push_back({anchor, it->second.inverse() * T_w_c, frame_index, std::move(cloud)});
@@ -39,7 +39,7 @@ double KeyframeStore::update_poses(const std::map<KeyframeId, SE3>& T_w_kf) {
 
 std::size_t KeyframeStore::bytes() const {
   std::size_t b = 0;
-  for (const auto& c : clouds_) b += c.cloud.bytes() + sizeof(KeptCloud);
+  for (const auto& c : clouds_) b += cloud_bytes(c.cloud) + sizeof(KeptCloud);
   return b;
 }
 

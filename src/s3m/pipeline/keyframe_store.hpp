@@ -18,7 +18,7 @@ struct KeptCloud {
   KeyframeId anchor = -1;      // keyframe the cloud moves with
   SE3 T_kf_c = SE3::Identity();
   int frame_index = 0;
-  LabelledCloud cloud;         // camera frame, exactly what was inserted
+  mapping::LabeledCloud cloud;  // camera frame (origin 0), exactly what was inserted
 };
 
 class KeyframeStore {
@@ -27,7 +27,7 @@ class KeyframeStore {
   // culled keyframes can be inferred from their neighbours).
   void note_keyframe(KeyframeId id, const SE3& T_w_kf) { keyframes_.insert_or_assign(id, T_w_kf); }
   // Keeps a cloud observed at T_w_c, anchored to the noted keyframe `anchor`.
-  void add(KeyframeId anchor, const SE3& T_w_c, int frame_index, LabelledCloud cloud);
+  void add(KeyframeId anchor, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud);
 
   // Moves anchors to new keyframe poses. Anchors not in the map (keyframes SLAM has culled since)
   // follow the correction of the nearest listed keyframe by id, which is the keyframe they were

@@ -1,29 +1,44 @@
 #pragma once
-// The pipeline's handle on the semantic map: inserts labelled camera-frame clouds at a pose and
-// rebuilds the map from the kept clouds when keyframe poses change.
+// The pipeline's handle on the semantic map (s3m::mapping): inserts camera-frame labelled clouds at
+// a pose, rebuilds the map from the kept clouds when keyframe poses change, saves and scores it.
 #include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
 
 #include "s3m/core/se3.hpp"
+#include "s3m/mapping/insert.hpp"
+#include "s3m/mapping/semantic_octree.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
-#include "s3m/pipeline/labelled_cloud.hpp"
-
-namespace s3m::mapping {
-class SemanticOcTree;
-}
+#include "s3m/pipeline/pipeline_config.hpp"
 
 namespace s3m::pipeline {
 
-struct MapSettings;  // defined with the mapping wiring (map_integrator.cpp)
-
 class MapIntegrator {
  public:
-  virtual ~MapIntegrator() = default;
-  // Inserts cloud_c (camera frame) observed from T_w_c: rays from the camera centre clear free space.
-  virtual void insert(const LabelledCloud& cloud_c, const SE3& T_w_c) = 0;
+  explicit MapIntegrator(const MapConfig& config);
+
+  // Inserts cloud_c (camera frame, origin 0) observed from T_w_c; rays from the camera centre clear
+  // free space.
+  void insert(const mapping::LabeledCloud& cloud_c, const SE3& T_w_c);
   // Replaces the map by one built from every kept cloud at its current pose, in the original order.
-  virtual void rebuild(const KeyframeStore& store) = 0;
-  virtual const mapping::SemanticOcTree& tree() const = 0;
-  virtual double resolution_m() const = 0;
+  void rebuild(const KeyframeStore& store);
+  // map.ot (full semantics, atomic) and map.ply (occupied leaves: centre, colour, class, confidence).
+  void save(const std::string& ot_path, const std::string& ply_path) const;
+
+  const mapping::SemanticOcTree& tree() const { return *tree_; }
+  double resolution_m() const { return config_.resolution_m; }
+  std::size_t occupied_voxels() const;
+  // Statistics for metrics.json: voxels, resolution, fusion parameters.
+  nlohmann::json describe() const;
+
+ private:
+  std::unique_ptr<mapping::SemanticOcTree> make_tree() const;
+
+  MapConfig config_;
+  mapping::Inserter inserter_;
+  std::unique_ptr<mapping::SemanticOcTree> tree_;
 };
 
 }  // namespace s3m::pipeline

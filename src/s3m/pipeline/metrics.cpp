@@ -5,6 +5,7 @@
 #include "s3m/core/classes.hpp"
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/pipeline/evaluation.hpp"
+#include "s3m/pipeline/labelled_cloud.hpp"
 
 namespace s3m::pipeline {
 namespace fs = std::filesystem;
@@ -44,7 +45,8 @@ json segmentation_json(const Pipeline& p) {
           {"note", "argmax of each segmented frame vs the dataset's label image; unknown (0) not evaluated"}};
 }
 
-json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& dataset_dir) {
+// T_map_gt: the ground-truth world in the map's frame (the inverse of the trajectory alignment).
+json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& dataset_dir, const SE3& T_map_gt) {
   const MapIntegrator* map = p.map();
   if (!map) return json::object();
   const PipelineCounters& c = p.counters();
@@ -61,12 +63,13 @@ json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& da
     if (bytes > 0) j["raw_over_file_ratio"] = static_cast<double>(c.raw_points * kRawPointBytes) / bytes;
   }
   if (const std::string gt = find_gt_voxel_map(dataset_dir); !gt.empty()) {
-    const MapScore s = score_map(*map, gt);
+    const MapScore s = score_map(*map, gt, T_map_gt);
     j["gt_voxel_map"] = gt;
     j["miou"] = s.miou;
     j["per_class_iou"] = per_class_json(s.per_class_iou);
     j["gt_voxels_observed"] = s.gt_observed;
     j["gt_voxels"] = s.gt_total;
+    j["note"] = "map mIoU over ground-truth voxels the map holds as occupied (top label vs true class)";
   }
   return j;
 }
@@ -104,9 +107,13 @@ json compute_metrics(const Pipeline& p, const io::TumDataset& dataset, const Pip
     if (!f.tracked) lost[f.state] = lost.value(f.state, 0) + 1;
   m["untracked_by_state"] = lost;
   m["timings_ms"] = timings_json(p.timings());
-  m["trajectory"] = evaluate_trajectory(p, dataset, config, paths);
+  const TrajectoryScore traj = evaluate_trajectory(p, dataset, config, paths);
+  m["trajectory"] = traj.json;
   m["segmentation"] = segmentation_json(p);
-  m["map"] = map_json(p, paths, dataset.dir());
+  // The map lives in the estimate's world; the RGB-D scale is metric, so only the rigid part of the
+  // alignment is used.
+  const SE3 T_map_gt = traj.alignment ? traj.alignment->T_gt_est.inverse() : SE3::Identity();
+  m["map"] = map_json(p, paths, dataset.dir(), T_map_gt);
   m["classes"] = classes_json();
   m["outputs"] = {{"trajectory_camera", paths.trajectory_camera},
                   {"trajectory_robot", paths.trajectory_robot},

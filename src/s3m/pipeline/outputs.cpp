@@ -24,7 +24,7 @@ OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config
   const io::Trajectory cam = pipeline.poses().camera_trajectory();
   if (cam.empty()) spdlog::warn("outputs: no frame was tracked; trajectory files are empty");
   io::write_tum_trajectory(p.trajectory_camera, cam);
-  io::write_tum_trajectory(p.trajectory_robot, robot_trajectory(cam, config.calibration.T_c_r()));
+  io::write_tum_trajectory(p.trajectory_robot, robot_trajectory(cam, config.slam.T_c_r));
   io::write_tum_trajectory(p.keyframes, pipeline.poses().keyframe_trajectory());
   if (const MapIntegrator* map = pipeline.map()) {
     p.map_ot = out_dir + "/map.ot";

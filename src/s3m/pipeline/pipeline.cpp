@@ -79,7 +79,7 @@ void Pipeline::steps3to5_map(Work& w) {
     // 3. cloud: back-project the labelled, range-filtered pixels; keep a downsampled copy.
     Stopwatch sw;
     const CloudConfig& cc = config_.cloud;
-    LabelledCloud cloud = backproject(camera_, f.depth_m, f.rgb, w.labels,
+    mapping::LabeledCloud cloud = backproject(camera_, f.depth_m, f.rgb, w.labels,
                                       {cc.min_depth_m, cc.max_depth_m, cc.pixel_stride});
     cloud = voxel_downsample(cloud, cc.keyframe_voxel_m > 0 ? cc.keyframe_voxel_m : map_->resolution_m());
     cv::Mat in_range;

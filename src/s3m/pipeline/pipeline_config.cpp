@@ -11,24 +11,6 @@ namespace {
 
 std::string num(double v) { return std::to_string(v); }
 
-// Reads a fixed-length numeric list (e.g. t_m: [x, y, z]); names file, line and expected shape.
-template <int N>
-Eigen::Matrix<double, N, 1> read_vector(const YAML::Node& n, const std::string& key, const std::string& ctx) {
-  const YAML::Node v = n[key];
-  if (!v.IsSequence() || static_cast<int>(v.size()) != N)
-    throw ParseError(ctx, v.Mark().line + 1, "bad value for '" + key + "'",
-                     "a list of " + std::to_string(N) + " numbers");
-  Eigen::Matrix<double, N, 1> out;
-  for (int i = 0; i < N; ++i) {
-    try {
-      out[i] = v[i].as<double>();
-    } catch (const YAML::Exception&) {
-      throw ParseError(ctx, v[i].Mark().line + 1, "bad number in '" + key + "'", "a number");
-    }
-  }
-  return out;
-}
-
 // Reads an enum given as a string; the message lists the allowed spellings.
 template <typename E>
 void read_enum(const YAML::Node& n, const std::string& key, E& out,
@@ -73,18 +55,6 @@ void load_dataset(const YAML::Node& n, DatasetConfig& c, const std::string& ctx)
   yaml_get(n, "max_dt_s", c.max_dt_s, ctx);
 }
 
-void load_calibration(const YAML::Node& n, CalibrationConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"t_c_r_m", "q_c_r_xyzw"}, ctx);
-  if (n["t_c_r_m"]) c.t_c_r_m = read_vector<3>(n, "t_c_r_m", ctx);
-  if (n["q_c_r_xyzw"]) {
-    const Eigen::Vector4d q = read_vector<4>(n, "q_c_r_xyzw", ctx);
-    if (std::abs(q.norm() - 1.0) > 1e-3)
-      throw ParseError(ctx, n["q_c_r_xyzw"].Mark().line + 1,
-                       "quaternion 'q_c_r_xyzw' has norm " + num(q.norm()), "a unit quaternion [qx, qy, qz, qw]");
-    c.q_c_r = Quat(q[3], q[0], q[1], q[2]).normalized();
-  }
-}
-
 void load_cloud(const YAML::Node& n, CloudConfig& c, const std::string& ctx) {
   check_known_keys(n, {"min_depth_m", "max_depth_m", "pixel_stride", "keyframe_voxel_m"}, ctx);
   yaml_get(n, "min_depth_m", c.min_depth_m, ctx);
@@ -108,6 +78,15 @@ void load_flow(const YAML::Node& n, FlowConfig& c, const std::string& ctx) {
   yaml_get(n, "final_reintegration", c.final_reintegration, ctx);
 }
 
+void load_segmenter(const YAML::Node& n, SegmenterConfig& c, const std::string& ctx) {
+  check_known_keys(n, {"type", "model", "model_dir", "top_k", "oracle"}, ctx);
+  yaml_get(n, "type", c.type, ctx);
+  yaml_get(n, "model", c.model, ctx);
+  yaml_get(n, "model_dir", c.model_dir, ctx);
+  yaml_get(n, "top_k", c.top_k, ctx);
+  if (n["oracle"]) c.oracle = semantics::load_oracle_config(n["oracle"], ctx);
+}
+
 void load_eval(const YAML::Node& n, EvalConfig& c, const std::string& ctx) {
   check_known_keys(n, {"rpe_delta_s", "gt_max_dt_s", "align", "plots"}, ctx);
   yaml_get(n, "rpe_delta_s", c.rpe_delta_s, ctx);
@@ -118,17 +97,34 @@ void load_eval(const YAML::Node& n, EvalConfig& c, const std::string& ctx) {
 
 }  // namespace
 
+void MapConfig::validate() const {
+  require(std::isfinite(resolution_m) && resolution_m >= 0.005 && resolution_m <= 1.0,
+          "map.resolution_m must be in [0.005, 1] m (got " + std::to_string(resolution_m) + ")");
+  fusion.validate();
+  insert.validate();
+}
+
+MapConfig map_config_from_yaml(const YAML::Node& node, const std::string& ctx) {
+  MapConfig c;
+  check_known_keys(node, {"resolution_m", "fusion", "insert"}, ctx);
+  yaml_get(node, "resolution_m", c.resolution_m, ctx);
+  if (node["fusion"]) c.fusion = mapping::fusion_config_from_yaml(node["fusion"], ctx);
+  if (node["insert"]) c.insert = mapping::insert_config_from_yaml(node["insert"], ctx);
+  return c;
+}
+
+void SegmenterConfig::validate() const {
+  require(type == "onnx" || type == "oracle" || type == "none",
+          "segmenter.type must be onnx | oracle | none (got '" + type + "')");
+  require(type != "onnx" || !model.empty(), "segmenter.model (a model card) is required for type onnx");
+  require(top_k >= 1 && top_k <= mapping::kMaxLabels,
+          "segmenter.top_k must be in 1.." + std::to_string(mapping::kMaxLabels));
+  oracle.validate();
+}
+
 void DatasetConfig::validate() const {
   require(std::isfinite(max_dt_s) && max_dt_s > 0 && max_dt_s < 1.0,
           "dataset.max_dt_s must be in (0, 1) s (got " + num(max_dt_s) + ")");
-}
-
-SE3 CalibrationConfig::T_c_r() const { return make_se3(t_c_r_m, q_c_r); }
-
-void CalibrationConfig::validate() const {
-  require(t_c_r_m.allFinite() && t_c_r_m.norm() < 10.0,
-          "calibration.t_c_r_m must be finite and shorter than 10 m");
-  require(std::abs(q_c_r.norm() - 1.0) < 1e-3, "calibration.q_c_r_xyzw must be a unit quaternion");
 }
 
 void CloudConfig::validate() const {
@@ -160,11 +156,13 @@ void EvalConfig::validate() const {
 
 void PipelineConfig::validate() const {
   dataset.validate();
-  calibration.validate();
+  slam.validate();
   cloud.validate();
   threads.validate();
   flow.validate();
   eval.validate();
+  map.validate();
+  segmenter.validate();
 }
 
 PipelineConfig load_pipeline_config(const std::string& path) {
@@ -173,23 +171,31 @@ PipelineConfig load_pipeline_config(const std::string& path) {
   c.source = path;
   if (!root || root.IsNull()) return c;  // an empty preset means "all defaults"
   if (!root.IsMap()) throw ParseError(path, 1, "top level is not a map", "sections such as 'cloud:', 'slam:'");
-  check_known_keys(root, {"dataset", "calibration", "cloud", "threads", "flow", "eval"}, path);
+  check_known_keys(root, {"dataset", "slam", "cloud", "threads", "flow", "eval", "map", "segmenter"}, path);
   if (const auto n = section(root, "dataset", path)) load_dataset(n, c.dataset, path);
-  if (const auto n = section(root, "calibration", path)) load_calibration(n, c.calibration, path);
+  if (const auto n = section(root, "slam", path)) c.slam = slam::slam_config_from_yaml(n, path);
   if (const auto n = section(root, "cloud", path)) load_cloud(n, c.cloud, path);
   if (const auto n = section(root, "threads", path)) load_threads(n, c.threads, path);
   if (const auto n = section(root, "flow", path)) load_flow(n, c.flow, path);
   if (const auto n = section(root, "eval", path)) load_eval(n, c.eval, path);
+  if (const auto n = section(root, "map", path)) c.map = map_config_from_yaml(n, path);
+  if (const auto n = section(root, "segmenter", path)) load_segmenter(n, c.segmenter, path);
   // A relative camera file is relative to the preset (presets live next to their camera files).
   const auto& cam = c.dataset.camera;
   if (!cam.empty() && cam.find(".yaml") != std::string::npos && std::filesystem::path(cam).is_relative())
     c.dataset.camera = (std::filesystem::path(path).parent_path() / cam).lexically_normal().string();
   validate_in(c.dataset, path, "dataset");
-  validate_in(c.calibration, path, "calibration");
+  validate_in(c.slam, path, "slam");
   validate_in(c.cloud, path, "cloud");
   validate_in(c.threads, path, "threads");
   validate_in(c.flow, path, "flow");
   validate_in(c.eval, path, "eval");
+  validate_in(c.map, path, "map");
+  // Model paths in a preset are relative to the preset, like camera files.
+  for (std::string* p : {&c.segmenter.model, &c.segmenter.model_dir})
+    if (!p->empty() && std::filesystem::path(*p).is_relative())
+      *p = (std::filesystem::path(path).parent_path() / *p).lexically_normal().string();
+  validate_in(c.segmenter, path, "segmenter");
   return c;
 }
 

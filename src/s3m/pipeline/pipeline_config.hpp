@@ -2,9 +2,16 @@
 // Configuration of the end-to-end pipeline: its own parameters plus the configs of the modules it
 // wires together. Loaded from a YAML preset in config/ (see config/README.md for every key);
 // keys absent from the file keep the defaults below, unknown keys are refused with file and line.
+// The robot trajectory uses the SLAM section's calibration: T_w_r = T_w_c * slam.T_c_r.
 #include <string>
 
+#include <yaml-cpp/yaml.h>
+
 #include "s3m/core/se3.hpp"
+#include "s3m/mapping/fusion.hpp"
+#include "s3m/mapping/insert.hpp"
+#include "s3m/semantics/oracle_segmenter.hpp"
+#include "s3m/slam/slam_config.hpp"
 
 namespace s3m::pipeline {
 
@@ -23,14 +30,6 @@ enum class SegmentMode {
 struct DatasetConfig {
   std::string camera;      // camera preset ("tum_fr1") or YAML file; empty = <dataset>/camera.yaml
   double max_dt_s = 0.02;  // max rgb/depth timestamp gap when associating by nearest time [s]
-  void validate() const;
-};
-
-struct CalibrationConfig {
-  // T_c_r: robot (body) frame -> camera frame, so that T_w_r = T_w_c * T_c_r (the paper's calibration).
-  Vec3 t_c_r_m = Vec3::Zero();           // translation [m], robot origin expressed in the camera frame
-  Quat q_c_r = Quat::Identity();         // rotation robot -> camera (YAML: q_xyzw)
-  SE3 T_c_r() const;
   void validate() const;
 };
 
@@ -67,13 +66,34 @@ struct EvalConfig {
   void validate() const;
 };
 
+// The `map:` section of a preset.
+struct MapConfig {
+  double resolution_m = 0.05;          // voxel edge [m]
+  mapping::FusionConfig fusion;        // `fusion:` policy (paper | max_confidence | bayesian), k, alpha
+  mapping::InsertConfig insert;        // `insert:` ranges [m], outlier removal, threads
+  void validate() const;
+};
+MapConfig map_config_from_yaml(const YAML::Node& node, const std::string& ctx);
+
+// The `segmenter:` section. `s3m run --segmenter` overrides type/model.
+struct SegmenterConfig {
+  std::string type = "oracle";  // onnx | oracle | none
+  std::string model;            // onnx: model card (.yaml) or a folder holding one; relative to the preset
+  std::string model_dir;        // onnx: folder with the model files when the card lives elsewhere
+  int top_k = 3;                // oracle: labels per pixel (an ONNX model card carries its own)
+  semantics::OracleNoiseConfig oracle;  // `oracle:` noise model (keys of semantics::OracleNoiseConfig)
+  void validate() const;
+};
+
 struct PipelineConfig {
   DatasetConfig dataset;
-  CalibrationConfig calibration;
   CloudConfig cloud;
   ThreadingConfig threads;
   FlowConfig flow;
   EvalConfig eval;
+  slam::SlamConfig slam;  // `slam:` section (s3m::slam keys), including the calibration T_c_r
+  MapConfig map;
+  SegmenterConfig segmenter;
   std::string source;  // file the config was loaded from ("" = defaults), for messages
   void validate() const;
 };

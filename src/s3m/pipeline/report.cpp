@@ -3,6 +3,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "s3m/eval/report.hpp"
+
 namespace s3m::pipeline {
 namespace fs = std::filesystem;
 
@@ -16,16 +18,18 @@ std::string shell_quote(const std::string& s) {
 
 }  // namespace
 
-std::string tools_dir() {
-  if (const char* env = std::getenv("S3M_TOOLS_DIR"); env && *env) return env;
-  return std::string(S3M_SOURCE_DIR) + "/tools";
-}
-
 ReportResult make_report(const std::string& out_dir) {
   ReportResult r;
-  const std::string script = tools_dir() + "/plot_report.py";
+  // Trajectory X-Y / X-Z, RPE over time, ATE along the path: the evaluator's plots, same as `s3m eval`.
+  const std::string plot_data = out_dir + "/report/plot_data.json";
+  if (fs::exists(plot_data)) {
+    const eval::PlotResult traj = eval::run_plot_script(plot_data, out_dir + "/report");
+    if (!traj.ok) r.error = "trajectory plots: " + traj.message + "; ";
+  }
+  // Same lookup as the evaluator's script ($S3M_TOOLS_DIR, else the source tree's tools/).
+  const std::string script = eval::find_tools_dir() + "/plot_report.py";
   if (!fs::exists(script)) {
-    r.error = "plot script " + script + " not found (set S3M_TOOLS_DIR to the repository's tools/)";
+    r.error += "plot script " + script + " not found (set S3M_TOOLS_DIR to the repository's tools/)";
     return r;
   }
   // Debian's interpreter has numpy/matplotlib; a pyenv/venv python3 on PATH usually does not.
@@ -36,12 +40,12 @@ ReportResult make_report(const std::string& out_dir) {
                           shell_quote(log) + " 2>&1";
   const int status = std::system(cmd.c_str());
   if (status != 0) {
-    r.error = "'" + cmd + "' failed (exit status " + std::to_string(status) + "); see " + log;
+    r.error += "'" + cmd + "' failed (exit status " + std::to_string(status) + "); see " + log;
     return r;
   }
   const std::string html = out_dir + "/report/report.html";
   if (fs::exists(html)) r.html = html;
-  else r.error = "plot script ran but wrote no " + html;
+  else r.error += "plot script ran but wrote no " + html;
   return r;
 }
 

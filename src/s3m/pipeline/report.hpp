@@ -14,7 +14,4 @@ struct ReportResult {
 // must not lose the run's other outputs; the reason is returned instead.
 ReportResult make_report(const std::string& out_dir);
 
-// Where the repository's Python tools are: $S3M_TOOLS_DIR, else <source tree>/tools.
-std::string tools_dir();
-
 }  // namespace s3m::pipeline

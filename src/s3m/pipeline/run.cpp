@@ -50,13 +50,15 @@ Components build(const RunOptions& o) {
   const PinholeCamera& cam = c.dataset.camera();
   c.info.dataset_dir = o.dataset_dir;
   c.info.config_file = o.config.source;
-  auto poses = make_pose_source(o.poses, c.dataset, o.config);
+  auto poses = make_pose_source(o.poses, c.dataset, cam, o.config);
   c.info.poses = poses->name();
   std::unique_ptr<semantics::Segmenter> segmenter;
   std::unique_ptr<MapIntegrator> map;
   if (!o.slam_only) {
-    segmenter = make_segmenter(parse_segmenter_spec(o.segmenter), o.config, c.dataset.has_labels());
-    map = make_map_integrator(o.config);
+    SegmenterSpec spec = parse_segmenter_spec(o.segmenter);
+    spec.model_dir = o.model_dir;
+    segmenter = make_segmenter(spec, o.config, c.dataset.has_labels());
+    map = std::make_unique<MapIntegrator>(o.config.map);
   }
   c.info.segmenter = segmenter ? segmenter->name() : (o.slam_only ? "none (--slam-only)" : "none");
   c.pipeline = std::make_unique<Pipeline>(o.config, cam, std::move(poses), std::move(segmenter), std::move(map));

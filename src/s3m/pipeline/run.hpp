@@ -17,6 +17,7 @@ struct RunOptions {
   PipelineConfig config;
   // Segmenter: "" = the config's segmenter section; "onnx:MODEL_DIR_OR_CARD", "oracle", "none".
   std::string segmenter;
+  std::string model_dir;           // with onnx: the folder holding the model files
   std::string poses = "slam";      // slam | gt (ground-truth poses: evaluates semantics/mapping alone)
   bool slam_only = false;          // trajectories only: no segmentation, no map
   long max_frames = -1;            // < 0: all frames
@@ -43,7 +44,8 @@ RunResult run_dataset(const RunOptions& options);
 // Parses "onnx:PATH" / "oracle" / "none" (throws Error listing the accepted forms).
 struct SegmenterSpec {
   enum class Kind { kFromConfig, kOnnx, kOracle, kNone } kind = Kind::kFromConfig;
-  std::string model;  // onnx: model card file or directory holding one
+  std::string model;      // onnx: model card file or directory holding one
+  std::string model_dir;  // onnx: folder with the model files (when the card lives elsewhere)
 };
 SegmenterSpec parse_segmenter_spec(const std::string& spec);
 

@@ -1,0 +1,73 @@
+// Full-pipeline throughput (frames/s) at the dataset's resolution, threaded and single-thread.
+//
+//   S3M_BENCH_DATASET=DIR        TUM-layout sequence (default: a 150-frame 640x480 simulator flight,
+//                                rendered once into $TMPDIR/s3m_bench_sequence)
+//   S3M_BENCH_CONFIG=FILE        pipeline preset (default: config/sim.yaml)
+//   S3M_BENCH_SEGMENTER=SPEC     onnx:MODEL | oracle | none (default: the shipped network, else oracle)
+//   S3M_BENCH_MODEL_DIR=DIR      model folder for cards in models/external/
+//
+//   build/bench/bench_pipeline_throughput --benchmark_min_time=1x
+// Counters: fps (wall clock, reading + all stages), and per-stage mean ms (track, segment, cloud, map).
+#include <cstdlib>
+#include <filesystem>
+
+#include <benchmark/benchmark.h>
+
+#include "s3m/pipeline/factories.hpp"
+#include "s3m/pipeline/run.hpp"
+#include "s3m/sim/simulate.hpp"
+
+namespace {
+namespace fs = std::filesystem;
+using namespace s3m;
+
+std::string env(const char* name, const std::string& fallback = "") {
+  const char* v = std::getenv(name);
+  return v && *v ? v : fallback;
+}
+
+std::string dataset() {
+  if (auto d = env("S3M_BENCH_DATASET"); !d.empty()) return d;
+  const fs::path dir = fs::temp_directory_path() / "s3m_bench_sequence";
+  if (!fs::exists(dir / "gt_voxels.txt")) {
+    sim::SimConfig c;
+    c.trajectory.frames = 150;
+    sim::simulate_sequence(c, dir.string());
+  }
+  return dir.string();
+}
+
+std::string segmenter() {
+  if (auto s = env("S3M_BENCH_SEGMENTER"); !s.empty()) return s;
+  try {
+    return "onnx:" + pipeline::resolve_model_card(pipeline::repo_path("models/s3m_pspnet_small")).card;
+  } catch (const Error&) {
+    return "oracle";
+  }
+}
+
+void run(benchmark::State& state, bool deterministic) {
+  pipeline::RunOptions o;
+  o.dataset_dir = dataset();
+  o.config = pipeline::load_pipeline_config(env("S3M_BENCH_CONFIG", pipeline::repo_path("config/sim.yaml")));
+  o.config.threads.deterministic = deterministic;
+  o.segmenter = segmenter();
+  o.model_dir = env("S3M_BENCH_MODEL_DIR");
+  o.out_dir = (fs::temp_directory_path() / "s3m_bench_out").string();
+  o.report = false;
+  nlohmann::json m;
+  for (auto _ : state) m = pipeline::run_dataset(o).metrics;
+  state.counters["fps"] = m["fps"].get<double>();
+  state.counters["frames"] = m["frames"].get<double>();
+  for (const auto& [stage, t] : m["timings_ms"].items()) state.counters[stage + "_ms"] = t["mean"].get<double>();
+  state.SetLabel(o.segmenter);
+}
+
+void BM_PipelineThreaded(benchmark::State& state) { run(state, false); }
+void BM_PipelineSingleThread(benchmark::State& state) { run(state, true); }
+BENCHMARK(BM_PipelineThreaded)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_PipelineSingleThread)->Unit(benchmark::kSecond)->Iterations(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,39 @@
+#pragma once
+// Building the pipeline's components from a preset and the command line, with messages that say
+// what is missing and what to pass instead.
+#include <memory>
+#include <string>
+
+#include "s3m/io/tum_dataset.hpp"
+#include "s3m/pipeline/map_integrator.hpp"
+#include "s3m/pipeline/pipeline_config.hpp"
+#include "s3m/pipeline/pose_source.hpp"
+#include "s3m/pipeline/run.hpp"
+#include "s3m/semantics/segmenter.hpp"
+
+namespace s3m::pipeline {
+
+// "slam" (the SLAM system of s3m::slam) or "gt" (the dataset's ground truth).
+std::unique_ptr<PoseSource> make_pose_source(const std::string& kind, const io::TumDataset& dataset,
+                                             const PinholeCamera& camera, const PipelineConfig& config);
+
+// The SLAM system as a PoseSource (slam_pose_source.cpp).
+std::unique_ptr<PoseSource> make_slam_poses(const PinholeCamera& camera, const PipelineConfig& config);
+
+// nullptr for "none". The oracle needs the dataset's label images (simulator output).
+std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterSpec& spec, const PipelineConfig& config,
+                                                     bool dataset_has_labels);
+
+// Finds the model card for `onnx:PATH`: PATH itself when it is a .yaml file; the single card
+// (*.yaml with a `model:` key) inside the folder PATH; else the repository's card
+// models/external/<folder name>.yaml describing a downloaded model, with PATH as its model folder.
+struct ResolvedCard {
+  std::string card, model_dir;  // model_dir empty: the card's own folder
+};
+ResolvedCard resolve_model_card(const std::string& path);
+
+// A file of the source tree this library was built from (presets, shipped models): $S3M_SOURCE_DIR
+// when set (an installed or moved build), else the configure-time source directory.
+std::string repo_path(const std::string& relative);
+
+}  // namespace s3m::pipeline

@@ -1,0 +1,62 @@
+#include "s3m/pipeline/map_integrator.hpp"
+
+#include <cmath>
+
+#include "s3m/core/error.hpp"
+#include "s3m/io/ply.hpp"
+#include "s3m/mapping/map_io.hpp"
+#include "s3m/pipeline/labelled_cloud.hpp"
+
+namespace s3m::pipeline {
+
+MapIntegrator::MapIntegrator(const MapConfig& config) : config_(config), inserter_(config.insert) {
+  config_.validate();
+  tree_ = make_tree();
+}
+
+std::unique_ptr<mapping::SemanticOcTree> MapIntegrator::make_tree() const {
+  auto tree = std::make_unique<mapping::SemanticOcTree>(config_.resolution_m);
+  tree->setFusionConfig(config_.fusion);
+  return tree;
+}
+
+void MapIntegrator::insert(const mapping::LabeledCloud& cloud_c, const SE3& T_w_c) {
+  inserter_.insert(transformed(cloud_c, T_w_c), *tree_);
+}
+
+void MapIntegrator::rebuild(const KeyframeStore& store) {
+  auto fresh = make_tree();
+  for (const KeptCloud& c : store.clouds()) inserter_.insert(transformed(c.cloud, store.T_w_c(c)), *fresh);
+  tree_ = std::move(fresh);
+}
+
+std::size_t MapIntegrator::occupied_voxels() const {
+  std::size_t n = 0;
+  const unsigned max_depth = tree_->getTreeDepth();
+  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it)
+    if (tree_->isNodeOccupied(*it)) n += std::size_t{1} << (3 * (max_depth - it.getDepth()));  // pruned leaves
+  return n;
+}
+
+void MapIntegrator::save(const std::string& ot_path, const std::string& ply_path) const {
+  mapping::save_semantic_map(*tree_, ot_path);
+  std::vector<io::PlyPoint> pts;
+  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
+    if (!tree_->isNodeOccupied(*it)) continue;
+    const auto c = it.getCoordinate();
+    const auto rgb = it->color();
+    pts.push_back({c.x(), c.y(), c.z(), rgb.r, rgb.g, rgb.b, it->labels().top(), it->labels().top_prob()});
+  }
+  io::write_ply(ply_path, pts, /*with_semantics=*/true);
+}
+
+nlohmann::json MapIntegrator::describe() const {
+  return {{"voxels", occupied_voxels()},
+          {"leaf_nodes", tree_->getNumLeafNodes()},
+          {"resolution_m", config_.resolution_m},
+          {"fusion_policy", mapping::to_string(config_.fusion.policy)},
+          {"top_k", config_.fusion.k},
+          {"alpha", config_.fusion.alpha}};
+}
+
+}  // namespace s3m::pipeline

@@ -1,0 +1,87 @@
+#pragma once
+// Shared set-up of the end-to-end tests: one short simulated sequence (fixed seed) rendered once per
+// test binary, and helpers to run the pipeline on it into fresh output folders.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "s3m/pipeline/pipeline_config.hpp"
+#include "s3m/pipeline/run.hpp"
+#include "s3m/sim/simulate.hpp"
+
+namespace s3m::it {
+
+namespace fs = std::filesystem;
+
+// Output folders of this process (ctest runs every test in its own process, possibly in parallel).
+inline fs::path scratch_dir() {
+  const fs::path d = fs::temp_directory_path() / ("s3m_integration_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+// Removes this process's output folders when the tests end.
+class ScratchCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(scratch_dir(), ec);
+  }
+};
+
+// 2.7 s of the office UAV sweep at 30 Hz: take-off and the start of the yaw sweep.
+inline constexpr int kFrames = 80;
+
+// The sequence, rendered once and cached in the temp folder for every test process: the simulator is
+// deterministic, so a complete cached copy is identical to a fresh one. Rendered into a private
+// folder and renamed into place, so parallel test processes never see a half-written sequence.
+inline const std::string& sequence_dir() {
+  static const std::string dir = [] {
+    sim::SimConfig c;
+    c.scene = "office";
+    c.seed = 7;
+    c.trajectory.type = "uav_sweep";
+    c.trajectory.frames = kFrames;
+    const fs::path d = fs::temp_directory_path() / ("s3m_it_sequence_office_uav_sweep_seed7_" + std::to_string(kFrames));
+    if (!fs::exists(d / "gt_voxels.txt")) {
+      const fs::path tmp = d.string() + ".tmp" + std::to_string(::getpid());
+      sim::simulate_sequence(c, tmp.string());
+      std::error_code ec;
+      fs::rename(tmp, d, ec);  // fails harmlessly when another process finished first
+      if (ec) fs::remove_all(tmp, ec);
+    }
+    return d.string();
+  }();
+  return dir;
+}
+
+// The simulator preset of the repository (the tests check it is usable as shipped).
+inline pipeline::PipelineConfig sim_preset() {
+  return pipeline::load_pipeline_config(std::string(S3M_TEST_DATA_DIR) + "/../../config/sim.yaml");
+}
+
+inline pipeline::RunOptions options(const std::string& out_name, bool deterministic) {
+  pipeline::RunOptions o;
+  o.dataset_dir = sequence_dir();
+  o.out_dir = (scratch_dir() / out_name).string();
+  fs::remove_all(o.out_dir);
+  o.config = sim_preset();
+  o.config.threads.deterministic = deterministic;
+  o.segmenter = "oracle";
+  o.report = false;
+  return o;
+}
+
+inline std::string read_bytes(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+}  // namespace s3m::it
