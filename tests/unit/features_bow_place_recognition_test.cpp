@@ -1,0 +1,61 @@
+// Place recognition end to end: train a vocabulary on one set of procedural places, enrol other
+// places in the database, query with revisited (homography-warped) views and with unseen places.
+#include <gtest/gtest.h>
+
+#include "features_bow_test_images.hpp"
+#include "s3m/features/bow_database.hpp"
+#include "s3m/features/bow_vocabulary.hpp"
+
+namespace s3m::features {
+namespace {
+
+constexpr int kFeatures = 400;
+
+class PlaceRecognition : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    std::vector<cv::Mat> training;
+    for (uint32_t s = 0; s < 30; ++s) training.push_back(extract_orb_descriptors(test::make_place_image(1000 + s), kFeatures));
+    VocabularyConfig config;
+    config.branching = 8;
+    config.levels = 4;
+    vocab_ = new Vocabulary(Vocabulary::train(training, config));
+  }
+  static void TearDownTestSuite() { delete vocab_; }
+  static BowVector bow(const cv::Mat& image) { return vocab_->transform(extract_orb_descriptors(image, kFeatures)); }
+  static Vocabulary* vocab_;
+};
+Vocabulary* PlaceRecognition::vocab_ = nullptr;
+
+TEST_F(PlaceRecognition, RevisitedPlacesAreRecalledAtRankOneAndUnrelatedPlacesScoreLow) {
+  constexpr int kPlaces = 20;
+  BowDatabase db;
+  std::vector<cv::Mat> places;
+  for (int p = 0; p < kPlaces; ++p) {
+    places.push_back(test::make_place_image(5000 + p));
+    db.add(p, bow(places.back()));
+  }
+  int recalled = 0;
+  double worst_true_score = 1.0;
+  for (int p = 0; p < kPlaces; ++p) {
+    const auto results = db.query(bow(test::make_revisit(places[p], 77 + p)), 3);
+    ASSERT_FALSE(results.empty());
+    if (results[0].entry_id == p) {
+      ++recalled;
+      worst_true_score = std::min(worst_true_score, results[0].score);
+    }
+  }
+  double best_unrelated_score = 0.0;
+  for (int q = 0; q < kPlaces; ++q) {
+    const auto results = db.query(bow(test::make_revisit(test::make_place_image(9000 + q), 11 + q)), 1);
+    if (!results.empty()) best_unrelated_score = std::max(best_unrelated_score, results[0].score);
+  }
+  std::printf("recall@1 %d/%d, worst true score %.3f, best unrelated score %.3f\n", recalled, kPlaces,
+              worst_true_score, best_unrelated_score);
+  EXPECT_GE(recalled, 19);  // recall@1 >= 95 %
+  // Rejection: a single threshold separates every recalled revisit from every unrelated place.
+  EXPECT_LT(best_unrelated_score, worst_true_score);
+}
+
+}  // namespace
+}  // namespace s3m::features
