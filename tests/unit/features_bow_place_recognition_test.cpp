@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include "features_bow_test_images.hpp"
+#include <opencv2/features2d.hpp>
+
 #include "s3m/features/bow_database.hpp"
+#include "s3m/features/bow_matcher.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
 
 namespace s3m::features {
@@ -55,6 +58,35 @@ TEST_F(PlaceRecognition, RevisitedPlacesAreRecalledAtRankOneAndUnrelatedPlacesSc
   EXPECT_GE(recalled, 19);  // recall@1 >= 95 %
   // Rejection: a single threshold separates every recalled revisit from every unrelated place.
   EXPECT_LT(best_unrelated_score, worst_true_score);
+}
+
+
+// BoW-accelerated matching between a place and its revisit: matches must agree with the known
+// homography (the reprojected keypoint lands within a few pixels).
+TEST_F(PlaceRecognition, BowMatchesAgreeWithTheKnownHomography) {
+  const cv::Mat place = test::make_place_image(5003);
+  cv::Mat H;
+  const cv::Mat view = test::make_revisit(place, 80, 12.0, &H);
+  auto orb = cv::ORB::create(kFeatures, 1.2F, 8);
+  std::vector<cv::KeyPoint> kp_a, kp_b;
+  cv::Mat d_a, d_b;
+  orb->detectAndCompute(place, cv::noArray(), kp_a, d_a);
+  orb->detectAndCompute(view, cv::noArray(), kp_b, d_b);
+  FeatureVector fv_a, fv_b;
+  vocab_->transform(d_a, &fv_a, 2);
+  vocab_->transform(d_b, &fv_b, 2);
+  const auto matches = match_by_bow(fv_a, d_a, fv_b, d_b);
+  int correct = 0;
+  std::set<int> used_a;
+  for (const auto& [i, j] : matches) {
+    EXPECT_TRUE(used_a.insert(i).second);  // one-to-one
+    std::vector<cv::Point2f> src{kp_a[size_t(i)].pt}, dst;
+    cv::perspectiveTransform(src, dst, H);
+    correct += cv::norm(dst[0] - kp_b[size_t(j)].pt) < 4.0;
+  }
+  std::printf("%zu BoW matches, %d consistent with H\n", matches.size(), correct);
+  EXPECT_GE(matches.size(), 60U);
+  EXPECT_GE(correct, int(0.9 * double(matches.size())));
 }
 
 }  // namespace

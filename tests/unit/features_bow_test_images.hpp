@@ -30,7 +30,7 @@ inline cv::Mat make_place_image(uint32_t seed, cv::Size size = {320, 240}) {
 
 // The place seen again: rotation (deg), scale and a shift of the principal point, plus sensor
 // noise and a brightness change, all drawn from `seed`.
-inline cv::Mat make_revisit(const cv::Mat& place, uint32_t seed, double max_rot_deg = 12.0) {
+inline cv::Mat make_revisit(const cv::Mat& place, uint32_t seed, double max_rot_deg = 12.0, cv::Mat* H_out = nullptr) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const cv::Point2f centre(place.cols / 2.0F + float(15 * u(rng)), place.rows / 2.0F + float(15 * u(rng)));
@@ -38,6 +38,7 @@ inline cv::Mat make_revisit(const cv::Mat& place, uint32_t seed, double max_rot_
   cv::getRotationMatrix2D(centre, max_rot_deg * u(rng), 1.0 + 0.1 * u(rng)).copyTo(H.rowRange(0, 2));
   H.at<double>(2, 0) = 1e-4 * u(rng);  // mild perspective
   H.at<double>(2, 1) = 1e-4 * u(rng);
+  if (H_out) *H_out = H.clone();  // maps place pixels to view pixels
   cv::Mat view;
   cv::warpPerspective(place, view, H, place.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
   cv::Mat noise(view.size(), CV_16SC1);

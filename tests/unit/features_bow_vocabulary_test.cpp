@@ -170,7 +170,9 @@ TEST(BowDatabase, QueryScoresEqualBruteForceL1AndRespectFilterAndErase) {
   ASSERT_FALSE(results.empty());
   for (size_t i = 0; i < results.size(); ++i) {
     EXPECT_NEAR(results[i].score, l1_score(q, entries[results[i].entry_id]), 1e-12);
-    if (i > 0) EXPECT_GE(results[i - 1].score, results[i].score);
+    if (i > 0) {
+      EXPECT_GE(results[i - 1].score, results[i].score);
+    }
   }
   const int best = results[0].entry_id;
   const auto filtered = db.query(q, 3, [&](int id) { return id != best; });
