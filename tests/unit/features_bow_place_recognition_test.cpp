@@ -61,6 +61,26 @@ TEST_F(PlaceRecognition, RevisitedPlacesAreRecalledAtRankOneAndUnrelatedPlacesSc
 }
 
 
+// The shipped vocabulary (trained on real indoor images) also recognises the procedural places.
+TEST(ShippedVocabulary, LoadsAndRecallsRevisitedPlaces) {
+  const Vocabulary v = Vocabulary::load(default_vocabulary_path());
+  EXPECT_EQ(v.branching(), 10);
+  EXPECT_EQ(v.levels(), 5);
+  EXPECT_GT(v.num_words(), 10000U);
+  BowDatabase db;
+  std::vector<cv::Mat> places;
+  for (int p = 0; p < 10; ++p) {
+    places.push_back(test::make_place_image(7000 + p));
+    db.add(p, v.transform(extract_orb_descriptors(places.back(), kFeatures)));
+  }
+  int recalled = 0;
+  for (int p = 0; p < 10; ++p) {
+    const auto r = db.query(v.transform(extract_orb_descriptors(test::make_revisit(places[p], 300 + p), kFeatures)), 1);
+    recalled += !r.empty() && r[0].entry_id == p;
+  }
+  EXPECT_GE(recalled, 9);
+}
+
 // BoW-accelerated matching between a place and its revisit: matches must agree with the known
 // homography (the reprojected keypoint lands within a few pixels).
 TEST_F(PlaceRecognition, BowMatchesAgreeWithTheKnownHomography) {

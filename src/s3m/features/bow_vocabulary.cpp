@@ -230,6 +230,8 @@ BowVector Vocabulary::transform(const cv::Mat& descriptors, FeatureVector* fv, i
   return bow;
 }
 
+std::string default_vocabulary_path() { return std::string(S3M_SOURCE_DIR) + "/vocab/orb_k10_l5.bin"; }
+
 cv::Mat extract_orb_descriptors(const cv::Mat& image, int num_features) {
   require(!image.empty(), "extract_orb_descriptors: empty image");
   require(num_features > 0, "extract_orb_descriptors: num_features must be > 0");

@@ -78,6 +78,10 @@ class Vocabulary {
   std::vector<WordId> word_of_node_;  // node -> word id (leaves only)
 };
 
+// The vocabulary shipped in the repository (vocab/orb_k10_l5.bin, see vocab/PROVENANCE.md),
+// located through the source tree the library was built from.
+std::string default_vocabulary_path();
+
 // ORB descriptors of one image for vocabulary training and tests: OpenCV ORB with a fixed number
 // of features, 8 pyramid levels, scale 1.2 (ORB-SLAM's settings). Grey or BGR input.
 cv::Mat extract_orb_descriptors(const cv::Mat& image, int num_features);
