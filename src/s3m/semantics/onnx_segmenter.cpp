@@ -8,6 +8,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/semantics/onnx_inspect.hpp"
+#include "s3m/semantics/resample.hpp"
 
 namespace s3m::semantics {
 
@@ -166,11 +167,9 @@ LabelMap OnnxSegmenter::segment(const cv::Mat& bgr) {
   // 4. back to the camera image and top-k
   const cv::Mat M = camera_to_output(geo);
   const int k = card_.top_k;
-  if (card_.upsample == ModelCard::Upsample::kLinear) {
-    for (auto& p : proj)
-      cv::warpAffine(p, p, M, bgr.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
-    return topk_from_planes(proj, active_, k);
-  }
+  if (card_.upsample == ModelCard::Upsample::kLinear)
+    return resample_topk(proj, active_, k, bgr.size(),
+                         AxisMap{M.at<double>(0, 0), M.at<double>(0, 2), M.at<double>(1, 1), M.at<double>(1, 2)});
   const LabelMap small = topk_from_planes(proj, active_, k);
   LabelMap full = make_label_map(bgr.rows, bgr.cols, k);
   std::vector<int> xs(bgr.cols);
