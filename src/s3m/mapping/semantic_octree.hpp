@@ -20,6 +20,7 @@ namespace s3m::mapping {
 
 class SemanticOcTree;
 struct FrameUpdate;
+struct TreeUpdater;
 
 struct Rgb {
   std::uint8_t r = 0, g = 0, b = 0;
@@ -29,6 +30,7 @@ struct Rgb {
 class SemanticOcTreeNode : public octomap::OcTreeNode {
  public:
   friend class SemanticOcTree;  // tree code manipulates children directly (as ColorOcTree does)
+  friend struct TreeUpdater;
 
   SemanticOcTreeNode() = default;
   SemanticOcTreeNode(const SemanticOcTreeNode& rhs)

@@ -1,0 +1,127 @@
+#include "s3m/mapping/brick_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+namespace s3m::mapping {
+
+bool KeyCoder::key_checked(const octomap::point3d& p, octomap::OcTreeKey& key) const {
+  for (int a = 0; a < 3; ++a) {
+    const int scaled = int(std::floor(inv_res * double(p(a)))) + kMaxVal;
+    if (scaled < 0 || scaled >= 2 * kMaxVal) return false;
+    key[a] = std::uint16_t(scaled);
+  }
+  return true;
+}
+
+void BrickGrid::reset(const octomap::OcTreeKey& lo, const octomap::OcTreeKey& hi) {
+  for (int a = 0; a < 3; ++a) lo_[a] = lo[a] >> 3;
+  nx_ = std::size_t((hi[0] >> 3) - lo_[0] + 1);
+  ny_ = std::size_t((hi[1] >> 3) - lo_[1] + 1);
+  nz_ = std::size_t((hi[2] >> 3) - lo_[2] + 1);
+  const std::size_t words = nx_ * ny_ * nz_ * 8;
+  free_.assign(words, 0);
+  occ_.assign(words, 0);
+}
+
+bool BrickGrid::contains(const octomap::OcTreeKey& k) const {
+  const int bx = (k[0] >> 3) - lo_[0], by = (k[1] >> 3) - lo_[1], bz = (k[2] >> 3) - lo_[2];
+  return bx >= 0 && by >= 0 && bz >= 0 && std::size_t(bx) < nx_ && std::size_t(by) < ny_ && std::size_t(bz) < nz_;
+}
+
+int BrickGrid::occupied_neighbors(const octomap::OcTreeKey& k, int enough) const {
+  int count = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        if ((dx | dy | dz) == 0) continue;
+        const octomap::OcTreeKey n(std::uint16_t(k[0] + dx), std::uint16_t(k[1] + dy), std::uint16_t(k[2] + dz));
+        if (occupied(n) && ++count >= enough) return count;
+      }
+  return count;
+}
+
+namespace {
+// OcTreeBaseImpl::computeRayKeys (Amanatides & Woo DDA) with the same float/double mix, so the
+// free voxels are exactly OctoMap's; visit() gets every key of the ray except the end voxel.
+template <typename Visit>
+void walk_ray(const KeyCoder& coder, const octomap::point3d& origin, const octomap::point3d& end, Visit&& visit) {
+  octomap::OcTreeKey key_origin, key_end;
+  if (!coder.key_checked(origin, key_origin) || !coder.key_checked(end, key_end)) return;
+  if (key_origin == key_end) return;
+  visit(key_origin);
+  octomap::point3d direction = end - origin;
+  const float length = float(direction.norm());
+  direction /= length;
+  int step[3];
+  double t_max[3], t_delta[3];
+  octomap::OcTreeKey current = key_origin;
+  for (int i = 0; i < 3; ++i) {
+    step[i] = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
+    if (step[i] != 0) {
+      double border = coder.center(current[i]);
+      border += float(step[i] * coder.res * 0.5);
+      t_max[i] = (border - origin(i)) / direction(i);
+      t_delta[i] = coder.res / std::fabs(direction(i));
+    } else {
+      t_max[i] = t_delta[i] = std::numeric_limits<double>::max();
+    }
+  }
+  while (true) {
+    const int dim = t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2) : (t_max[1] < t_max[2] ? 1 : 2);
+    current[dim] = std::uint16_t(current[dim] + step[dim]);
+    t_max[dim] += t_delta[dim];
+    if (current == key_end) return;
+    if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) return;
+    visit(current);
+  }
+}
+}  // namespace
+
+void BrickGrid::cast_rays(const KeyCoder& coder, const octomap::point3d& origin,
+                          const std::vector<octomap::point3d>& ends) {
+  // Each task marks its own bitmap; OR-ing them is order independent, hence deterministic.
+  const std::size_t parts = std::clamp<std::size_t>(std::size_t(tbb::this_task_arena::max_concurrency()), 1,
+                                                    std::max<std::size_t>(1, ends.size() / 256));
+  free_parts_.resize(parts);
+  tbb::parallel_for(std::size_t(0), parts, [&](std::size_t part) {
+    std::vector<std::uint64_t>& bits = part == 0 ? free_ : free_parts_[part];
+    if (part > 0) bits.assign(free_.size(), 0);
+    const std::size_t begin = ends.size() * part / parts, end = ends.size() * (part + 1) / parts;
+    for (std::size_t i = begin; i < end; ++i)
+      walk_ray(coder, origin, ends[i], [&](const octomap::OcTreeKey& k) {
+        if (contains(k)) bits[word(k)] |= mask(k);
+      });
+  });
+  if (parts == 1) return;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, free_.size(), 1 << 14), [&](const auto& r) {
+    for (std::size_t p = 1; p < parts; ++p)
+      for (std::size_t w = r.begin(); w < r.end(); ++w) free_[w] |= free_parts_[p][w];
+  });
+}
+
+void BrickGrid::build_bricks(FrameUpdate& out) const {
+  out.bricks.clear();
+  for (std::size_t bz = 0; bz < nz_; ++bz)
+    for (std::size_t by = 0; by < ny_; ++by)
+      for (std::size_t bx = 0; bx < nx_; ++bx) {
+        const std::size_t base = ((bz * ny_ + by) * nx_ + bx) * 8;
+        std::uint64_t any = 0;
+        for (int w = 0; w < 8; ++w) any |= free_[base + w] | occ_[base + w];
+        if (!any) continue;
+        BrickUpdate& b = out.bricks.emplace_back();
+        b.morton = brick_morton(unsigned(lo_[0] + int(bx)), unsigned(lo_[1] + int(by)), unsigned(lo_[2] + int(bz)));
+        for (int w = 0; w < 8; ++w) {
+          b.occupied[w] = occ_[base + w];
+          b.free[w] = free_[base + w] & ~occ_[base + w];
+        }
+      }
+  std::sort(out.bricks.begin(), out.bricks.end(),
+            [](const BrickUpdate& a, const BrickUpdate& b) { return a.morton < b.morton; });
+}
+
+}  // namespace s3m::mapping

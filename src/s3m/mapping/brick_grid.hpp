@@ -1,0 +1,63 @@
+#pragma once
+// Dense bitmap of one frame's touched voxels over the frame's bounding box, in 8^3 bricks laid
+// out like FrameUpdate (see frame_update.hpp). Marks free voxels by ray casting (each distinct
+// end voxel once, OctoMap's exact DDA), occupied voxels from the voxelized cloud, and emits the
+// Morton-sorted FrameUpdate.
+#include <cstddef>  // before OctoMap headers: OcTreeKey.h uses size_t unqualified
+#include <cstdint>
+#include <vector>
+
+#include <octomap/OcTreeKey.h>
+#include <octomap/octomap_types.h>
+
+#include "s3m/mapping/frame_update.hpp"
+
+namespace s3m::mapping {
+
+// OctoMap's key <-> coordinate conversions for a 16-level tree of the given resolution.
+struct KeyCoder {
+  double res = 0.1, inv_res = 10.0;
+  static constexpr int kMaxVal = 32768;
+  explicit KeyCoder(double resolution_m) : res(resolution_m), inv_res(1.0 / resolution_m) {}
+  bool key_checked(const octomap::point3d& p, octomap::OcTreeKey& key) const;
+  double center(std::uint16_t k) const { return (double(int(k) - kMaxVal) + 0.5) * res; }
+  octomap::point3d center(const octomap::OcTreeKey& k) const {
+    return octomap::point3d(float(center(k[0])), float(center(k[1])), float(center(k[2])));
+  }
+};
+
+class BrickGrid {
+ public:
+  // Covers the leaf keys in [lo, hi] (inclusive); clears all bits.
+  void reset(const octomap::OcTreeKey& lo, const octomap::OcTreeKey& hi);
+
+  bool contains(const octomap::OcTreeKey& k) const;
+  void set_occupied(const octomap::OcTreeKey& k) { occ_[word(k)] |= mask(k); }
+  void clear_occupied(const octomap::OcTreeKey& k) { occ_[word(k)] &= ~mask(k); }
+  bool occupied(const octomap::OcTreeKey& k) const { return contains(k) && (occ_[word(k)] & mask(k)); }
+  // Occupied voxels among the 26 neighbours of k, counting stops at `enough`.
+  int occupied_neighbors(const octomap::OcTreeKey& k, int enough) const;
+
+  // Marks the free voxels of rays from origin to each end point (OctoMap computeRayKeys
+  // semantics: origin voxel included, end voxel excluded), in parallel; deterministic.
+  void cast_rays(const KeyCoder& coder, const octomap::point3d& origin, const std::vector<octomap::point3d>& ends);
+
+  // Emits every brick with a set bit into out.bricks, Morton-sorted; free bits of occupied
+  // voxels are dropped (a hit wins, as in OctoMap). Does not touch out.observations.
+  void build_bricks(FrameUpdate& out) const;
+
+ private:
+  std::size_t word(const octomap::OcTreeKey& k) const {
+    const std::size_t brick = (std::size_t((k[2] >> 3) - lo_[2]) * ny_ + std::size_t((k[1] >> 3) - lo_[1])) * nx_ +
+                              std::size_t((k[0] >> 3) - lo_[0]);
+    return brick * 8 + (brick_bit(k) >> 6);
+  }
+  static std::uint64_t mask(const octomap::OcTreeKey& k) { return 1ull << (brick_bit(k) & 63u); }
+
+  int lo_[3] = {0, 0, 0};  // brick coordinates of the first brick
+  std::size_t nx_ = 0, ny_ = 0, nz_ = 0;
+  std::vector<std::uint64_t> free_, occ_;  // 8 words per brick
+  std::vector<std::vector<std::uint64_t>> free_parts_;  // per-task free bits, OR-ed afterwards
+};
+
+}  // namespace s3m::mapping

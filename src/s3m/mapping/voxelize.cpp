@@ -1,0 +1,134 @@
+#include "s3m/mapping/voxelize.hpp"
+
+#include <bit>
+#include <cmath>
+
+namespace s3m::mapping {
+
+void KeyIndexMap::clear(std::size_t expected) {
+  std::size_t cap = std::max<std::size_t>(1024, std::bit_ceil(expected * 2));
+  if (keys_.size() < cap) {
+    keys_.assign(cap, kEmpty);
+    vals_.resize(cap);
+  } else {
+    std::fill(keys_.begin(), keys_.end(), kEmpty);
+  }
+  shift_ = 64 - std::countr_zero(keys_.size());
+  size_ = 0;
+}
+
+std::uint32_t KeyIndexMap::find_or_insert(std::uint64_t key, std::uint32_t next, bool& inserted) {
+  if (2 * (size_ + 1) > keys_.size()) grow();
+  const std::size_t mask = keys_.size() - 1;
+  for (std::size_t i = (key * 0x9E3779B97F4A7C15ull) >> shift_;; i = (i + 1) & mask) {
+    if (keys_[i] == key) {
+      inserted = false;
+      return vals_[i];
+    }
+    if (keys_[i] == kEmpty) {
+      keys_[i] = key;
+      vals_[i] = next;
+      ++size_;
+      inserted = true;
+      return next;
+    }
+  }
+}
+
+long KeyIndexMap::find(std::uint64_t key) const {
+  if (keys_.empty()) return -1;
+  const std::size_t mask = keys_.size() - 1;
+  for (std::size_t i = (key * 0x9E3779B97F4A7C15ull) >> shift_;; i = (i + 1) & mask) {
+    if (keys_[i] == key) return long(vals_[i]);
+    if (keys_[i] == kEmpty) return -1;
+  }
+}
+
+void KeyIndexMap::grow() {
+  std::vector<std::uint64_t> old_keys(std::max<std::size_t>(2048, keys_.size() * 2), kEmpty);
+  std::vector<std::uint32_t> old_vals(old_keys.size());
+  old_keys.swap(keys_);
+  old_vals.swap(vals_);
+  shift_ = 64 - std::countr_zero(keys_.size());
+  size_ = 0;
+  bool inserted = false;
+  for (std::size_t i = 0; i < old_keys.size(); ++i)
+    if (old_keys[i] != kEmpty) find_or_insert(old_keys[i], old_vals[i], inserted);
+}
+
+VoxelObservation Voxel::observation(int k, bool has_color) const {
+  VoxelObservation o;
+  LabelSet all;
+  // Mean probability over the voxel's points; slots are in first-seen order, normalise() sorts.
+  std::array<int, kSlots> order{};
+  for (int i = 0; i < n_labels; ++i) order[i] = i;
+  std::partial_sort(order.begin(), order.begin() + std::min<int>(n_labels, kMaxLabels), order.begin() + n_labels,
+                    [&](int a, int b) { return prob_sum[a] != prob_sum[b] ? prob_sum[a] > prob_sum[b] : ids[a] < ids[b]; });
+  for (int i = 0; i < std::min<int>(n_labels, kMaxLabels); ++i)
+    all.push(ids[order[i]], prob_sum[order[i]] / float(count));
+  all.normalise(k);
+  o.labels = all;
+  if (has_color && count > 0) {
+    o.has_color = true;
+    o.color = {std::uint8_t((rgb_sum[0] + count / 2) / count), std::uint8_t((rgb_sum[1] + count / 2) / count),
+               std::uint8_t((rgb_sum[2] + count / 2) / count)};
+  }
+  return o;
+}
+
+namespace {
+void accumulate(Voxel& v, const LabeledCloud& cloud, std::size_t i) {
+  ++v.count;
+  v.sum_w += cloud.points_w[i];
+  if (!cloud.rgb.empty()) {
+    v.rgb_sum[0] += cloud.rgb[3 * i], v.rgb_sum[1] += cloud.rgb[3 * i + 1], v.rgb_sum[2] += cloud.rgb[3 * i + 2];
+  }
+  for (int j = 0; j < cloud.k; ++j) {
+    const ClassId id = cloud.labels[i * cloud.k + j];
+    const float p = cloud.probs[i * cloud.k + j];
+    int s = 0;
+    while (s < v.n_labels && v.ids[s] != id) ++s;
+    if (s == v.n_labels) {
+      if (s == Voxel::kSlots) continue;  // an 11th distinct label in one voxel: negligible mass
+      v.ids[s] = id, v.prob_sum[s] = 0.0f, ++v.n_labels;
+    }
+    v.prob_sum[s] += p;
+  }
+}
+}  // namespace
+
+void voxelize(const LabeledCloud& cloud, double resolution_m, VoxelSet& out) {
+  out.voxels.clear();
+  out.index.clear(out.voxels.capacity());
+  out.points_out_of_bounds = 0;
+  const double inv_res = 1.0 / resolution_m;
+  constexpr int kMaxVal = 32768;  // OctoMap's tree_max_val for 16-level trees
+  std::uint64_t last_key = ~0ull;
+  std::uint32_t last_idx = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3f& p = cloud.points_w[i];
+    int k[3];
+    bool ok = true;
+    for (int a = 0; a < 3; ++a) {
+      // Same expression as OcTreeBaseImpl::coordToKeyChecked (float coordinate promoted to double).
+      const double scaled = std::floor(inv_res * double(p[a]));
+      ok = ok && scaled >= -kMaxVal && scaled < kMaxVal;
+      k[a] = ok ? int(scaled) + kMaxVal : 0;
+    }
+    if (!ok) {
+      ++out.points_out_of_bounds;
+      continue;
+    }
+    const octomap::OcTreeKey key(k[0], k[1], k[2]);
+    const std::uint64_t packed = pack_key(key);
+    if (packed != last_key) {  // neighbouring pixels usually share a voxel: skip the hash lookup
+      bool inserted = false;
+      last_idx = out.index.find_or_insert(packed, std::uint32_t(out.voxels.size()), inserted);
+      if (inserted) out.voxels.emplace_back().key = key;
+      last_key = packed;
+    }
+    accumulate(out.voxels[last_idx], cloud, i);
+  }
+}
+
+}  // namespace s3m::mapping
