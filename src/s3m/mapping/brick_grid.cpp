@@ -23,14 +23,21 @@ void BrickGrid::reset(const octomap::OcTreeKey& lo, const octomap::OcTreeKey& hi
   nx_ = std::size_t((hi[0] >> 3) - lo_[0] + 1);
   ny_ = std::size_t((hi[1] >> 3) - lo_[1] + 1);
   nz_ = std::size_t((hi[2] >> 3) - lo_[2] + 1);
+  const std::size_t n[3] = {nx_, ny_, nz_}, stride[3] = {1, nx_, nx_ * ny_};
+  for (int a = 0; a < 3; ++a) {
+    base_[a] = lo_[a] * 8;
+    extent_[a] = unsigned(n[a] * 8);
+    brick_off_[a].resize(extent_[a]);
+    bit_off_[a].resize(extent_[a]);
+    for (unsigned i = 0; i < extent_[a]; ++i) {
+      brick_off_[a][i] = (i >> 3) * stride[a];
+      // In-brick bit b = (c14 << 6) | (c15 << 3) | c16, child index c = x | y << 1 | z << 2.
+      bit_off_[a][i] = std::uint16_t((((i >> 2) & 1u) << (6 + a)) | (((i >> 1) & 1u) << (3 + a)) | ((i & 1u) << a));
+    }
+  }
   const std::size_t words = nx_ * ny_ * nz_ * 8;
   free_.assign(words, 0);
   occ_.assign(words, 0);
-}
-
-bool BrickGrid::contains(const octomap::OcTreeKey& k) const {
-  const int bx = (k[0] >> 3) - lo_[0], by = (k[1] >> 3) - lo_[1], bz = (k[2] >> 3) - lo_[2];
-  return bx >= 0 && by >= 0 && bz >= 0 && std::size_t(bx) < nx_ && std::size_t(by) < ny_ && std::size_t(bz) < nz_;
 }
 
 int BrickGrid::occupied_neighbors(const octomap::OcTreeKey& k, int enough) const {

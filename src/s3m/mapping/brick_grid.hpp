@@ -31,7 +31,10 @@ class BrickGrid {
   // Covers the leaf keys in [lo, hi] (inclusive); clears all bits.
   void reset(const octomap::OcTreeKey& lo, const octomap::OcTreeKey& hi);
 
-  bool contains(const octomap::OcTreeKey& k) const;
+  bool contains(const octomap::OcTreeKey& k) const {
+    return unsigned(k[0] - base_[0]) < extent_[0] && unsigned(k[1] - base_[1]) < extent_[1] &&
+           unsigned(k[2] - base_[2]) < extent_[2];
+  }
   void set_occupied(const octomap::OcTreeKey& k) { occ_[word(k)] |= mask(k); }
   void clear_occupied(const octomap::OcTreeKey& k) { occ_[word(k)] &= ~mask(k); }
   bool occupied(const octomap::OcTreeKey& k) const { return contains(k) && (occ_[word(k)] & mask(k)); }
@@ -47,13 +50,22 @@ class BrickGrid {
   void build_bricks(FrameUpdate& out) const;
 
  private:
+  // Per-axis lookup tables (key - base -> brick offset / in-brick bits): a voxel's word and bit
+  // are three table lookups, which matters for millions of ray steps per frame.
   std::size_t word(const octomap::OcTreeKey& k) const {
-    const std::size_t brick = (std::size_t((k[2] >> 3) - lo_[2]) * ny_ + std::size_t((k[1] >> 3) - lo_[1])) * nx_ +
-                              std::size_t((k[0] >> 3) - lo_[0]);
-    return brick * 8 + (brick_bit(k) >> 6);
+    const std::size_t b = brick_off_[0][k[0] - base_[0]] + brick_off_[1][k[1] - base_[1]] + brick_off_[2][k[2] - base_[2]];
+    const unsigned bit = bit_off_[0][k[0] - base_[0]] | bit_off_[1][k[1] - base_[1]] | bit_off_[2][k[2] - base_[2]];
+    return b * 8 + (bit >> 6);
   }
-  static std::uint64_t mask(const octomap::OcTreeKey& k) { return 1ull << (brick_bit(k) & 63u); }
+  std::uint64_t mask(const octomap::OcTreeKey& k) const {
+    const unsigned bit = bit_off_[0][k[0] - base_[0]] | bit_off_[1][k[1] - base_[1]] | bit_off_[2][k[2] - base_[2]];
+    return 1ull << (bit & 63u);
+  }
 
+  int base_[3] = {0, 0, 0};            // first key covered per axis (multiple of 8)
+  unsigned extent_[3] = {0, 0, 0};     // keys covered per axis
+  std::vector<std::size_t> brick_off_[3];
+  std::vector<std::uint16_t> bit_off_[3];
   int lo_[3] = {0, 0, 0};  // brick coordinates of the first brick
   std::size_t nx_ = 0, ny_ = 0, nz_ = 0;
   std::vector<std::uint64_t> free_, occ_;  // 8 words per brick

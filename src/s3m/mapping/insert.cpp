@@ -1,6 +1,7 @@
 #include "s3m/mapping/insert.hpp"
 
 #include <algorithm>
+#include <bit>
 
 #include <tbb/task_arena.h>
 
@@ -60,7 +61,7 @@ InsertStats Inserter::insert(const LabeledCloud& cloud, SemanticOcTree& tree) {
   arena.execute([&] {
     // 1. Voxel down-sampling at map resolution: one merged observation per voxel.
     Stopwatch sw;
-    voxelize(cloud, tree.getResolution(), voxels_);
+    voxelize(cloud, tree.getResolution(), voxels_, voxel_chunks_);
     stats.voxels = voxels_.voxels.size();
     stats.points_out_of_bounds = voxels_.points_out_of_bounds;
     // 2. Range limits (on voxel centres, as OctoMap's discretized mode).
@@ -91,7 +92,9 @@ InsertStats Inserter::insert(const LabeledCloud& cloud, SemanticOcTree& tree) {
     tree.applyFrameUpdate(update_);
     stats.ms_tree = sw.elapsed_ms();
   });
-  stats.free_bricks = update_.bricks.size();
+  stats.bricks = update_.bricks.size();
+  for (const BrickUpdate& b : update_.bricks)
+    for (std::uint64_t w : b.free) stats.voxels_free += std::size_t(std::popcount(w));
   stats.ms_total = total.elapsed_ms();
   return stats;
 }

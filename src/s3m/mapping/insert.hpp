@@ -36,7 +36,8 @@ InsertConfig insert_config_from_yaml(const YAML::Node& node, const std::string& 
 
 struct InsertStats {
   std::size_t points = 0, voxels = 0, voxels_occupied = 0, voxels_removed_outliers = 0, voxels_far = 0;
-  std::size_t voxels_too_close = 0, points_out_of_bounds = 0, free_bricks = 0, rays = 0;
+  std::size_t voxels_too_close = 0, points_out_of_bounds = 0, bricks = 0, rays = 0;
+  std::size_t voxels_free = 0;  // distinct free voxels updated (after removing occupied ones)
   double ms_voxelize = 0, ms_filter = 0, ms_raycast = 0, ms_tree = 0, ms_total = 0;
 };
 
@@ -57,6 +58,7 @@ class Inserter {
   InsertConfig cfg_;
   // Scratch reused across frames (no steady-state allocation).
   VoxelSet voxels_;
+  std::vector<VoxelSet> voxel_chunks_;
   std::vector<std::uint8_t> state_;  // per voxel: 0 occupied, 1 far, 2 too close, 3 outlier
   std::vector<octomap::point3d> ray_ends_;
   BrickGrid grid_;

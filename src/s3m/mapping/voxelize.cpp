@@ -3,6 +3,8 @@
 #include <bit>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 namespace s3m::mapping {
 
 void KeyIndexMap::clear(std::size_t expected) {
@@ -97,29 +99,32 @@ void accumulate(Voxel& v, const LabeledCloud& cloud, std::size_t i) {
 }
 }  // namespace
 
-void voxelize(const LabeledCloud& cloud, double resolution_m, VoxelSet& out) {
+namespace {
+constexpr std::size_t kChunkPoints = 16384;  // fixed: the merge order must not depend on threads
+
+// floor() without a libm call (the baseline x86-64 target has no SSE4.1 roundsd).
+inline int fast_floor(double x) {
+  const int i = int(x);
+  return i - (x < double(i));
+}
+
+void voxelize_range(const LabeledCloud& cloud, std::size_t begin, std::size_t end, double inv_res, VoxelSet& out) {
   out.voxels.clear();
   out.index.clear(out.voxels.capacity());
   out.points_out_of_bounds = 0;
-  const double inv_res = 1.0 / resolution_m;
   constexpr int kMaxVal = 32768;  // OctoMap's tree_max_val for 16-level trees
   std::uint64_t last_key = ~0ull;
   std::uint32_t last_idx = 0;
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
+  for (std::size_t i = begin; i < end; ++i) {
     const Eigen::Vector3f& p = cloud.points_w[i];
-    int k[3];
-    bool ok = true;
-    for (int a = 0; a < 3; ++a) {
-      // Same expression as OcTreeBaseImpl::coordToKeyChecked (float coordinate promoted to double).
-      const double scaled = std::floor(inv_res * double(p[a]));
-      ok = ok && scaled >= -kMaxVal && scaled < kMaxVal;
-      k[a] = ok ? int(scaled) + kMaxVal : 0;
-    }
-    if (!ok) {
-      ++out.points_out_of_bounds;
+    // Same value as OcTreeBaseImpl::coordToKeyChecked (float coordinate promoted to double).
+    const double sx = inv_res * double(p.x()), sy = inv_res * double(p.y()), sz = inv_res * double(p.z());
+    if (!(std::fabs(sx) < kMaxVal - 1 && std::fabs(sy) < kMaxVal - 1 && std::fabs(sz) < kMaxVal - 1)) {
+      ++out.points_out_of_bounds;  // also catches NaN
       continue;
     }
-    const octomap::OcTreeKey key(k[0], k[1], k[2]);
+    const octomap::OcTreeKey key(std::uint16_t(fast_floor(sx) + kMaxVal), std::uint16_t(fast_floor(sy) + kMaxVal),
+                                 std::uint16_t(fast_floor(sz) + kMaxVal));
     const std::uint64_t packed = pack_key(key);
     if (packed != last_key) {  // neighbouring pixels usually share a voxel: skip the hash lookup
       bool inserted = false;
@@ -128,6 +133,47 @@ void voxelize(const LabeledCloud& cloud, double resolution_m, VoxelSet& out) {
       last_key = packed;
     }
     accumulate(out.voxels[last_idx], cloud, i);
+  }
+}
+
+void merge_into(Voxel& v, const Voxel& o) {
+  v.count += o.count;
+  v.sum_w += o.sum_w;
+  for (int c = 0; c < 3; ++c) v.rgb_sum[c] += o.rgb_sum[c];
+  for (int j = 0; j < o.n_labels; ++j) {
+    int s = 0;
+    while (s < v.n_labels && v.ids[s] != o.ids[j]) ++s;
+    if (s == v.n_labels) {
+      if (s == Voxel::kSlots) continue;
+      v.ids[s] = o.ids[j], v.prob_sum[s] = 0.0f, ++v.n_labels;
+    }
+    v.prob_sum[s] += o.prob_sum[j];
+  }
+}
+}  // namespace
+
+void voxelize(const LabeledCloud& cloud, double resolution_m, VoxelSet& out, std::vector<VoxelSet>& chunks) {
+  const double inv_res = 1.0 / resolution_m;
+  const std::size_t n_chunks = (cloud.size() + kChunkPoints - 1) / kChunkPoints;
+  if (n_chunks <= 1) {
+    voxelize_range(cloud, 0, cloud.size(), inv_res, out);
+    return;
+  }
+  if (chunks.size() < n_chunks) chunks.resize(n_chunks);
+  tbb::parallel_for(std::size_t(0), n_chunks, [&](std::size_t c) {
+    voxelize_range(cloud, c * kChunkPoints, std::min(cloud.size(), (c + 1) * kChunkPoints), inv_res, chunks[c]);
+  });
+  out.voxels.clear();
+  out.index.clear(out.voxels.capacity());
+  out.points_out_of_bounds = 0;
+  for (std::size_t c = 0; c < n_chunks; ++c) {
+    out.points_out_of_bounds += chunks[c].points_out_of_bounds;
+    for (const Voxel& v : chunks[c].voxels) {
+      bool inserted = false;
+      const std::uint32_t idx = out.index.find_or_insert(pack_key(v.key), std::uint32_t(out.voxels.size()), inserted);
+      if (inserted) out.voxels.push_back(v);
+      else merge_into(out.voxels[idx], v);
+    }
   }
 }
 

@@ -57,6 +57,8 @@ struct VoxelSet {
 };
 
 // Groups cloud's points into voxels of `resolution_m` (OctoMap keys, 16-bit, centred at 0).
-void voxelize(const LabeledCloud& cloud, double resolution_m, VoxelSet& out);
+// Fixed-size chunks of points are voxelized in parallel and merged in chunk order, so the result
+// (voxel order and float sums) is the same for any thread count. `chunks` is reusable scratch.
+void voxelize(const LabeledCloud& cloud, double resolution_m, VoxelSet& out, std::vector<VoxelSet>& chunks);
 
 }  // namespace s3m::mapping
