@@ -23,6 +23,7 @@
 
 #include "s3m/core/timing.hpp"
 #include "s3m/mapping/insert.hpp"
+#include "s3m/mapping/map_io.hpp"
 
 using namespace s3m;
 using namespace s3m::mapping;
@@ -197,6 +198,11 @@ void run_ours(benchmark::State& state, const InsertConfig& cfg, bool compare) {
   state.counters["ms_raycast"] = best_stage.ms_raycast / n;
   state.counters["ms_tree"] = best_stage.ms_tree / n;
   state.counters["nodes"] = double(tree->size());
+  if (const char* save = std::getenv("S3M_BENCH_SAVE_MAP"); save != nullptr && compare) {
+    const std::string path = std::string(save) + "_" + std::to_string(state.range(0)) + "cm.ot";
+    save_semantic_map(*tree, path);  // a real kitchen map to try `s3m query` / `s3m export` on
+    std::fprintf(stderr, "mapping_insert: saved %s\n", path.c_str());
+  }
   if (!compare) return;
   if (!stock_maps().count(res)) stock_maps()[res] = build_stock(res);
   const auto ours = occupied_keys(*tree), stock = occupied_keys(*stock_maps()[res]);

@@ -60,7 +60,7 @@ void walk_ray(const KeyCoder& coder, const octomap::point3d& origin, const octom
   octomap::OcTreeKey key_origin, key_end;
   if (!coder.key_checked(origin, key_origin) || !coder.key_checked(end, key_end)) return;
   if (key_origin == key_end) return;
-  visit(key_origin);
+  visit(int(key_origin[0]), int(key_origin[1]), int(key_origin[2]));
   octomap::point3d direction = end - origin;
   const float length = float(direction.norm());
   direction /= length;
@@ -78,13 +78,21 @@ void walk_ray(const KeyCoder& coder, const octomap::point3d& origin, const octom
       t_max[i] = t_delta[i] = std::numeric_limits<double>::max();
     }
   }
+  // Scalar state instead of indexed arrays: this loop runs millions of times per frame.
+  int cx = current[0], cy = current[1], cz = current[2];
+  const int ex = key_end[0], ey = key_end[1], ez = key_end[2];
+  double tx = t_max[0], ty = t_max[1], tz = t_max[2];
   while (true) {
-    const int dim = t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2) : (t_max[1] < t_max[2] ? 1 : 2);
-    current[dim] = std::uint16_t(current[dim] + step[dim]);
-    t_max[dim] += t_delta[dim];
-    if (current == key_end) return;
-    if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) return;
-    visit(current);
+    if (tx < ty) {
+      if (tx < tz) cx += step[0], tx += t_delta[0];
+      else cz += step[2], tz += t_delta[2];
+    } else {
+      if (ty < tz) cy += step[1], ty += t_delta[1];
+      else cz += step[2], tz += t_delta[2];
+    }
+    if (cx == ex && cy == ey && cz == ez) return;
+    if (std::min(std::min(tx, ty), tz) > length) return;
+    visit(cx, cy, cz);
   }
 }
 }  // namespace
@@ -100,9 +108,7 @@ void BrickGrid::cast_rays(const KeyCoder& coder, const octomap::point3d& origin,
     if (part > 0) bits.assign(free_.size(), 0);
     const std::size_t begin = ends.size() * part / parts, end = ends.size() * (part + 1) / parts;
     for (std::size_t i = begin; i < end; ++i)
-      walk_ray(coder, origin, ends[i], [&](const octomap::OcTreeKey& k) {
-        if (contains(k)) bits[word(k)] |= mask(k);
-      });
+      walk_ray(coder, origin, ends[i], [&](int x, int y, int z) { mark(bits, x, y, z); });
   });
   if (parts == 1) return;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, free_.size(), 1 << 14), [&](const auto& r) {

@@ -57,6 +57,12 @@ class BrickGrid {
     const unsigned bit = bit_off_[0][k[0] - base_[0]] | bit_off_[1][k[1] - base_[1]] | bit_off_[2][k[2] - base_[2]];
     return b * 8 + (bit >> 6);
   }
+  void mark(std::vector<std::uint64_t>& bits, int x, int y, int z) const {
+    const unsigned ix = unsigned(x - base_[0]), iy = unsigned(y - base_[1]), iz = unsigned(z - base_[2]);
+    if (ix >= extent_[0] || iy >= extent_[1] || iz >= extent_[2]) return;
+    const unsigned bit = bit_off_[0][ix] | bit_off_[1][iy] | bit_off_[2][iz];
+    bits[(brick_off_[0][ix] + brick_off_[1][iy] + brick_off_[2][iz]) * 8 + (bit >> 6)] |= 1ull << (bit & 63u);
+  }
   std::uint64_t mask(const octomap::OcTreeKey& k) const {
     const unsigned bit = bit_off_[0][k[0] - base_[0]] | bit_off_[1][k[1] - base_[1]] | bit_off_[2][k[2] - base_[2]];
     return 1ull << (bit & 63u);

@@ -1,13 +1,11 @@
 #include "s3m/mapping/map_io.hpp"
 
-#include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/io/atomic_file.hpp"
 
 namespace s3m::mapping {
 namespace {
@@ -120,30 +118,10 @@ std::istream& SemanticOcTree::readData(std::istream& s) {
   return s;
 }
 
-void write_atomically(const std::string& path, const std::string& bytes) {
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error("cannot write '" + tmp + "' (directory missing or not writable?)");
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    out.flush();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw Error("write to '" + tmp + "' failed (disk full?)");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw Error("cannot rename '" + tmp + "' to '" + path + "': " + ec.message());
-  }
-}
-
 void save_semantic_map(const SemanticOcTree& tree, const std::string& path) {
-  std::ostringstream out(std::ios::binary);
-  if (!tree.write(out)) throw Error("serialising the semantic map for '" + path + "' failed");
-  write_atomically(path, out.str());
+  io::write_file_atomic(path, [&](std::ostream& out) {
+    if (!tree.write(out)) throw Error("serialising the semantic map failed");
+  });
 }
 
 namespace {

@@ -79,7 +79,9 @@ VoxelObservation Voxel::observation(int k, bool has_color) const {
 }
 
 namespace {
-void accumulate(Voxel& v, const LabeledCloud& cloud, std::size_t i) {
+// slot_cache[j]: the voxel slot label j of the previous point went to; neighbouring points
+// usually carry the same label list, so this skips the linear search.
+void accumulate(Voxel& v, const LabeledCloud& cloud, std::size_t i, int* slot_cache) {
   ++v.count;
   v.sum_w += cloud.points_w[i];
   if (!cloud.rgb.empty()) {
@@ -88,8 +90,12 @@ void accumulate(Voxel& v, const LabeledCloud& cloud, std::size_t i) {
   for (int j = 0; j < cloud.k; ++j) {
     const ClassId id = cloud.labels[i * cloud.k + j];
     const float p = cloud.probs[i * cloud.k + j];
-    int s = 0;
-    while (s < v.n_labels && v.ids[s] != id) ++s;
+    int s = slot_cache[j];
+    if (s >= v.n_labels || v.ids[s] != id) {
+      s = 0;
+      while (s < v.n_labels && v.ids[s] != id) ++s;
+      slot_cache[j] = s < Voxel::kSlots ? s : 0;
+    }
     if (s == v.n_labels) {
       if (s == Voxel::kSlots) continue;  // an 11th distinct label in one voxel: negligible mass
       v.ids[s] = id, v.prob_sum[s] = 0.0f, ++v.n_labels;
@@ -115,6 +121,7 @@ void voxelize_range(const LabeledCloud& cloud, std::size_t begin, std::size_t en
   constexpr int kMaxVal = 32768;  // OctoMap's tree_max_val for 16-level trees
   std::uint64_t last_key = ~0ull;
   std::uint32_t last_idx = 0;
+  int slot_cache[kMaxLabels] = {};
   for (std::size_t i = begin; i < end; ++i) {
     const Eigen::Vector3f& p = cloud.points_w[i];
     // Same value as OcTreeBaseImpl::coordToKeyChecked (float coordinate promoted to double).
@@ -132,7 +139,7 @@ void voxelize_range(const LabeledCloud& cloud, std::size_t begin, std::size_t en
       if (inserted) out.voxels.emplace_back().key = key;
       last_key = packed;
     }
-    accumulate(out.voxels[last_idx], cloud, i);
+    accumulate(out.voxels[last_idx], cloud, i, slot_cache);
   }
 }
 
