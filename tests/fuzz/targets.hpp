@@ -8,6 +8,7 @@
 // test_fuzz_corpus gtest, which replays every seed and every regression input in normal CI.
 #include <cstddef>
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +21,9 @@ struct Target {
   std::string name;  // also the corpus folder: tests/fuzz/corpus/<name>/ and tests/fuzz/regress/<name>/
   TargetFn fn;
 };
+
+// gtest prints parameters with this (the test name already says which target).
+inline void PrintTo(const Target& t, std::ostream* os) { *os << t.name; }
 
 // Every target compiled into this build (modules that are not built contribute none).
 const std::vector<Target>& all_targets();
