@@ -1,13 +1,108 @@
-// Not yet implemented: issue #3 replaces this file with the real command.
+// s3m eval: ATE/RPE of one or more estimated trajectories against ground truth, with plots.
+#include <filesystem>
+#include <iostream>
+
 #include "commands.hpp"
 #include "s3m/core/error.hpp"
+#include "s3m/eval/report.hpp"
+#include "s3m/io/atomic_file.hpp"
+#include "s3m/io/trajectory.hpp"
 
 namespace s3m::apps {
+namespace {
+namespace fs = std::filesystem;
+
+struct EvalArgs {
+  std::string gt;
+  std::vector<std::string> est, est2, names;
+  std::string align = "se3", delta_unit = "s", format = "auto", out;
+  double delta = 1.0, max_dt_s = 0.02, offset_s = 0.0, kitti_dt_s = 0.1;
+  bool no_plots = false;
+};
+
+io::Trajectory read_any(const std::string& path, const EvalArgs& a) {
+  if (a.format == "tum") return io::read_tum_trajectory(path);
+  if (a.format == "kitti") return io::read_kitti_trajectory(path, a.kitti_dt_s);
+  return io::read_trajectory_auto(path, a.kitti_dt_s);
+}
+
+std::vector<std::string> unique_names(const std::vector<std::string>& files, const std::vector<std::string>& given) {
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    std::string n = i < given.size() ? given[i] : fs::path(files[i]).stem().string();
+    for (const auto& prev : names)
+      if (prev == n) n += "_" + std::to_string(i + 1);
+    names.push_back(n);
+  }
+  return names;
+}
+
+void run_eval(const EvalArgs& a) {
+  eval::EvalOptions opt;
+  opt.align = eval::parse_align_mode(a.align);
+  opt.rpe.delta = a.delta;
+  opt.rpe.unit = eval::parse_delta_unit(a.delta_unit);
+  opt.max_dt_s = a.max_dt_s;
+  opt.offset_s = a.offset_s;
+  opt.validate();
+  // 1. Read everything first so a bad file fails before any output is written.
+  std::vector<std::string> files = a.est;
+  files.insert(files.end(), a.est2.begin(), a.est2.end());
+  const auto gt = read_any(a.gt, a);
+  std::vector<io::Trajectory> estimates;
+  for (const auto& f : files) estimates.push_back(read_any(f, a));
+  // 2. Evaluate each estimate.
+  const auto names = unique_names(files, a.names);
+  std::vector<eval::TrajectoryEvaluation> evals;
+  for (std::size_t i = 0; i < files.size(); ++i) evals.push_back(eval::evaluate_trajectory(gt, estimates[i], opt, names[i]));
+  std::cout << eval::format_table(evals, opt);
+  if (a.out.empty()) return;
+  // 3. Files: metrics, aligned trajectories, plot data and plots.
+  std::error_code ec;
+  fs::create_directories(a.out, ec);
+  if (ec) throw Error("cannot create output directory '" + a.out + "': " + ec.message());
+  const fs::path out(a.out);
+  eval::write_metrics_json((out / "metrics.json").string(), evals, opt);
+  for (std::size_t i = 0; i < evals.size(); ++i) {
+    io::Trajectory aligned = estimates[i];
+    for (auto& p : aligned) p.T_w_x = evals[i].ate.alignment.apply(p.T_w_x);
+    io::write_tum_trajectory((out / (names[i] + "_aligned.txt")).string(), aligned);
+  }
+  const std::string plot_data = (out / "plot_data.json").string();
+  io::write_text_atomic(plot_data, eval::plot_data_json(gt, estimates, evals).dump() + "\n");
+  std::cout << "wrote " << (out / "metrics.json").string() << "\n";
+  if (a.no_plots) return;
+  const auto plots = eval::run_plot_script(plot_data, a.out);
+  if (!plots.ok) {
+    std::cerr << "s3m eval: warning: no plots: " << plots.message << " (metrics.json is complete)\n";
+    return;
+  }
+  for (const auto& f : plots.files) std::cout << "wrote " << f << "\n";
+}
+
+}  // namespace
 
 void register_eval(CLI::App& app) {
-  auto* cmd = app.add_subcommand("eval", "Evaluate trajectories (ATE/RPE) against ground truth (not implemented yet, issue #3)");
-  cmd->allow_extras();
-  cmd->callback([] { throw Error("'s3m eval' is not implemented yet (issue #3)"); });
+  auto args = std::make_shared<EvalArgs>();
+  auto* cmd = app.add_subcommand("eval", "Evaluate trajectories against ground truth: ATE, RPE, plots (TUM definitions)");
+  cmd->add_option("--gt", args->gt, "Ground-truth trajectory (TUM 't tx ty tz qx qy qz qw' or KITTI 3x4)")
+      ->required()->check(CLI::ExistingFile);
+  cmd->add_option("--est", args->est, "Estimated trajectory file(s)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--est2", args->est2, "Further estimates to compare (overlaid in the plots)")->check(CLI::ExistingFile);
+  cmd->add_option("--name", args->names, "Display names for the estimates, in order (default: file stems)");
+  cmd->add_option("--align", args->align, "Alignment before ATE: se3 (Horn), sim3 (with scale, monocular) or none")
+      ->check(CLI::IsMember({"se3", "sim3", "none"}))->capture_default_str();
+  cmd->add_option("--delta", args->delta, "RPE pair distance")->capture_default_str();
+  cmd->add_option("--delta-unit", args->delta_unit, "RPE delta unit: s (seconds) or f (frames)")
+      ->check(CLI::IsMember({"s", "f"}))->capture_default_str();
+  cmd->add_option("--max-dt", args->max_dt_s, "Max timestamp difference for association [s]")->capture_default_str();
+  cmd->add_option("--offset", args->offset_s, "Time offset added to the estimate's timestamps [s]")->capture_default_str();
+  cmd->add_option("--format", args->format, "Trajectory format: auto, tum or kitti")
+      ->check(CLI::IsMember({"auto", "tum", "kitti"}))->capture_default_str();
+  cmd->add_option("--kitti-dt", args->kitti_dt_s, "Frame period for KITTI files (no timestamps) [s]")->capture_default_str();
+  cmd->add_option("--out", args->out, "Output directory for metrics.json, aligned trajectories and PNG plots");
+  cmd->add_flag("--no-plots", args->no_plots, "Write metrics only");
+  cmd->callback([args] { run_eval(*args); });
 }
 
 }  // namespace s3m::apps

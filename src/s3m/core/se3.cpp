@@ -38,8 +38,11 @@ Vec3 so3_log(const Mat3& R) {
 }
 
 double rotation_angle_rad(const Mat3& R) {
-  const double c = std::clamp((R.trace() - 1.0) * 0.5, -1.0, 1.0);
-  return std::acos(c);
+  // atan2 of (sin, cos) instead of acos(cos): acos loses precision near 0 (an exact identity could
+  // read as ~1e-8 rad), which matters for error metrics such as RPE.
+  const double c = (R.trace() - 1.0) * 0.5;
+  const double s = 0.5 * Vec3(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1)).norm();
+  return std::atan2(s, c);
 }
 
 namespace {

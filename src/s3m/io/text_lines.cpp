@@ -1,0 +1,69 @@
+#include "s3m/io/text_lines.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+
+#include "s3m/core/error.hpp"
+
+namespace s3m::io {
+
+LineReader::LineReader(const std::string& path, const std::string& what) : path_(path) {
+  if (!std::filesystem::exists(path)) throw ParseError(path, 0, "file not found", what);
+  if (std::filesystem::is_directory(path)) throw ParseError(path, 0, "is a directory", what);
+  in_.open(path);
+  if (!in_) throw ParseError(path, 0, "cannot open file for reading", what);
+}
+
+bool LineReader::next(std::vector<std::string_view>& tokens) {
+  tokens.clear();
+  while (std::getline(in_, buffer_)) {
+    ++line_no_;
+    std::string_view line(buffer_);
+    if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    std::size_t pos = 0;
+    while (pos < line.size()) {
+      const auto is_sep = [](char c) { return c == ' ' || c == '\t' || c == ',' || c == '\r'; };
+      while (pos < line.size() && is_sep(line[pos])) ++pos;
+      std::size_t end = pos;
+      while (end < line.size() && !is_sep(line[end])) ++end;
+      if (end > pos) tokens.push_back(line.substr(pos, end - pos));
+      pos = end;
+    }
+    if (!tokens.empty()) return true;
+  }
+  if (in_.bad()) throw ParseError(path_, line_no_, "read error");
+  return false;
+}
+
+void LineReader::fail(const std::string& problem, const std::string& expected) const {
+  throw ParseError(path_, line_no_, problem, expected);
+}
+
+bool parse_finite_double(std::string_view token, double& out) {
+  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  const char* end = token.data() + token.size();
+  const auto [ptr, ec] = std::from_chars(token.data(), end, out);
+  return ec == std::errc() && ptr == end && std::isfinite(out);
+}
+
+double LineReader::number(const std::vector<std::string_view>& tokens, std::size_t i,
+                          const std::string& name) const {
+  double v = 0;
+  if (parse_finite_double(tokens.at(i), v)) return v;
+  // Distinguish NaN/Inf from garbage: both are errors, but the message should say which.
+  const std::string tok(tokens[i]);
+  const double loose = std::strtod(tok.c_str(), nullptr);
+  const bool non_finite = !std::isfinite(loose) && tok.find_first_of("nNiI") != std::string::npos;
+  fail((non_finite ? "non-finite value '" : "cannot parse '") + tok + "' as " + name,
+       "a finite number in column " + std::to_string(i + 1));
+}
+
+void LineReader::expect_tokens(const std::vector<std::string_view>& tokens, std::size_t n,
+                               const std::string& layout, bool at_least) const {
+  if (tokens.size() == n || (at_least && tokens.size() > n)) return;
+  fail("found " + std::to_string(tokens.size()) + " columns",
+       (at_least ? "at least " : "") + std::to_string(n) + " columns '" + layout + "'");
+}
+
+}  // namespace s3m::io

@@ -1,0 +1,104 @@
+#include "s3m/io/trajectory.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "s3m/core/error.hpp"
+#include "s3m/io/atomic_file.hpp"
+#include "s3m/io/text_lines.hpp"
+
+namespace s3m::io {
+namespace {
+
+constexpr const char* kTumLayout = "t tx ty tz qx qy qz qw";
+
+void check_increasing(const LineReader& reader, const Trajectory& traj, double t_s) {
+  if (!traj.empty() && !(t_s > traj.back().t_s))
+    reader.fail(fmt::format("timestamp {:.6f} is not after the previous one ({:.6f})", t_s, traj.back().t_s),
+                "strictly increasing timestamps");
+}
+
+}  // namespace
+
+Trajectory read_tum_trajectory(const std::string& path) {
+  LineReader reader(path, std::string("a TUM trajectory '") + kTumLayout + "'");
+  Trajectory traj;
+  std::vector<std::string_view> tok;
+  static const char* names[] = {"t", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
+  while (reader.next(tok)) {
+    reader.expect_tokens(tok, 8, kTumLayout);
+    double v[8];
+    for (int i = 0; i < 8; ++i) v[i] = reader.number(tok, i, names[i]);
+    const Quat q(v[7], v[4], v[5], v[6]);
+    if (std::abs(q.norm() - 1.0) > 0.01)
+      reader.fail(fmt::format("quaternion (qx qy qz qw) = ({} {} {} {}) has norm {:.4f}", v[4], v[5], v[6], v[7],
+                              q.norm()),
+                  "a unit quaternion in columns 5-8 (qx qy qz qw)");
+    check_increasing(reader, traj, v[0]);
+    traj.push_back({v[0], make_se3(Vec3(v[1], v[2], v[3]), q)});
+  }
+  if (traj.empty()) throw ParseError(path, 0, "no poses in file", std::string("lines '") + kTumLayout + "'");
+  return traj;
+}
+
+void write_tum_trajectory(const std::string& path, const Trajectory& trajectory) {
+  write_file_atomic(path, [&](std::ostream& os) {
+    os << "# " << kTumLayout << "\n";
+    for (const auto& p : trajectory) {
+      const Vec3 t = p.T_w_x.translation();
+      const Quat q(p.T_w_x.rotation());
+      os << fmt::format("{:.6f} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g}\n", p.t_s, t.x(), t.y(), t.z(),
+                        q.x(), q.y(), q.z(), q.w());
+    }
+  });
+}
+
+Trajectory read_kitti_trajectory(const std::string& path, double dt_s) {
+  require(std::isfinite(dt_s) && dt_s > 0, "read_kitti_trajectory: dt_s must be > 0");
+  LineReader reader(path, "a KITTI trajectory (12 numbers per line: row-major 3x4 [R|t])");
+  Trajectory traj;
+  std::vector<std::string_view> tok;
+  while (reader.next(tok)) {
+    reader.expect_tokens(tok, 12, "r11 r12 r13 tx r21 r22 r23 ty r31 r32 r33 tz");
+    Eigen::Matrix<double, 3, 4> M;
+    for (int i = 0; i < 12; ++i) M(i / 4, i % 4) = reader.number(tok, i, "matrix entry");
+    const Mat3 R = M.leftCols<3>();
+    const double ortho_err = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
+    if (ortho_err > 1e-3 || R.determinant() < 0)
+      reader.fail(fmt::format("the 3x3 rotation block is not a rotation (|R^T R - I| = {:.3g}, det = {:.4f})",
+                              ortho_err, R.determinant()),
+                  "an orthonormal rotation with det +1");
+    const double t_s = static_cast<double>(traj.size()) * dt_s;
+    traj.push_back({t_s, orthonormalized(make_se3(R, M.col(3)))});
+  }
+  if (traj.empty()) throw ParseError(path, 0, "no poses in file", "lines of 12 numbers");
+  return traj;
+}
+
+void write_kitti_trajectory(const std::string& path, const Trajectory& trajectory) {
+  write_file_atomic(path, [&](std::ostream& os) {
+    for (const auto& p : trajectory) {
+      const auto M = p.T_w_x.matrix();
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) os << fmt::format("{:.9g}", M(r, c)) << (r == 2 && c == 3 ? "\n" : " ");
+    }
+  });
+}
+
+Trajectory read_trajectory_auto(const std::string& path, double kitti_dt_s) {
+  LineReader probe(path, "a trajectory in TUM or KITTI format");
+  std::vector<std::string_view> tok;
+  if (probe.next(tok) && tok.size() == 12) return read_kitti_trajectory(path, kitti_dt_s);
+  return read_tum_trajectory(path);
+}
+
+std::vector<double> timestamps(const Trajectory& trajectory) {
+  std::vector<double> ts;
+  ts.reserve(trajectory.size());
+  for (const auto& p : trajectory) ts.push_back(p.t_s);
+  return ts;
+}
+
+}  // namespace s3m::io

@@ -1,0 +1,34 @@
+#pragma once
+// Stamped trajectories in the two common text formats.
+//  TUM:   "t tx ty tz qx qy qz qw" per line (t [s], translation [m], unit quaternion), '#' comments.
+//  KITTI: 12 numbers per line, the row-major 3x4 matrix [R | t] of T_w_x; no timestamps.
+#include <string>
+#include <vector>
+
+#include "s3m/core/se3.hpp"
+
+namespace s3m::io {
+
+struct StampedPose {
+  double t_s = 0.0;
+  SE3 T_w_x = SE3::Identity();  // x = camera or robot frame, w = the trajectory's world frame
+};
+using Trajectory = std::vector<StampedPose>;
+
+// Throws ParseError(file, line, ...) on missing file, wrong column count, unparsable or non-finite
+// numbers, a quaternion whose norm is not ~1 (|n-1| > 0.01), or timestamps that do not strictly increase.
+// An empty file (only comments) is an error too: a trajectory without poses is never intended.
+Trajectory read_tum_trajectory(const std::string& path);
+// Atomic; time as %.6f, values as %.9g.
+void write_tum_trajectory(const std::string& path, const Trajectory& trajectory);
+
+// Timestamps are synthesised as i * dt_s. Rotations must be orthonormal within 1e-3 (then re-orthonormalised).
+Trajectory read_kitti_trajectory(const std::string& path, double dt_s = 0.1);
+void write_kitti_trajectory(const std::string& path, const Trajectory& trajectory);
+
+// Reads either format: KITTI when the first data line has 12 columns, TUM otherwise.
+Trajectory read_trajectory_auto(const std::string& path, double kitti_dt_s = 0.1);
+
+std::vector<double> timestamps(const Trajectory& trajectory);
+
+}  // namespace s3m::io

@@ -1,0 +1,243 @@
+#include "s3m/io/tum_dataset.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "s3m/core/error.hpp"
+#include "s3m/io/association.hpp"
+#include "s3m/io/atomic_file.hpp"
+#include "s3m/io/camera_yaml.hpp"
+#include "s3m/io/image_io.hpp"
+#include "s3m/io/text_lines.hpp"
+
+namespace s3m::io {
+namespace fs = std::filesystem;
+namespace {
+
+struct ListEntry {
+  double t_s;
+  std::string path;
+  int line;
+};
+
+void check_image_exists(const std::string& dir, const std::string& rel, const LineReader& reader) {
+  if (!fs::exists(fs::path(dir) / rel)) reader.fail("image file '" + rel + "' not found", "an existing file under " + dir);
+}
+
+// 'timestamp path' lines with strictly increasing timestamps.
+std::vector<ListEntry> read_list(const std::string& dir, const std::string& name, bool check_files) {
+  LineReader reader((fs::path(dir) / name).string(), "a TUM list file 'timestamp path'");
+  std::vector<ListEntry> list;
+  std::vector<std::string_view> tok;
+  while (reader.next(tok)) {
+    reader.expect_tokens(tok, 2, "timestamp path");
+    const double t = reader.number(tok, 0, "timestamp");
+    if (!list.empty() && !(t > list.back().t_s))
+      reader.fail(fmt::format("timestamp {:.6f} is not after the previous one ({:.6f})", t, list.back().t_s),
+                  "strictly increasing timestamps");
+    if (check_files) check_image_exists(dir, std::string(tok[1]), reader);
+    list.push_back({t, std::string(tok[1]), reader.line()});
+  }
+  if (list.empty()) throw ParseError(reader.path(), 0, "no entries", "lines 'timestamp path'");
+  return list;
+}
+
+std::vector<TumDataset::Entry> read_associations(const std::string& dir, bool check_files) {
+  LineReader reader((fs::path(dir) / "associations.txt").string(), "associations 't_rgb rgb_path t_depth depth_path'");
+  std::vector<TumDataset::Entry> out;
+  std::vector<std::string_view> tok;
+  while (reader.next(tok)) {
+    reader.expect_tokens(tok, 4, "t_rgb rgb_path t_depth depth_path");
+    TumDataset::Entry e{reader.number(tok, 0, "rgb timestamp"), reader.number(tok, 2, "depth timestamp"),
+                        std::string(tok[1]), std::string(tok[3]), ""};
+    // associate.py depth.txt rgb.txt gives depth first; accept it rather than load depth as colour.
+    if (e.rgb.rfind("depth", 0) == 0 && e.depth.rfind("rgb", 0) == 0) {
+      std::swap(e.rgb, e.depth);
+      std::swap(e.t_rgb_s, e.t_depth_s);
+    }
+    if (!out.empty() && !(e.t_rgb_s > out.back().t_rgb_s))
+      reader.fail(fmt::format("rgb timestamp {:.6f} is not after the previous one ({:.6f})", e.t_rgb_s,
+                              out.back().t_rgb_s),
+                  "strictly increasing timestamps");
+    if (check_files) {
+      check_image_exists(dir, e.rgb, reader);
+      check_image_exists(dir, e.depth, reader);
+    }
+    out.push_back(std::move(e));
+  }
+  if (out.empty()) throw ParseError(reader.path(), 0, "no entries", "lines 't_rgb rgb_path t_depth depth_path'");
+  return out;
+}
+
+std::vector<double> times_of(const std::vector<ListEntry>& list) {
+  std::vector<double> ts;
+  for (const auto& e : list) ts.push_back(e.t_s);
+  return ts;
+}
+
+std::vector<TumDataset::Entry> associate_lists(const std::string& dir, const TumDatasetOptions& opt) {
+  const auto rgb = read_list(dir, "rgb.txt", opt.check_files);
+  const auto depth = read_list(dir, "depth.txt", opt.check_files);
+  std::vector<TumDataset::Entry> out;
+  for (const auto& m : associate(times_of(rgb), times_of(depth), opt.max_dt_s))
+    out.push_back({rgb[m.a].t_s, depth[m.b].t_s, rgb[m.a].path, depth[m.b].path, ""});
+  if (out.empty())
+    throw ParseError((fs::path(dir) / "depth.txt").string(), 0,
+                     fmt::format("no depth timestamp within {} s of any rgb timestamp", opt.max_dt_s),
+                     "overlapping rgb.txt and depth.txt timestamps (or a larger max_dt_s)");
+  if (out.size() < rgb.size())
+    spdlog::warn("{}: {} of {} rgb frames have no depth within {} s and are not used", dir, rgb.size() - out.size(),
+                 rgb.size(), opt.max_dt_s);
+  return out;
+}
+
+PinholeCamera dataset_camera(const std::string& dir, const TumDatasetOptions& opt) {
+  if (!opt.camera.empty()) return load_camera(opt.camera);
+  const fs::path yaml = fs::path(dir) / "camera.yaml";
+  if (fs::exists(yaml)) return load_camera(yaml.string());
+  const std::string name = fs::absolute(dir).lexically_normal().filename().string();
+  for (const char* fr : {"freiburg1", "freiburg2", "freiburg3"}) {
+    if (name.find(fr) == std::string::npos) continue;
+    const std::string preset = std::string("tum_fr") + fr[8];
+    spdlog::info("{}: no camera.yaml, using preset {} from the directory name", dir, preset);
+    return *camera_preset(preset);
+  }
+  throw ParseError(yaml.string(), 0, "file not found",
+                   "a camera.yaml in the sequence directory, or a camera file / preset (tum_fr1, tum_fr2, tum_fr3)");
+}
+
+}  // namespace
+
+void TumDatasetOptions::validate() const {
+  require(std::isfinite(max_dt_s) && max_dt_s >= 0, "TumDatasetOptions: max_dt_s must be finite and >= 0");
+}
+
+TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& options) {
+  options.validate();
+  if (!fs::is_directory(dir)) throw ParseError(dir, 0, "directory not found", "a TUM RGB-D sequence directory");
+  TumDataset ds;
+  ds.dir_ = dir;
+  // 1. Camera first: without intrinsics and depth factor no frame can be used.
+  ds.camera_ = dataset_camera(dir, options);
+  // 2. Frames: the given associations, else TUM-style nearest-timestamp association.
+  ds.frames_ = fs::exists(fs::path(dir) / "associations.txt") ? read_associations(dir, options.check_files)
+                                                              : associate_lists(dir, options);
+  // 3. Optional labels (s3m extension), associated to rgb timestamps.
+  if (fs::exists(fs::path(dir) / "labels.txt")) {
+    const auto labels = read_list(dir, "labels.txt", options.check_files);
+    std::vector<double> rgb_t;
+    for (const auto& f : ds.frames_) rgb_t.push_back(f.t_rgb_s);
+    const auto matches = associate(rgb_t, times_of(labels), options.max_dt_s);
+    for (const auto& m : matches) ds.frames_[m.a].labels = labels[m.b].path;
+    ds.has_labels_ = true;
+    if (matches.size() < ds.frames_.size())
+      spdlog::warn("{}: {} of {} frames have no label image", dir, ds.frames_.size() - matches.size(), ds.frames_.size());
+  }
+  // 4. Optional ground truth.
+  if (fs::exists(fs::path(dir) / "groundtruth.txt")) {
+    ds.groundtruth_ = read_tum_trajectory((fs::path(dir) / "groundtruth.txt").string());
+    ds.gt_times_ = timestamps(ds.groundtruth_);
+  }
+  return ds;
+}
+
+RgbdFrame TumDataset::load(std::size_t i) const {
+  require(i < frames_.size(), fmt::format("TumDataset::load: frame {} out of range (size {})", i, frames_.size()));
+  const Entry& e = frames_[i];
+  const cv::Size size(camera_.width, camera_.height);
+  RgbdFrame f;
+  f.index = static_cast<int>(i);
+  f.t_s = e.t_rgb_s;
+  f.rgb = read_rgb((fs::path(dir_) / e.rgb).string(), size);
+  f.depth_m = read_depth_png((fs::path(dir_) / e.depth).string(), camera_.depth_factor, size);
+  if (!e.labels.empty()) f.labels = read_label_png((fs::path(dir_) / e.labels).string(), size);
+  return f;
+}
+
+double TumDataset::timestamp(std::size_t i) const {
+  require(i < frames_.size(), fmt::format("TumDataset::timestamp: frame {} out of range (size {})", i, frames_.size()));
+  return frames_[i].t_rgb_s;
+}
+
+std::optional<SE3> TumDataset::groundtruth_at(double t_s, double max_dt_s) const {
+  if (gt_times_.empty()) return std::nullopt;
+  const std::size_t j = closest_index(gt_times_, t_s);
+  if (std::abs(gt_times_[j] - t_s) > max_dt_s) return std::nullopt;
+  return groundtruth_[j].T_w_x;
+}
+
+// ---------------------------------------------------------------------------------------------
+std::string tum_stamp(double t_s) { return fmt::format("{:.6f}", t_s); }
+
+TumWriter::TumWriter(const std::string& dir, const PinholeCamera& camera) : dir_(dir), camera_(camera) {
+  camera_.validate();
+  std::error_code ec;
+  for (const char* sub : {"rgb", "depth", "labels"}) {
+    fs::create_directories(fs::path(dir) / sub, ec);
+    if (ec) throw Error("TumWriter: cannot create '" + (fs::path(dir) / sub).string() + "': " + ec.message());
+  }
+}
+
+TumWriter::~TumWriter() {
+  if (finished_) return;
+  try {
+    finish();
+  } catch (const std::exception& e) {
+    spdlog::error("TumWriter({}): finishing in the destructor failed: {}", dir_, e.what());
+  }
+}
+
+void TumWriter::add(const RgbdFrame& frame, const std::optional<SE3>& T_w_c) {
+  require(!finished_, "TumWriter::add after finish()");
+  require(std::isfinite(frame.t_s), "TumWriter::add: non-finite timestamp");
+  const std::string stamp = tum_stamp(frame.t_s);
+  // Compare the printed stamps: two frames closer than 1 us would overwrite each other's files.
+  require(times_.empty() || (frame.t_s > times_.back() && stamp != tum_stamp(times_.back())),
+          fmt::format("TumWriter::add: timestamp {} is not after the previous one ({})", stamp,
+                      times_.empty() ? "" : tum_stamp(times_.back())));
+  const cv::Size size(camera_.width, camera_.height);
+  require(frame.rgb.size() == size && frame.depth_m.size() == size,
+          fmt::format("TumWriter::add: frame {} images must be {}x{} like the camera", stamp, size.width, size.height));
+  write_rgb_png((fs::path(dir_) / "rgb" / (stamp + ".png")).string(), frame.rgb);
+  write_depth_png((fs::path(dir_) / "depth" / (stamp + ".png")).string(), frame.depth_m, camera_.depth_factor);
+  const bool labels = !frame.labels.empty();
+  if (labels) {
+    require(frame.labels.size() == size, "TumWriter::add: label image size differs from the camera");
+    write_label_png((fs::path(dir_) / "labels" / (stamp + ".png")).string(), frame.labels);
+  }
+  if (T_w_c) groundtruth_.push_back({frame.t_s, *T_w_c});
+  times_.push_back(frame.t_s);
+  has_labels_.push_back(labels);
+}
+
+void TumWriter::finish() {
+  finished_ = true;
+  std::ostringstream rgb, depth, labels, assoc;
+  rgb << "# color images\n# timestamp filename\n";
+  depth << "# depth maps (16-bit PNG, metres = value / " << camera_.depth_factor << ")\n# timestamp filename\n";
+  labels << "# class-id label images (16-bit PNG, s3m extension)\n# timestamp filename\n";
+  bool any_labels = false;
+  for (std::size_t i = 0; i < times_.size(); ++i) {
+    const std::string s = tum_stamp(times_[i]);
+    rgb << s << " rgb/" << s << ".png\n";
+    depth << s << " depth/" << s << ".png\n";
+    assoc << s << " rgb/" << s << ".png " << s << " depth/" << s << ".png\n";
+    if (has_labels_[i]) {
+      labels << s << " labels/" << s << ".png\n";
+      any_labels = true;
+    }
+  }
+  const fs::path d(dir_);
+  write_text_atomic((d / "rgb.txt").string(), rgb.str());
+  write_text_atomic((d / "depth.txt").string(), depth.str());
+  write_text_atomic((d / "associations.txt").string(), assoc.str());
+  if (any_labels) write_text_atomic((d / "labels.txt").string(), labels.str());
+  if (!groundtruth_.empty()) write_tum_trajectory((d / "groundtruth.txt").string(), groundtruth_);
+  write_camera_yaml((d / "camera.yaml").string(), camera_);
+}
+
+}  // namespace s3m::io

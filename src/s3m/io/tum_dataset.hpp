@@ -1,0 +1,83 @@
+#pragma once
+// TUM RGB-D sequence layout: rgb/, depth/, rgb.txt, depth.txt ('t path'), optional associations.txt
+// ('t_rgb rgb_path t_depth depth_path'), optional groundtruth.txt (TUM trajectory, T_w_c) and the s3m
+// extensions camera.yaml (intrinsics + depth_factor) and labels.txt ('t labels/x.png', class-id PNGs).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "s3m/core/camera.hpp"
+#include "s3m/core/rgbd_frame.hpp"
+#include "s3m/io/trajectory.hpp"
+
+namespace s3m::io {
+
+struct TumDatasetOptions {
+  double max_dt_s = 0.02;  // rgb<->depth(<->labels) association window when associations.txt is absent
+  // Camera YAML (s3m or ORB-SLAM format) or preset name. Empty: <dir>/camera.yaml, else a TUM preset
+  // guessed from 'freiburg1/2/3' in the directory name, else an error.
+  std::string camera;
+  bool check_files = true;  // stat every image at open() so a missing file is reported with its list line
+  void validate() const;
+};
+
+class TumDataset {
+ public:
+  // Throws ParseError naming the list file and line on any problem (see io tests for each case).
+  static TumDataset open(const std::string& dir, const TumDatasetOptions& options = {});
+
+  std::size_t size() const { return frames_.size(); }
+  const PinholeCamera& camera() const { return camera_; }
+  // Reads frame i: rgb (CV_8UC3), depth_m (CV_32FC1 metres), labels (CV_16UC1, empty without labels.txt).
+  // Images must match the camera size; depth must be 16-bit.
+  RgbdFrame load(std::size_t i) const;
+  double timestamp(std::size_t i) const;  // rgb timestamp [s]
+  const Trajectory& groundtruth() const { return groundtruth_; }  // empty when absent
+  // Ground-truth pose with the nearest timestamp within max_dt_s, else nullopt.
+  std::optional<SE3> groundtruth_at(double t_s, double max_dt_s = 0.02) const;
+  const std::string& dir() const { return dir_; }
+  bool has_labels() const { return has_labels_; }
+
+  struct Entry {
+    double t_rgb_s = 0, t_depth_s = 0;
+    std::string rgb, depth, labels;  // paths relative to dir; labels may be empty
+  };
+  const std::vector<Entry>& entries() const { return frames_; }
+
+ private:
+  std::string dir_;
+  PinholeCamera camera_;
+  std::vector<Entry> frames_;
+  Trajectory groundtruth_;
+  std::vector<double> gt_times_;
+  bool has_labels_ = false;
+};
+
+// Writes a TUM-layout sequence: rgb/<t>.png, depth/<t>.png (16-bit, camera.depth_factor),
+// labels/<t>.png (when frame.labels is non-empty), and on finish() rgb.txt, depth.txt, labels.txt,
+// associations.txt, groundtruth.txt (when poses were given) and camera.yaml, each atomically.
+// File names use "%.6f" timestamps. The destructor calls finish() if it was not called (errors logged).
+class TumWriter {
+ public:
+  TumWriter(const std::string& dir, const PinholeCamera& camera);
+  ~TumWriter();
+  TumWriter(const TumWriter&) = delete;
+  TumWriter& operator=(const TumWriter&) = delete;
+
+  // Timestamps must strictly increase; images must match the camera size.
+  void add(const RgbdFrame& frame, const std::optional<SE3>& T_w_c = std::nullopt);
+  void finish();
+  std::size_t size() const { return times_.size(); }
+
+ private:
+  std::string dir_;
+  PinholeCamera camera_;
+  std::vector<double> times_;
+  std::vector<bool> has_labels_;
+  Trajectory groundtruth_;
+  bool finished_ = false;
+};
+
+std::string tum_stamp(double t_s);  // "%.6f"
+
+}  // namespace s3m::io
