@@ -60,6 +60,16 @@ TrackResult System::track(const RgbdFrame& frame) {
   }
   Stopwatch sw;
   TrackerOutput out = tracker_.process(frame, n_sent_ - n_received_);
+  if (out.deferred) {
+    // Lost only because local mapping lags: wait for every pending snapshot and try again.
+    while (n_received_ < n_sent_) {
+      auto s = snapshots_.pop();
+      if (!s) break;
+      tracker_.set_snapshot(std::move(*s));
+      ++n_received_;
+    }
+    out = tracker_.retrack(frame, out.features, 0);
+  }
   r.track_ms = sw.elapsed_ms();
   r.state = out.state;
   r.T_w_c = out.T_w_c;

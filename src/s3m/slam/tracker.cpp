@@ -51,11 +51,24 @@ void Tracker::set_pose(const SE3& T_w_c) {
 }
 
 TrackerOutput Tracker::process(const RgbdFrame& frame, int pending_keyframes) {
-  TrackerOutput out;
   // 1. Features.
+  return track(frame,
+               std::make_shared<features::FrameFeatures>(
+                   features::compute_frame_features(frame.rgb, frame.depth_m, camera_, extractor_, feature_config_)),
+               pending_keyframes);
+}
+
+TrackerOutput Tracker::retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
+                               int pending_keyframes) {
+  return track(frame, std::move(features), pending_keyframes);
+}
+
+TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
+                             int pending) {
+  TrackerOutput out;
+  out.features = features;
   Frame cur;
-  cur.f = std::make_shared<features::FrameFeatures>(
-      features::compute_frame_features(frame.rgb, frame.depth_m, camera_, extractor_, feature_config_));
+  cur.f = std::move(features);
   const int n = cur.f->size();
   cur.pid.assign(n, kNoId);
   cur.p_w.assign(n, Vec3::Zero());
@@ -77,6 +90,10 @@ TrackerOutput Tracker::process(const RgbdFrame& frame, int pending_keyframes) {
   if (ok) ok = track_local_map(cur);
   out.n_inliers = 0;
   for (int i = 0; i < n; ++i) out.n_inliers += (cur.matched[i] && cur.pid[i] != kNoId);
+  if (!ok && pending > 0) {  // the map is behind: nothing changed, let the caller retry
+    out.deferred = true;
+    return out;
+  }
   if (!ok) {
     // Keep the prediction as the best guess; the next frame tries the reference keyframe again.
     state_ = TrackState::kLost;
@@ -94,7 +111,7 @@ TrackerOutput Tracker::process(const RgbdFrame& frame, int pending_keyframes) {
   out.state = state_;
   out.T_w_c = cur.T_c_w.inverse();
   // 5. Keyframe decision.
-  if (need_keyframe(cur, frame.index, out.n_inliers, pending_keyframes)) out.keyframe = make_request(cur, frame);
+  if (need_keyframe(cur, frame.index, out.n_inliers, pending)) out.keyframe = make_request(cur, frame);
   out.ref_kf = ref_kf_;
   out.T_ref_c = T_w_ref_.inverse() * out.T_w_c;
   // 6. This frame (with fresh visual-odometry points) is the next frame's "last".

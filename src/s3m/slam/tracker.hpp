@@ -43,6 +43,10 @@ struct TrackerOutput {
   std::optional<KeyFrameRequest> keyframe;  // set when this frame becomes a keyframe
   KfId ref_kf = kNoId;                      // keyframe the pose is stored relative to
   SE3 T_ref_c = SE3::Identity();            // pose relative to ref_kf at tracking time
+  std::shared_ptr<const features::FrameFeatures> features;  // this frame's features (reusable)
+  // Tracking failed while keyframes were still being mapped and nothing was changed: retry with
+  // retrack() once the pending snapshots have arrived.
+  bool deferred = false;
 };
 
 class Tracker {
@@ -50,7 +54,11 @@ class Tracker {
   Tracker(const PinholeCamera& camera, const features::FeatureConfig& features, const TrackerConfig& config);
 
   // pending_keyframes: requests sent but not yet answered by a snapshot (0 in single-thread mode).
+  // With pending keyframes a failure is deferred (out.deferred) instead of declaring LOST.
   TrackerOutput process(const RgbdFrame& frame, int pending_keyframes = 0);
+  // Tracks a frame again with its already extracted features (after a deferred failure).
+  TrackerOutput retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
+                        int pending_keyframes = 0);
   // A newer view of the map (after local mapping or a loop correction).
   void set_snapshot(std::shared_ptr<const LocalMapSnapshot> snapshot);
   // Relocalisation hook: resume tracking from this camera pose on the next frame.
@@ -69,6 +77,7 @@ class Tracker {
     int n_matched() const;
   };
 
+  TrackerOutput track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features, int pending);
   bool initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
   bool track_motion_model(Frame& cur);
   bool track_reference_keyframe(Frame& cur);
