@@ -73,40 +73,42 @@ def class_palette(metrics):
 
 
 def plot_map_topdown(out_dir, report_dir, palette):
-    """Top-down view: per x-y cell the highest non-ceiling voxel, coloured by its class."""
+    """Top-down view: per map column the highest non-ceiling voxel, coloured by its class."""
     path = os.path.join(out_dir, "map.ply")
     if not os.path.exists(path):
         return
     ply = read_ply(path)
     if "x" not in ply or len(ply["x"]) == 0:
         return
-    key = next((k for k in ("class", "class_id", "label") if k in ply), None)
-    x, y, z = ply["x"].astype(float), ply["y"].astype(float), ply["z"].astype(float)
-    ids = ply[key].astype(int) if key else np.zeros(len(x), int)
-    up = vertical_axis(ids, x, y, z)
-    horiz = [a for a in (0, 1, 2) if a != up]
-    pts = np.stack([x, y, z], 1)
-    keep = ids != 3 if key else np.ones(len(x), bool)  # ceiling (id 3) would hide the room
-    pts, ids = pts[keep], ids[keep]
-    if len(pts) == 0:
-        return
-    # Sort by height so the highest voxel in each column is drawn last (on top).
-    sign = height_sign(pts[:, up], ids)
-    order = np.argsort(sign * pts[:, up])
-    pts, ids = pts[order], ids[order]
+    key = next((k for k in ("label", "class", "class_id") if k in ply), None)
+    pts = np.stack([ply["x"], ply["y"], ply["z"]], 1).astype(float)
+    ids = ply[key].astype(int) if key else np.zeros(len(pts), int)
     if key and palette:
         colours = np.array([palette.get(i, ("?", (1, 0, 1)))[1] for i in ids])
-    elif all(c in ply for c in ("red", "green", "blue")):
-        colours = np.stack([ply[c][keep][order] for c in ("red", "green", "blue")], 1) / 255.0
     else:
-        colours = "C0"
-    fig, ax = plt.subplots(figsize=(7, 6))
-    ax.scatter(pts[:, horiz[0]], pts[:, horiz[1]], c=colours, s=2, marker="s", linewidths=0)
-    ax.set_aspect("equal", adjustable="datalim")
+        colours = np.stack([ply[c] for c in ("red", "green", "blue")], 1) / 255.0
+    up = vertical_axis(ids, *pts.T)
+    horiz = [a for a in (0, 1, 2) if a != up]
+    keep = ids != 3 if key else np.ones(len(pts), bool)  # the ceiling (id 3) would hide the room
+    pts, ids, colours = pts[keep], ids[keep], colours[keep]
+    if len(pts) == 0:
+        return
+    # Rasterise at the map resolution (the smallest spacing of voxel centres): the highest voxel
+    # of each column wins, so walls and furniture tops show as they do from above.
+    res = voxel_size(pts)
+    cells = np.floor((pts[:, horiz] - pts[:, horiz].min(0)) / res + 0.5).astype(int)
+    h = height_sign(pts[:, up], ids) * pts[:, up]
+    order = np.argsort(h)  # later (higher) voxels overwrite lower ones
+    img = np.ones((cells[:, 1].max() + 1, cells[:, 0].max() + 1, 3))
+    img[cells[order, 1], cells[order, 0]] = colours[order]
+    lo = pts[:, horiz].min(0) - res / 2
+    extent = [lo[0], lo[0] + img.shape[1] * res, lo[1], lo[1] + img.shape[0] * res]
+    fig, ax = plt.subplots(figsize=(7.5, 6))
+    ax.imshow(img, origin="lower", extent=extent, interpolation="nearest")
     names = "xyz"
     ax.set_xlabel(f"{names[horiz[0]]} [m]")
     ax.set_ylabel(f"{names[horiz[1]]} [m]")
-    ax.set_title(f"Semantic map, top-down ({len(x)} voxels; ceiling hidden)")
+    ax.set_title(f"Semantic map from above ({len(ply['x'])} voxels of {res * 100:.0f} cm; ceiling hidden)")
     if key and palette:
         present = sorted(set(ids.tolist()))
         handles = [plt.Line2D([], [], marker="s", ls="", color=palette[i][1], label=palette[i][0])
@@ -115,6 +117,13 @@ def plot_map_topdown(out_dir, report_dir, palette):
     fig.tight_layout()
     fig.savefig(os.path.join(report_dir, "map_topdown.png"), dpi=110)
     plt.close(fig)
+
+
+def voxel_size(pts):
+    """Map resolution from the voxel centres: the smallest non-zero gap between sorted coordinates."""
+    gaps = np.diff(np.unique(np.round(pts[:, 0], 5)))
+    gaps = gaps[gaps > 1e-4]
+    return float(np.min(gaps)) if len(gaps) else 0.05
 
 
 def vertical_axis(ids, x, y, z):

@@ -13,7 +13,7 @@ namespace s3m::apps {
 namespace {
 
 struct RunArgs {
-  std::string dataset, config, out, segmenter, poses = "slam";
+  std::string dataset, config, out, segmenter, model_dir, poses = "slam";
   bool slam_only = false, deterministic = false, no_report = false;
   long max_frames = -1;
 };
@@ -42,6 +42,7 @@ void register_run(CLI::App& app) {
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_option("--segmenter", args->segmenter,
                   "onnx:MODEL_DIR_OR_CARD | oracle | none (default: the config's segmenter section)");
+  cmd->add_option("--model-dir", args->model_dir, "with onnx: folder holding the model files (card elsewhere)");
   cmd->add_option("--poses", args->poses, "slam (default) | gt: ground-truth poses, to evaluate mapping alone")
       ->check(CLI::IsMember({"slam", "gt"}));
   cmd->add_flag("--slam-only", args->slam_only, "trajectories only (no segmentation, no map)");
@@ -55,6 +56,7 @@ void register_run(CLI::App& app) {
     o.config = args->config.empty() ? pipeline::PipelineConfig{} : pipeline::load_pipeline_config(args->config);
     if (args->deterministic) o.config.threads.deterministic = true;
     o.segmenter = args->segmenter;
+    o.model_dir = args->model_dir;
     o.poses = args->poses;
     o.slam_only = args->slam_only;
     o.max_frames = args->max_frames;

@@ -77,7 +77,9 @@ std::map<VoxelKey, ClassId> run_map(const io::TumDataset& data, int switch_at, b
                        std::make_unique<pipeline::MapIntegrator>(cfg.map));
   for (std::size_t i = 0; i < data.size(); ++i) p.process(data.load(i));
   p.finish();
-  if (notify) EXPECT_EQ(p.counters().rebuilds, 1u);
+  if (notify) {
+    EXPECT_EQ(p.counters().rebuilds, 1u);
+  }
   return occupied(p.map()->tree());
 }
 

@@ -34,8 +34,8 @@ class ScratchCleanup : public ::testing::Environment {
   }
 };
 
-// 2.7 s of the office UAV sweep at 30 Hz: take-off and the start of the yaw sweep.
-inline constexpr int kFrames = 80;
+// 2 s of hand-held motion through the office at 30 Hz (fixed seed).
+inline constexpr int kFrames = 60;
 
 // The sequence, rendered once and cached in the temp folder for every test process: the simulator is
 // deterministic, so a complete cached copy is identical to a fresh one. Rendered into a private
@@ -45,9 +45,9 @@ inline const std::string& sequence_dir() {
     sim::SimConfig c;
     c.scene = "office";
     c.seed = 7;
-    c.trajectory.type = "uav_sweep";
+    c.trajectory.type = "handheld";
     c.trajectory.frames = kFrames;
-    const fs::path d = fs::temp_directory_path() / ("s3m_it_sequence_office_uav_sweep_seed7_" + std::to_string(kFrames));
+    const fs::path d = fs::temp_directory_path() / ("s3m_it_sequence_office_handheld_seed7_" + std::to_string(kFrames));
     if (!fs::exists(d / "gt_voxels.txt")) {
       const fs::path tmp = d.string() + ".tmp" + std::to_string(::getpid());
       sim::simulate_sequence(c, tmp.string());

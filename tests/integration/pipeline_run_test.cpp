@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline_fixture.hpp"
+#include "s3m/core/error.hpp"
 #include "s3m/io/ply.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/mapping/map_io.hpp"

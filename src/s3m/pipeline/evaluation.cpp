@@ -2,6 +2,8 @@
 
 #include <filesystem>
 
+#include <Eigen/SVD>
+
 #include <spdlog/spdlog.h>
 
 #include "s3m/core/error.hpp"
@@ -9,7 +11,6 @@
 #include "s3m/eval/trajectory_eval.hpp"
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/io/gt_voxels.hpp"
-#include "s3m/semantics/seg_metrics.hpp"
 
 namespace s3m::pipeline {
 namespace fs = std::filesystem;
@@ -52,7 +53,7 @@ TrajectoryScore evaluate_trajectory(const Pipeline& p, const io::TumDataset& dat
     return s;
   }
   s.json = summary(ev);
-  s.alignment = ev.ate.alignment;
+  s.T_est_gt = align_poses(ev.poses.T_w_est, ev.poses.T_w_gt);
   const std::string report_dir = paths.out_dir + "/report";
   fs::create_directories(report_dir);
   io::write_text_atomic(report_dir + "/plot_data.json", eval::plot_data_json(gt, {est}, {ev}).dump());
@@ -71,28 +72,43 @@ TrajectoryScore evaluate_trajectory(const Pipeline& p, const io::TumDataset& dat
   return s;
 }
 
+SE3 align_poses(const std::vector<SE3>& T_w_est, const std::vector<SE3>& T_w_gt) {
+  require(!T_w_est.empty() && T_w_est.size() == T_w_gt.size(), "align_poses: need equally many (>0) poses");
+  Mat3 M = Mat3::Zero();
+  for (std::size_t i = 0; i < T_w_est.size(); ++i) M += T_w_est[i].linear() * T_w_gt[i].linear().transpose();
+  const Eigen::JacobiSVD<Mat3> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Mat3 D = Mat3::Identity();
+  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  const Mat3 R = svd.matrixU() * D * svd.matrixV().transpose();
+  Vec3 t = Vec3::Zero();
+  for (std::size_t i = 0; i < T_w_est.size(); ++i) t += T_w_est[i].translation() - R * T_w_gt[i].translation();
+  return make_se3(R, t / static_cast<double>(T_w_est.size()));
+}
+
 MapScore score_map(const MapIntegrator& map, const std::string& gt_path, const SE3& T_map_gt) {
-  const io::GtVoxelMap gt = io::read_gt_voxels(gt_path);
+  io::GtVoxelMap gt = io::read_gt_voxels(gt_path);
+  const Eigen::Isometry3f T = T_map_gt.cast<float>();
+  for (auto& c : gt.centres_w) c = T * c;
   const mapping::SemanticOcTree& tree = map.tree();
   MapScore s;
   s.gt_total = gt.centres_w.size();
-  std::vector<ClassId> truth, pred;
+  s.all = mapping::evaluate_map(tree, gt);
+  io::GtVoxelMap seen;
+  seen.resolution_m = gt.resolution_m;
   for (std::size_t i = 0; i < gt.centres_w.size(); ++i) {
-    if (gt.labels[i] == cls::kUnknown) continue;
-    const Vec3 p = T_map_gt * gt.centres_w[i].cast<double>();
-    const auto* node = tree.search(p.x(), p.y(), p.z());
-    if (!node || !tree.isNodeOccupied(node) || node->labels().empty()) continue;
-    truth.push_back(gt.labels[i]);
-    pred.push_back(node->labels().top());
+    const Eigen::Vector3f& c = gt.centres_w[i];
+    if (!tree.search(c.x(), c.y(), c.z())) continue;  // unknown space: no camera saw it
+    seen.centres_w.push_back(c);
+    seen.labels.push_back(gt.labels[i]);
   }
-  s.gt_observed = truth.size();
-  if (truth.empty()) return s;
-  semantics::ConfusionMatrix cm(cls::kCount);
-  cm.add(cv::Mat(1, static_cast<int>(truth.size()), CV_16UC1, truth.data()),
-         cv::Mat(1, static_cast<int>(pred.size()), CV_16UC1, pred.data()));
-  const semantics::SegMetrics m = cm.metrics();
-  s.miou = m.miou;
-  for (ClassId c : m.evaluated) s.per_class_iou[c] = m.iou[c];
+  s.gt_observed = seen.centres_w.size();
+  if (s.gt_observed == 0) return s;
+  s.observed = mapping::evaluate_map(tree, seen);
+  for (ClassId c : seen.labels)
+    if (c != cls::kUnknown) s.per_class_iou[c] = s.observed.iou.count(c) ? s.observed.iou.at(c) : 0.0;
+  double sum = 0;
+  for (const auto& [c, v] : s.per_class_iou) sum += v;
+  s.miou = s.per_class_iou.empty() ? 0.0 : sum / s.per_class_iou.size();
   return s;
 }
 

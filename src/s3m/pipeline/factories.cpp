@@ -32,6 +32,7 @@ std::string repo_path(const std::string& relative) {
 
 ResolvedCard resolve_model_card(const std::string& path) {
   if (fs::is_regular_file(path)) return {path, ""};
+  if (fs::is_regular_file(path + ".yaml")) return {path + ".yaml", ""};  // "models/s3m_pspnet_small"
   if (!fs::is_directory(path))
     throw Error("segmenter: model '" + path + "' is neither a model card (.yaml) nor a folder");
   std::vector<std::string> cards;

@@ -24,7 +24,7 @@ std::unique_ptr<PoseSource> make_slam_poses(const PinholeCamera& camera, const P
 std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterSpec& spec, const PipelineConfig& config,
                                                      bool dataset_has_labels);
 
-// Finds the model card for `onnx:PATH`: PATH itself when it is a .yaml file; the single card
+// Finds the model card for `onnx:PATH`: PATH itself when it is a .yaml file (or PATH.yaml); the single card
 // (*.yaml with a `model:` key) inside the folder PATH; else the repository's card
 // models/external/<folder name>.yaml describing a downloaded model, with PATH as its model folder.
 struct ResolvedCard {

@@ -35,9 +35,5 @@ mapping::LabeledCloud transformed(const mapping::LabeledCloud& cloud_b, const SE
 // Memory held by a cloud [bytes], for the "kept clouds" statistic.
 std::size_t cloud_bytes(const mapping::LabeledCloud& cloud);
 
-// Raw bytes per point of an accumulated point cloud with position, colour and one label with its
-// confidence (x y z float, r g b, label u16, confidence float = 21 B): the reference for the
-// "map file is N x smaller than the raw cloud" statistic.
-constexpr std::size_t kRawPointBytes = 3 * 4 + 3 + 2 + 4;
 
 }  // namespace s3m::pipeline

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "s3m/core/error.hpp"
-#include "s3m/io/ply.hpp"
+#include "s3m/mapping/export.hpp"
 #include "s3m/mapping/map_io.hpp"
 #include "s3m/pipeline/labelled_cloud.hpp"
 
@@ -40,14 +40,7 @@ std::size_t MapIntegrator::occupied_voxels() const {
 
 void MapIntegrator::save(const std::string& ot_path, const std::string& ply_path) const {
   mapping::save_semantic_map(*tree_, ot_path);
-  std::vector<io::PlyPoint> pts;
-  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
-    if (!tree_->isNodeOccupied(*it)) continue;
-    const auto c = it.getCoordinate();
-    const auto rgb = it->color();
-    pts.push_back({c.x(), c.y(), c.z(), rgb.r, rgb.g, rgb.b, it->labels().top(), it->labels().top_prob()});
-  }
-  io::write_ply(ply_path, pts, /*with_semantics=*/true);
+  mapping::export_ply(*tree_, ply_path, mapping::PlyColor::kObserved);
 }
 
 nlohmann::json MapIntegrator::describe() const {

@@ -5,7 +5,7 @@
 #include "s3m/core/classes.hpp"
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/pipeline/evaluation.hpp"
-#include "s3m/pipeline/labelled_cloud.hpp"
+#include "s3m/mapping/metrics.hpp"
 
 namespace s3m::pipeline {
 namespace fs = std::filesystem;
@@ -45,7 +45,7 @@ json segmentation_json(const Pipeline& p) {
           {"note", "argmax of each segmented frame vs the dataset's label image; unknown (0) not evaluated"}};
 }
 
-// T_map_gt: the ground-truth world in the map's frame (the inverse of the trajectory alignment).
+// T_map_gt: the ground-truth world in the map's frame (pose alignment of the trajectory).
 json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& dataset_dir, const SE3& T_map_gt) {
   const MapIntegrator* map = p.map();
   if (!map) return json::object();
@@ -53,23 +53,33 @@ json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& da
   json j = map->describe();
   j["kept_clouds"] = p.kept_clouds().size();
   j["kept_clouds_mb"] = p.kept_clouds().bytes() / 1e6;
-  j["raw_cloud_points"] = c.raw_points;
-  j["raw_cloud_bytes"] = c.raw_points * kRawPointBytes;
   j["inserted_points"] = c.inserted_points;
   j["rebuilds"] = c.rebuilds;
-  if (!paths.map_ot.empty() && fs::exists(paths.map_ot)) {
-    const auto bytes = fs::file_size(paths.map_ot);
-    j["file_bytes"] = bytes;
-    if (bytes > 0) j["raw_over_file_ratio"] = static_cast<double>(c.raw_points * kRawPointBytes) / bytes;
-  }
+  // Raw cloud = every in-range depth pixel of the integrated frames, with colour and k labels.
+  const mapping::MapSize size = mapping::map_size(map->tree(), c.raw_points, map->tree().fusionConfig().k);
+  j["raw_cloud_points"] = size.raw_points;
+  j["raw_cloud_bytes"] = size.raw_cloud_bytes;
+  j["memory_bytes"] = size.memory_bytes;
+  j["file_bytes"] = !paths.map_ot.empty() && fs::exists(paths.map_ot) ? fs::file_size(paths.map_ot) : size.file_bytes;
+  j["raw_over_file_ratio"] = j["file_bytes"].get<std::size_t>() > 0
+                                 ? static_cast<double>(size.raw_cloud_bytes) / j["file_bytes"].get<std::size_t>()
+                                 : 0.0;
   if (const std::string gt = find_gt_voxel_map(dataset_dir); !gt.empty()) {
     const MapScore s = score_map(*map, gt, T_map_gt);
     j["gt_voxel_map"] = gt;
     j["miou"] = s.miou;
     j["per_class_iou"] = per_class_json(s.per_class_iou);
+    j["miou_with_predicted_only_classes"] = s.observed.miou;
+    j["label_accuracy"] = s.observed.label_accuracy;
+    j["precision"] = s.observed.precision;
+    j["recall_observed"] = s.observed.recall;
     j["gt_voxels_observed"] = s.gt_observed;
     j["gt_voxels"] = s.gt_total;
-    j["note"] = "map mIoU over ground-truth voxels the map holds as occupied (top label vs true class)";
+    j["recall_all"] = s.all.recall;
+    j["miou_all_gt"] = s.all.miou;
+    j["note"] = "mapping::evaluate_map (1-voxel tolerance) over ground-truth voxels in observed space, "
+                "mIoU over the classes of that ground truth (as the per-frame mIoU); "
+                "*_all: over the whole ground-truth scene, unseen parts included";
   }
   return j;
 }
@@ -110,9 +120,8 @@ json compute_metrics(const Pipeline& p, const io::TumDataset& dataset, const Pip
   const TrajectoryScore traj = evaluate_trajectory(p, dataset, config, paths);
   m["trajectory"] = traj.json;
   m["segmentation"] = segmentation_json(p);
-  // The map lives in the estimate's world; the RGB-D scale is metric, so only the rigid part of the
-  // alignment is used.
-  const SE3 T_map_gt = traj.alignment ? traj.alignment->T_gt_est.inverse() : SE3::Identity();
+  // The map lives in the estimate's world (identity for --poses gt).
+  const SE3 T_map_gt = traj.T_est_gt.value_or(SE3::Identity());
   m["map"] = map_json(p, paths, dataset.dir(), T_map_gt);
   m["classes"] = classes_json();
   m["outputs"] = {{"trajectory_camera", paths.trajectory_camera},
