@@ -1,0 +1,123 @@
+// Runs the tiny committed test models (tools/seg_make_test_model.py) through OnnxSegmenter.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "s3m/core/error.hpp"
+#include "s3m/semantics/onnx_inspect.hpp"
+#include "s3m/semantics/onnx_segmenter.hpp"
+
+using namespace s3m;
+using namespace s3m::semantics;
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kData = S3M_TEST_DATA_DIR "/semantics/";
+
+// Card text for the tiny model with absolute paths, so it can live in a temp folder.
+std::string card_text(const std::string& model = kData + "tiny_rgb.onnx", int w = 16, int h = 16,
+                      const std::string& extra = "") {
+  return "name: t\nmodel: " + model + "\nclasses: " + kData + "tiny_rgb.classes.txt\n" +
+         "input: {width: " + std::to_string(w) + ", height: " + std::to_string(h) +
+         ", channel_order: rgb, scale: 0.00392156862745098}\n" + extra;
+}
+std::string write_card(const std::string& name, const std::string& text) {
+  const auto path = (fs::temp_directory_path() / ("s3m_card_" + name + ".yaml")).string();
+  std::ofstream(path) << text;
+  return path;
+}
+// 32x24 BGR image: left half red, right half blue, bottom-left 8x8 corner black.
+cv::Mat test_image() {
+  cv::Mat img(24, 32, CV_8UC3, cv::Scalar(0, 0, 255));
+  img(cv::Rect(16, 0, 16, 24)).setTo(cv::Scalar(255, 0, 0));
+  img(cv::Rect(0, 16, 8, 8)).setTo(cv::Scalar(0, 0, 0));
+  return img;
+}
+double softmax0(double a, double b, double c, double d) {
+  return std::exp(a) / (std::exp(a) + std::exp(b) + std::exp(c) + std::exp(d));
+}
+}  // namespace
+
+TEST(SemanticsOnnx, CommittedCardRunsAndGivesExactProbabilities) {
+  auto seg = OnnxSegmenter::from_card(kData + "tiny_rgb.yaml");
+  EXPECT_EQ(seg->output_size(), cv::Size(16, 16));
+  // A uniform image avoids resampling effects: pure red -> logits (10, 0, 0, 2).
+  const LabelMap m = seg->segment(cv::Mat(16, 16, CV_8UC3, cv::Scalar(0, 0, 255)));
+  ASSERT_EQ(m.k(), 3);
+  EXPECT_EQ(m.id(5, 5, 0), cls::kWall);
+  EXPECT_EQ(m.id(5, 5, 1), cls::kOther);  // "spaceship" (logit 2) is not a project class -> other
+  EXPECT_NEAR(m.prob(5, 5, 0), softmax0(10, 0, 0, 2), 1e-5);
+  EXPECT_NEAR(m.prob(5, 5, 1), softmax0(2, 10, 0, 0), 1e-5);
+  EXPECT_NEAR(m.prob(5, 5, 2), softmax0(0, 10, 0, 2), 1e-5);
+}
+
+TEST(SemanticsOnnx, ArgmaxOnSyntheticImageAtCameraSize) {
+  for (const char* model : {"tiny_rgb.onnx", "tiny_rgb_s2.onnx"})
+    for (const char* up : {"nearest", "linear"}) {
+      SCOPED_TRACE(std::string(model) + " " + up);
+      // 32x24 camera image stretched to the 16x16 input; the strided model outputs 8x8.
+      OnnxSegmenter seg(load_model_card(write_card("argmax", card_text(kData + model, 16, 16, std::string("upsample: ") + up + "\n"))));
+      const LabelMap m = seg.segment(test_image());
+      ASSERT_EQ(m.rows(), 24);
+      ASSERT_EQ(m.cols(), 32);
+      EXPECT_EQ(m.argmax.at<ClassId>(4, 4), cls::kWall);     // red
+      EXPECT_EQ(m.argmax.at<ClassId>(4, 28), cls::kChair);   // blue
+      EXPECT_EQ(m.argmax.at<ClassId>(22, 2), cls::kOther);   // black -> spaceship -> other
+      EXPECT_EQ(m.argmax.at<ClassId>(20, 26), cls::kChair);
+      // all pixels far from the colour edges are right
+      int wrong = 0;
+      for (int r = 0; r < 12; ++r)
+        for (int c = 0; c < 32; ++c)
+          if (std::abs(c - 16) > 4) wrong += m.argmax.at<ClassId>(r, c) != (c < 16 ? cls::kWall : cls::kChair);
+      EXPECT_EQ(wrong, 0);
+    }
+}
+
+TEST(SemanticsOnnx, LetterboxKeepsGeometry) {
+  // 32x16 image letterboxed into 16x16: occupies input rows 4..11; labels must come back in place.
+  const std::string card = "name: t\nmodel: " + kData + "tiny_rgb.onnx\nclasses: " + kData +
+                           "tiny_rgb.classes.txt\ninput: {width: 16, height: 16, scale: 0.00392156862745098, "
+                           "resize: letterbox}\nupsample: nearest\n";
+  OnnxSegmenter seg(load_model_card(write_card("letterbox", card)));
+  cv::Mat img(16, 32, CV_8UC3, cv::Scalar(0, 255, 0));    // green = floor
+  img(cv::Rect(0, 0, 32, 4)).setTo(cv::Scalar(0, 0, 255));  // top band red = wall
+  const LabelMap m = seg.segment(img);
+  EXPECT_EQ(m.argmax.at<ClassId>(0, 10), cls::kWall);
+  EXPECT_EQ(m.argmax.at<ClassId>(2, 20), cls::kWall);
+  EXPECT_EQ(m.argmax.at<ClassId>(10, 10), cls::kFloor);
+  EXPECT_EQ(m.argmax.at<ClassId>(15, 31), cls::kFloor);
+}
+
+TEST(SemanticsOnnx, ReadsDeclaredInputShape) {
+  const OnnxInputInfo in = read_onnx_input(kData + "tiny_rgb_s2.onnx");
+  EXPECT_EQ(in.name, "input");
+  EXPECT_EQ(in.dims, (std::vector<std::int64_t>{1, 3, 16, 16}));
+}
+
+TEST(SemanticsOnnx, BadCardsAndModelsFailAtLoadWithClearMessages) {
+  auto expect_error = [](const std::string& card, const std::string& needle) {
+    try {
+      OnnxSegmenter seg(load_model_card(write_card("bad", card)));
+      FAIL() << "no error for card:\n" << card;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect_error(card_text("/nonexistent/model.onnx"), "model file '/nonexistent/model.onnx' not found");
+  const auto corrupt = (fs::temp_directory_path() / "s3m_corrupt.onnx").string();
+  std::ofstream(corrupt) << "this is not a protobuf \xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff";
+  expect_error(card_text(corrupt), "not a valid ONNX model");
+  expect_error(card_text(kData + "tiny_rgb.onnx", 20, 16), "input size 16x20 (HxW) does not match the model's input 'input' of shape [1,3,16,16]");
+  // class list with 3 names for a 4-channel model
+  const auto names3 = (fs::temp_directory_path() / "s3m_names3.txt").string();
+  std::ofstream(names3) << "wall\nfloor\nchair\n";
+  expect_error("model: " + kData + "tiny_rgb.onnx\nclasses: " + names3 + "\ninput: {width: 16, height: 16}\n",
+               "has 3 classes but the model outputs 4 channels");
+  expect_error(card_text() + "top_k: 0\n", "top_k = 0 out of range");
+  expect_error(card_text() + "output: {type: softmax}\n", "bad value 'softmax' for 'type'");
+  expect_error(card_text() + "ignore_classes: [sky]\n", "ignore_classes names 'sky'");
+  expect_error(card_text() + "modle: x.onnx\n", "unknown key 'modle'");
+  expect_error("classes: x.txt\ninput: {width: 16, height: 16}\n", "no 'model' given");
+}
