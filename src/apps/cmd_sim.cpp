@@ -1,13 +1,103 @@
-// Not yet implemented: issue #4 replaces this file with the real command.
+// `s3m sim`: render a synthetic RGB-D sequence with ground truth (see s3m/sim/simulate.hpp).
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
 #include "commands.hpp"
 #include "s3m/core/error.hpp"
+#include "s3m/core/timing.hpp"
+#include "s3m/sim/simulate.hpp"
 
 namespace s3m::apps {
+namespace {
+
+struct SimArgs {
+  std::string config_path, out_dir, scene = "office", trajectory = "uav_sweep", camera = "kinect", snapshots;
+  int frames = 300, width = 640, height = 480, drop_frames = 0, motion_blur = 1;
+  std::uint64_t seed = 7;
+  double fps = 30.0, voxel_res_m = 0.05;
+  bool noise = true;
+};
+
+// One picture per requested frame: colour | colourised depth | colourised labels.
+void write_snapshots(const sim::SimConfig& cfg, const std::string& list, const std::string& out_dir) {
+  const sim::Simulation sim(cfg);
+  std::stringstream ss(list);
+  std::string item;
+  std::filesystem::create_directories(std::filesystem::path(out_dir) / "snapshots");
+  while (std::getline(ss, item, ',')) {
+    const int i = std::stoi(item);
+    require(i >= 0 && i < static_cast<int>(sim.size()), "--snapshots: frame " + item + " is outside the sequence");
+    const RgbdFrame f = sim.frame(i);
+    cv::Mat row;
+    cv::hconcat(std::vector<cv::Mat>{f.rgb, sim::colourise_depth(f.depth_m, cfg.sensor.max_depth_m),
+                                     sim::colourise_labels(f.labels)},
+                row);
+    const std::string path = (std::filesystem::path(out_dir) / "snapshots" / ("frame_" + item + ".png")).string();
+    if (!cv::imwrite(path, row)) throw Error("cannot write " + path);
+  }
+}
+
+void run(const SimArgs& a, const CLI::App& cmd) {
+  sim::SimConfig cfg = a.config_path.empty() ? sim::SimConfig{} : sim::load_sim_config(a.config_path);
+  // Command-line options override the config file only when given explicitly.
+  auto given = [&](const char* name) { return a.config_path.empty() || cmd.count(name) > 0; };
+  if (given("--scene")) cfg.scene = a.scene;
+  if (given("--seed")) cfg.seed = a.seed;
+  if (given("--trajectory")) cfg.trajectory.type = a.trajectory;
+  if (given("--frames")) cfg.trajectory.frames = a.frames;
+  if (given("--fps")) cfg.trajectory.fps = a.fps;
+  if (given("--drop-frames")) cfg.drop_frames = a.drop_frames;
+  if (given("--voxel-res")) cfg.voxel_resolution_m = a.voxel_res_m;
+  if (given("--motion-blur")) cfg.sensor.motion_blur_samples = a.motion_blur;
+  if (given("--noise") || cmd.count("--no-noise")) cfg.sensor.noise = a.noise;
+  if (given("--camera") || given("--width") || given("--height"))
+    cfg.sensor.camera = sim::sensor_camera(a.camera, a.width, a.height);
+  cfg.validate();
+
+  std::fprintf(stderr, "s3m sim: scene %s (seed %llu), trajectory %s, %d frames at %dx%d -> %s\n", cfg.scene.c_str(),
+               static_cast<unsigned long long>(cfg.seed), cfg.trajectory.type.c_str(), cfg.trajectory.frames,
+               cfg.sensor.camera.width, cfg.sensor.camera.height, a.out_dir.c_str());
+  Stopwatch sw;
+  const sim::SimSummary s = sim::simulate_sequence(cfg, a.out_dir, [&](int done, int total) {
+    const double fps = done / std::max(1e-3, sw.elapsed_ms() / 1000.0);
+    std::fprintf(stderr, "\r  frame %d/%d  %.1f frames/s  ETA %.0f s   ", done, total, fps, (total - done) / fps);
+    std::fflush(stderr);
+  });
+  std::fprintf(stderr,
+               "\ndone: %d frames (%d dropped) in %.1f s, %.1f ms/frame rendering; trajectory %.2f m, max speed "
+               "%.2f m/s; %zu ground-truth voxels at %.3f m\n",
+               s.frames, s.dropped, s.seconds, s.render_ms_mean, s.length_m, s.max_speed_mps, s.voxels,
+               cfg.voxel_resolution_m);
+  if (!a.snapshots.empty()) write_snapshots(cfg, a.snapshots, a.out_dir);
+}
+
+}  // namespace
 
 void register_sim(CLI::App& app) {
-  auto* cmd = app.add_subcommand("sim", "Render a synthetic RGB-D sequence (not implemented yet, issue #4)");
-  cmd->allow_extras();
-  cmd->callback([] { throw Error("'s3m sim' is not implemented yet (issue #4)"); });
+  auto args = std::make_shared<SimArgs>();
+  auto* cmd = app.add_subcommand("sim", "Render a synthetic indoor RGB-D sequence with ground-truth poses and labels");
+  cmd->add_option("--out,-o", args->out_dir, "Output directory (TUM layout)")->required();
+  cmd->add_option("--config", args->config_path, "YAML config (see config/sim_*.yaml); options below override it")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--scene", args->scene, "Scene preset: office, living_room, corridor")->capture_default_str();
+  cmd->add_option("--trajectory", args->trajectory,
+                  "uav_sweep, figure8, loop, lawnmower, handheld, hover, forward")->capture_default_str();
+  cmd->add_option("--frames", args->frames, "Number of frames")->capture_default_str();
+  cmd->add_option("--fps", args->fps, "Frame rate [Hz]")->capture_default_str();
+  cmd->add_option("--seed", args->seed, "Seed for layout, trajectory variation and noise")->capture_default_str();
+  cmd->add_option("--camera", args->camera, "Intrinsics: kinect (fx 525 at 640 px) or d455 (fx 382.6)")
+      ->capture_default_str();
+  cmd->add_option("--width", args->width, "Image width [px]")->capture_default_str();
+  cmd->add_option("--height", args->height, "Image height [px]")->capture_default_str();
+  cmd->add_flag("--noise,!--no-noise", args->noise, "Sensor noise and dropouts on/off (default on)");
+  cmd->add_option("--drop-frames", args->drop_frames, "Number of blank (dropped) frames")->capture_default_str();
+  cmd->add_option("--motion-blur", args->motion_blur, "Motion blur samples per frame (1 = off)")->capture_default_str();
+  cmd->add_option("--voxel-res", args->voxel_res_m, "Ground-truth voxel map resolution [m]")->capture_default_str();
+  cmd->add_option("--snapshots", args->snapshots, "Comma-separated frame indices to save as rgb|depth|labels PNGs");
+  cmd->callback([args, cmd] { run(*args, *cmd); });
 }
 
 }  // namespace s3m::apps

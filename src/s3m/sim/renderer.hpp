@@ -1,0 +1,59 @@
+#pragma once
+// Renders RGB, depth and class labels of a Scene from a camera pose by ray casting (Embree),
+// then applies the sensor model. Rows are shaded in parallel with TBB; the result does not
+// depend on the number of threads.
+#include <cstdint>
+
+#include <opencv2/core.hpp>
+
+#include "s3m/core/rgbd_frame.hpp"
+#include "s3m/core/se3.hpp"
+#include "s3m/sim/raycaster.hpp"
+#include "s3m/sim/scene.hpp"
+#include "s3m/sim/sensor.hpp"
+
+namespace s3m::sim {
+
+// Exact, noise-free render of one view.
+struct IdealView {
+  cv::Mat rgb;         // CV_8UC3 BGR, shaded albedo (no optics blur, no noise)
+  cv::Mat depth_m;     // CV_32FC1 exact z depth [m]; 0 where the ray hit nothing
+  cv::Mat labels;      // CV_16UC1 class id of the surface hit (0 = none)
+  cv::Mat prim_ids;    // CV_32SC1 index into Scene::primitives (-1 = none)
+  cv::Mat albedo_lum;  // CV_32FC1 albedo luminance in [0, 1] (drives dark-surface dropout)
+  cv::Mat cos_incidence;  // CV_32FC1 |cos| of the angle between ray and surface normal
+};
+
+class Renderer {
+ public:
+  Renderer(const Scene& scene, const SensorConfig& sensor);  // builds the BVH; keeps a copy of scene
+
+  const PinholeCamera& camera() const { return sensor_.camera; }
+  const SensorConfig& sensor() const { return sensor_; }
+  const Scene& scene() const { return scene_; }
+
+  // 1. cast one ray per pixel, 2. shade the hits. No sensor effects, no range limits.
+  IdealView render_ideal(const SE3& T_w_c) const;
+
+  // A sensor frame at T_w_c: ideal render + sensor model (range limits, noise, dropouts, blur).
+  // noise_seed selects the random draws (use a different one per frame). When
+  // motion_blur_samples > 1, T_w_c_open is the pose when the shutter opened (else ignored).
+  RgbdFrame render(const SE3& T_w_c, std::uint64_t noise_seed, const SE3* T_w_c_open = nullptr) const;
+
+ private:
+  Scene scene_;
+  SensorConfig sensor_;
+  Raycaster raycaster_;
+  struct PrimCache {  // single-precision pose data for the per-pixel shading
+    Eigen::Matrix3f R_p_w, R_w_p;
+    Eigen::Vector3f t_p_w, half_m;
+  };
+  std::vector<PrimCache> prim_cache_;
+};
+
+// Colour image of a label map using the indoor class palette (BGR), for pictures and debugging.
+cv::Mat colourise_labels(const cv::Mat& labels16);
+// Depth [m] as a turbo-coloured image, black where missing.
+cv::Mat colourise_depth(const cv::Mat& depth_m, double max_m);
+
+}  // namespace s3m::sim

@@ -1,0 +1,131 @@
+// Renderer::render: the sensor model applied to an ideal view. One visible sequence of steps.
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "s3m/sim/renderer.hpp"
+#include "s3m/sim/rng.hpp"
+
+namespace s3m::sim {
+namespace {
+
+// Purposes of random draws; each gets an independent stream per pixel.
+enum Stream : std::uint64_t { kEdge = 1, kDark, kRandom, kDepthA, kDepthB, kColour };
+
+// One hash per draw: stream keys are mixed once per frame, pixels are counters within a stream.
+inline std::uint64_t stream_key(std::uint64_t seed, Stream s) { return hash3(seed, s, 0x5E4Dull); }
+inline std::uint64_t draw(std::uint64_t key, std::uint64_t pixel) { return mix64(key + pixel * 0x9E3779B97F4A7C15ull); }
+
+bool is_depth_edge(const cv::Mat& z, int r, int u, float rel) {
+  const float zc = z.at<float>(r, u);
+  const int dr[4] = {-1, 1, 0, 0}, du[4] = {0, 0, -1, 1};
+  for (int k = 0; k < 4; ++k) {
+    const int rr = r + dr[k], uu = u + du[k];
+    if (rr < 0 || uu < 0 || rr >= z.rows || uu >= z.cols) continue;
+    const float zn = z.at<float>(rr, uu);
+    if (zn <= 0.0f || std::abs(zn - zc) > rel * zc) return true;
+  }
+  return false;
+}
+
+// Range limits, dropouts and depth noise, pixel by pixel.
+cv::Mat sensor_depth(const IdealView& v, const SensorConfig& s, std::uint64_t seed) {
+  cv::Mat out(v.depth_m.size(), CV_32FC1);
+  const std::uint64_t k_edge = stream_key(seed, kEdge), k_dark = stream_key(seed, kDark),
+                      k_rand = stream_key(seed, kRandom), k_a = stream_key(seed, kDepthA), k_b = stream_key(seed, kDepthB);
+  tbb::parallel_for(tbb::blocked_range<int>(0, out.rows, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int r = rows.begin(); r < rows.end(); ++r)
+      for (int u = 0; u < out.cols; ++u) {
+        const float z = v.depth_m.at<float>(r, u);
+        float& o = out.at<float>(r, u);
+        o = (z > 0.0f && z >= s.min_depth_m && z <= s.max_depth_m) ? z : 0.0f;
+        if (o == 0.0f || !s.noise) continue;
+        const std::uint64_t px = static_cast<std::uint64_t>(r) * out.cols + u;
+        const bool drop = (is_depth_edge(v.depth_m, r, u, static_cast<float>(s.edge_jump_rel)) &&
+                           u01(draw(k_edge, px)) < s.edge_dropout) ||
+                          (v.albedo_lum.at<float>(r, u) < s.dark_albedo && u01(draw(k_dark, px)) < s.dark_dropout) ||
+                          v.cos_incidence.at<float>(r, u) < s.grazing_cos ||
+                          u01(draw(k_rand, px)) < s.random_dropout;
+        if (drop) {
+          o = 0.0f;
+          continue;
+        }
+        const double n = gaussian(draw(k_a, px), draw(k_b, px));
+        o = static_cast<float>(std::max(1e-3, z + s.depth_sigma_m(z) * n));
+      }
+  });
+  return out;
+}
+
+// Average of ideal renders over the exposure (poses interpolated on SE(3)).
+cv::Mat motion_blurred_rgb(const Renderer& r, const SE3& T_open, const SE3& T_close, int samples) {
+  cv::Mat acc = cv::Mat::zeros(r.camera().height, r.camera().width, CV_32FC3);
+  for (int k = 0; k < samples; ++k) {
+    const IdealView v = r.render_ideal(interpolate(T_open, T_close, static_cast<double>(k) / (samples - 1)));
+    cv::accumulate(v.rgb, acc);
+  }
+  cv::Mat rgb;
+  acc.convertTo(rgb, CV_8UC3, 1.0 / samples);
+  return rgb;
+}
+
+// Colour noise: triangular (sum of two uniforms) with the requested standard deviation; one
+// 128-bit draw per pixel covers the three channels (a Gaussian per channel costs more than the render).
+void add_colour_noise(cv::Mat& rgb, double sigma, std::uint64_t seed) {
+  const std::uint64_t key = stream_key(seed, kColour);
+  const float scale = static_cast<float>(sigma) * 2.4494897f / 65535.0f;  // sqrt(6): unit variance
+  tbb::parallel_for(tbb::blocked_range<int>(0, rgb.rows, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int r = rows.begin(); r < rows.end(); ++r)
+      for (int u = 0; u < rgb.cols; ++u) {
+        auto& p = rgb.at<cv::Vec3b>(r, u);
+        const std::uint64_t h1 = draw(key, static_cast<std::uint64_t>(r) * rgb.cols + u), h2 = mix64(h1);
+        for (int c = 0; c < 3; ++c) {
+          const float sum = static_cast<float>(((h1 >> (16 * c)) & 0xFFFF) + ((h2 >> (16 * c)) & 0xFFFF));
+          p[c] = cv::saturate_cast<std::uint8_t>(p[c] + (sum - 65535.0f) * scale);
+        }
+      }
+  });
+}
+
+}  // namespace
+
+RgbdFrame Renderer::render(const SE3& T_w_c, std::uint64_t noise_seed, const SE3* T_w_c_open) const {
+  // 1. Ideal render at the pose when the shutter closes (depth is a snapshot, as in the IR stream).
+  IdealView ideal = render_ideal(T_w_c);
+  RgbdFrame f;
+  // 2. Colour: motion blur over the exposure, lens blur, then sensor noise.
+  f.rgb = (sensor_.motion_blur_samples > 1 && T_w_c_open)
+              ? motion_blurred_rgb(*this, *T_w_c_open, T_w_c, sensor_.motion_blur_samples)
+              : ideal.rgb;
+  if (sensor_.optics_blur_px > 0) cv::GaussianBlur(f.rgb, f.rgb, cv::Size(0, 0), sensor_.optics_blur_px);
+  if (sensor_.noise && sensor_.rgb_sigma > 0) add_colour_noise(f.rgb, sensor_.rgb_sigma, noise_seed);
+  // 3. Depth: range limits, dropouts, noise.
+  f.depth_m = sensor_depth(ideal, sensor_, noise_seed);
+  // 4. Labels are ground truth: every pixel that sees a surface keeps its class.
+  f.labels = ideal.labels;
+  return f;
+}
+
+cv::Mat colourise_labels(const cv::Mat& labels16) {
+  const ClassList& classes = indoor_classes();
+  cv::Mat out(labels16.size(), CV_8UC3);
+  for (int r = 0; r < labels16.rows; ++r)
+    for (int u = 0; u < labels16.cols; ++u) {
+      const ClassId id = labels16.at<std::uint16_t>(r, u);
+      const ClassInfo& c = id < classes.size() ? classes.at(id) : classes.at(0);
+      out.at<cv::Vec3b>(r, u) = {c.b, c.g, c.r};
+    }
+  return out;
+}
+
+cv::Mat colourise_depth(const cv::Mat& depth_m, double max_m) {
+  cv::Mat scaled, colour;
+  depth_m.convertTo(scaled, CV_8UC1, 255.0 / max_m);
+  cv::applyColorMap(scaled, colour, cv::COLORMAP_TURBO);
+  colour.setTo(cv::Scalar(0, 0, 0), depth_m <= 0.0f);
+  return colour;
+}
+
+}  // namespace s3m::sim

@@ -1,0 +1,77 @@
+#pragma once
+// In-process simulation API and the TUM-layout sequence writer behind `s3m sim`.
+//
+//   sim::SimConfig cfg;                       // defaults: office, uav_sweep, 300 frames, seed 7
+//   sim::Simulation sim(cfg);                 // scene + trajectory + renderer
+//   RgbdFrame f = sim.frame(i);               // rgb, depth_m, labels, t_s, index
+//   SE3 T_w_c = sim.trajectory().samples[i].T_w_c;
+//   sim::simulate_sequence(cfg, "out/");      // rgb/ depth/ labels/ *.txt camera.yaml classes.txt gt_voxels.txt
+#include <cstdint>
+#include <functional>
+#include <set>
+#include <string>
+
+#include "s3m/core/rgbd_frame.hpp"
+#include "s3m/io/gt_voxels.hpp"
+#include "s3m/sim/renderer.hpp"
+#include "s3m/sim/scene.hpp"
+#include "s3m/sim/sensor.hpp"
+#include "s3m/sim/trajectory.hpp"
+
+namespace s3m::sim {
+
+struct SimConfig {
+  std::string scene = "office";  // preset name, see scene_presets()
+  std::uint64_t seed = 7;        // layout, trajectory variation and sensor noise
+  TrajectoryConfig trajectory;
+  SensorConfig sensor;
+  int drop_frames = 0;              // this many frames (never the first 10) come out blank: black, no depth
+  double voxel_resolution_m = 0.05; // ground-truth voxel map resolution
+  void validate() const;
+};
+
+// YAML keys: scene, seed, drop_frames, voxel_resolution_m, trajectory: {...}, sensor: {...}.
+// Unknown keys are errors (ParseError with file and line).
+SimConfig load_sim_config(const std::string& path);
+void load_sim_config(const YAML::Node& node, SimConfig& cfg, const std::string& ctx);
+
+class Simulation {
+ public:
+  explicit Simulation(const SimConfig& cfg);
+
+  std::size_t size() const { return trajectory_.samples.size(); }
+  const SimConfig& config() const { return cfg_; }
+  const Scene& scene() const { return renderer_.scene(); }
+  const Trajectory& trajectory() const { return trajectory_; }
+  const Renderer& renderer() const { return renderer_; }
+  const PinholeCamera& camera() const { return renderer_.camera(); }
+  bool is_dropped(std::size_t i) const { return dropped_.count(i) > 0; }
+
+  // Frame i as the sensor delivers it (noise per config; blank if dropped). Thread-safe.
+  RgbdFrame frame(std::size_t i) const;
+
+ private:
+  SimConfig cfg_;
+  Renderer renderer_;
+  Trajectory trajectory_;
+  std::set<std::size_t> dropped_;
+};
+
+struct SimSummary {
+  int frames = 0;
+  int dropped = 0;
+  std::size_t voxels = 0;
+  double seconds = 0;         // wall time of the whole run
+  double render_ms_mean = 0;  // per frame, sensor model included, PNG writing excluded
+  double max_speed_mps = 0;
+  double length_m = 0;
+};
+
+// Renders the whole sequence into out_dir (created if needed) in TUM layout:
+// rgb/ depth/ labels/ rgb.txt depth.txt labels.txt associations.txt groundtruth.txt (T_w_c)
+// groundtruth_robot.txt (T_w_r) camera.yaml classes.txt gt_voxels.txt sim.yaml (config + T_c_r).
+// progress(done, total) is called after each frame. Same config -> byte-identical files.
+SimSummary simulate_sequence(const SimConfig& cfg, const std::string& out_dir,
+                             const std::function<void(int, int)>& progress = {});
+
+}  // namespace s3m::sim
