@@ -1,0 +1,112 @@
+#include "s3m/features/frame_features.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "s3m/core/error.hpp"
+
+namespace s3m::features {
+namespace {
+
+// Depth [m] at pixel (u, v), or 0 when missing, out of range, or on a depth discontinuity.
+float keypoint_depth(const cv::Mat& depth, float u, float v, const FeatureConfig& c) {
+  const int x = cvRound(u), y = cvRound(v);
+  if (x < 0 || y < 0 || x >= depth.cols || y >= depth.rows) return 0.0f;
+  const float z = depth.at<float>(y, x);
+  if (!(z >= c.min_depth_m && z <= c.max_depth_m)) return 0.0f;
+  float lo = z, hi = z;
+  const int w = c.depth_window_px;
+  for (int yy = std::max(0, y - w); yy <= std::min(depth.rows - 1, y + w); ++yy) {
+    const float* row = depth.ptr<float>(yy);
+    for (int xx = std::max(0, x - w); xx <= std::min(depth.cols - 1, x + w); ++xx) {
+      const float d = row[xx];
+      if (!(d > 0.0f)) continue;  // holes are not edges; NaN fails the test too
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+  }
+  return (hi - lo) > c.depth_discontinuity_ratio * z ? 0.0f : z;
+}
+
+void undistort_keypoints(std::vector<cv::KeyPoint>& kps, const PinholeCamera& cam) {
+  if (kps.empty()) return;
+  std::vector<cv::Point2f> pts(kps.size());
+  for (std::size_t i = 0; i < kps.size(); ++i) pts[i] = kps[i].pt;
+  const cv::Matx33d K(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
+  cv::undistortPoints(pts, pts, K, cv::Mat(cam.dist), cv::noArray(), K);
+  for (std::size_t i = 0; i < kps.size(); ++i) kps[i].pt = pts[i];
+}
+
+}  // namespace
+
+void FeatureConfig::validate() const {
+  orb.validate();
+  require(min_depth_m > 0 && max_depth_m > min_depth_m, "features: need 0 < min_depth_m < max_depth_m");
+  require(depth_discontinuity_ratio > 0, "features.depth_discontinuity_ratio must be > 0");
+  require(depth_window_px >= 0 && depth_window_px <= 10, "features.depth_window_px must be in [0, 10]");
+}
+
+void FeatureGrid::build(const std::vector<cv::KeyPoint>& kps, int width, int height, int cell_px) {
+  cell_ = cell_px;
+  cols_ = (width + cell_ - 1) / cell_;
+  rows_ = (height + cell_ - 1) / cell_;
+  cells_.assign(static_cast<std::size_t>(cols_) * rows_, {});
+  for (int i = 0; i < static_cast<int>(kps.size()); ++i) {
+    const int cx = static_cast<int>(std::floor(kps[i].pt.x / cell_));
+    const int cy = static_cast<int>(std::floor(kps[i].pt.y / cell_));
+    if (cx < 0 || cy < 0 || cx >= cols_ || cy >= rows_) continue;  // undistorted outside the image
+    cells_[cy * cols_ + cx].push_back(i);
+  }
+}
+
+std::vector<int> FeatureGrid::in_area(const std::vector<cv::KeyPoint>& kps, double u, double v, double r,
+                                      int min_level, int max_level) const {
+  std::vector<int> out;
+  const int x0 = std::max(0, static_cast<int>(std::floor((u - r) / cell_)));
+  const int x1 = std::min(cols_ - 1, static_cast<int>(std::floor((u + r) / cell_)));
+  const int y0 = std::max(0, static_cast<int>(std::floor((v - r) / cell_)));
+  const int y1 = std::min(rows_ - 1, static_cast<int>(std::floor((v + r) / cell_)));
+  for (int cy = y0; cy <= y1; ++cy)
+    for (int cx = x0; cx <= x1; ++cx)
+      for (int i : cells_[cy * cols_ + cx]) {
+        const auto& k = kps[i];
+        if (k.octave < min_level || (max_level >= 0 && k.octave > max_level)) continue;
+        if (std::abs(k.pt.x - u) < r && std::abs(k.pt.y - v) < r) out.push_back(i);
+      }
+  return out;
+}
+
+FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m, const PinholeCamera& camera,
+                                     const OrbExtractor& extractor, const FeatureConfig& config) {
+  require(!rgb.empty() && (rgb.type() == CV_8UC3 || rgb.type() == CV_8UC1),
+          "compute_frame_features: expected a CV_8UC3 (BGR) or CV_8UC1 image");
+  require(depth_m.empty() || (depth_m.type() == CV_32FC1 && depth_m.size() == rgb.size()),
+          "compute_frame_features: depth must be CV_32FC1 metres with the image's size");
+  FrameFeatures f;
+  f.pyramid = extractor.pyramid();
+  // 1. ORB on the grey image.
+  cv::Mat gray;
+  if (rgb.channels() == 3)
+    cv::cvtColor(rgb, gray, cv::COLOR_BGR2GRAY);
+  else
+    gray = rgb;
+  std::vector<cv::KeyPoint> raw;
+  extractor.extract(gray, raw, f.descriptors);
+  // 2. Depth at the raw (distorted) pixel, where the depth image was sampled.
+  f.depth_m.assign(raw.size(), 0.0f);
+  if (!depth_m.empty())
+    for (std::size_t i = 0; i < raw.size(); ++i) f.depth_m[i] = keypoint_depth(depth_m, raw[i].pt.x, raw[i].pt.y, config);
+  // 3. Undistort, 4. virtual right coordinate, 5. grid.
+  f.keypoints = std::move(raw);
+  if (camera.has_distortion()) undistort_keypoints(f.keypoints, camera);
+  f.u_right.assign(f.keypoints.size(), -1.0f);
+  for (std::size_t i = 0; i < f.keypoints.size(); ++i)
+    if (f.depth_m[i] > 0.0f) f.u_right[i] = static_cast<float>(f.keypoints[i].pt.x - camera.bf / f.depth_m[i]);
+  f.grid.build(f.keypoints, camera.width, camera.height);
+  return f;
+}
+
+}  // namespace s3m::features

@@ -1,0 +1,140 @@
+#include "s3m/slam/bundle_adjustment.hpp"
+
+#include <map>
+#include <set>
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include "s3m/core/error.hpp"
+
+namespace s3m::slam {
+namespace {
+
+// Reprojection residual of a point into a frame whose pose is [q (w,x,y,z) world-to-camera, t].
+// Rows: u, v and, for RGB-D observations, the virtual right coordinate u - bf / z.
+template <int kRows>
+struct ReprojectionCost {
+  ReprojectionCost(const BaObservation& o, const PinholeCamera& c)
+      : u(o.uv.x()), v(o.uv.y()), ur(o.u_right), w(std::sqrt(o.inv_sigma2)), fx(c.fx), fy(c.fy), cx(c.cx),
+        cy(c.cy), bf(c.bf) {}
+
+  template <typename T>
+  bool operator()(const T* q, const T* t, const T* p_w, T* r) const {
+    T p[3];
+    ceres::UnitQuaternionRotatePoint(q, p_w, p);
+    p[0] += t[0];
+    p[1] += t[1];
+    p[2] += t[2];
+    const T iz = T(1.0) / p[2];
+    const T pu = fx * p[0] * iz + cx;
+    r[0] = w * (pu - u);
+    r[1] = w * (fy * p[1] * iz + cy - v);
+    if constexpr (kRows == 3) r[2] = w * (pu - bf * iz - ur);
+    return true;
+  }
+  double u, v, ur, w, fx, fy, cx, cy, bf;
+};
+
+struct Block {
+  double q[4];  // w x y z
+  double t[3];
+};
+
+double chi2_of(const BaObservation& o, const SE3& T_c_w, const Vec3& p_w, const PinholeCamera& cam, bool& in_front) {
+  const Vec3 p = T_c_w * p_w;
+  in_front = p.z() > 1e-3;
+  if (!in_front) return 1e30;
+  const double u = cam.fx * p.x() / p.z() + cam.cx, v = cam.fy * p.y() / p.z() + cam.cy;
+  double e2 = (u - o.uv.x()) * (u - o.uv.x()) + (v - o.uv.y()) * (v - o.uv.y());
+  if (o.u_right >= 0) {
+    const double ur = u - cam.bf / p.z() - o.u_right;
+    e2 += ur * ur;
+  }
+  return e2 * o.inv_sigma2;
+}
+
+bool solve(BaProblem& P, const PinholeCamera& cam, const BaConfig& cfg, const std::vector<char>& skip, int iterations) {
+  std::vector<Block> blocks(P.T_c_w.size());
+  for (std::size_t f = 0; f < blocks.size(); ++f) {
+    const Quat q(P.T_c_w[f].linear());
+    blocks[f] = {{q.w(), q.x(), q.y(), q.z()}, {P.T_c_w[f].translation().x(), P.T_c_w[f].translation().y(),
+                                                 P.T_c_w[f].translation().z()}};
+  }
+  ceres::Problem::Options popt;
+  popt.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(popt);
+  ceres::HuberLoss huber_mono(std::sqrt(cfg.chi2_mono)), huber_stereo(std::sqrt(cfg.chi2_stereo));
+  ceres::QuaternionManifold quat_manifold;
+  std::set<int> used_frames;
+  for (std::size_t k = 0; k < P.obs.size(); ++k) {
+    if (skip[k]) continue;
+    const auto& o = P.obs[k];
+    Block& b = blocks[o.frame];
+    double* p = P.p_w[o.point].data();
+    if (o.u_right >= 0)
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ReprojectionCost<3>, 3, 4, 3, 3>(
+                                   new ReprojectionCost<3>(o, cam)),
+                               &huber_stereo, b.q, b.t, p);
+    else
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ReprojectionCost<2>, 2, 4, 3, 3>(
+                                   new ReprojectionCost<2>(o, cam)),
+                               &huber_mono, b.q, b.t, p);
+    used_frames.insert(o.frame);
+  }
+  if (used_frames.empty()) return false;
+  for (int f : used_frames) {
+    problem.SetManifold(blocks[f].q, &quat_manifold);
+    if (P.fixed[f]) {
+      problem.SetParameterBlockConstant(blocks[f].q);
+      problem.SetParameterBlockConstant(blocks[f].t);
+    }
+  }
+  ceres::Solver::Options opt;
+  opt.linear_solver_type = ceres::SPARSE_SCHUR;
+  opt.max_num_iterations = iterations;
+  opt.num_threads = 1;
+  opt.minimizer_progress_to_stdout = false;
+  opt.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(opt, &problem, &summary);
+  for (int f : used_frames)
+    if (!P.fixed[f]) P.T_c_w[f] = make_se3(Vec3(blocks[f].t[0], blocks[f].t[1], blocks[f].t[2]),
+                                           Quat(blocks[f].q[0], blocks[f].q[1], blocks[f].q[2], blocks[f].q[3]));
+  return summary.IsSolutionUsable();
+}
+
+}  // namespace
+
+void BaConfig::validate() const {
+  require(first_iterations >= 1 && second_iterations >= 0, "ba: iterations must be >= 1 / >= 0");
+  require(chi2_mono > 0 && chi2_stereo > 0, "ba: chi2 thresholds must be > 0");
+  require(max_local_keyframes >= 1, "ba.max_local_keyframes must be >= 1");
+}
+
+BaResult bundle_adjust(BaProblem& P, const PinholeCamera& cam, const BaConfig& cfg) {
+  require(P.fixed.size() == P.T_c_w.size(), "bundle_adjust: one fixed flag per frame");
+  BaResult res;
+  res.outlier.assign(P.obs.size(), 0);
+  // 1. Robust solve, 2. drop the observations beyond the chi2 thresholds, 3. solve again.
+  res.converged = solve(P, cam, cfg, res.outlier, cfg.first_iterations);
+  auto classify = [&] {
+    res.n_outliers = 0;
+    for (std::size_t k = 0; k < P.obs.size(); ++k) {
+      const auto& o = P.obs[k];
+      bool in_front = true;
+      const double chi2 = chi2_of(o, P.T_c_w[o.frame], P.p_w[o.point], cam, in_front);
+      res.outlier[k] = !in_front || chi2 > (o.u_right >= 0 ? cfg.chi2_stereo : cfg.chi2_mono);
+      res.n_outliers += res.outlier[k];
+    }
+  };
+  classify();
+  if (cfg.second_iterations > 0) {
+    res.converged = solve(P, cam, cfg, res.outlier, cfg.second_iterations) && res.converged;
+    classify();
+  }
+  return res;
+}
+
+}  // namespace s3m::slam

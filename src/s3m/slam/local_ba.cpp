@@ -1,0 +1,70 @@
+// Local bundle adjustment over the covisibility window of a keyframe (see bundle_adjustment.hpp).
+#include <map>
+
+#include "s3m/slam/bundle_adjustment.hpp"
+
+namespace s3m::slam {
+
+LocalBaStats local_bundle_adjustment(Map& map, KfId kf_id, const PinholeCamera& camera, const BaConfig& config) {
+  LocalBaStats st;
+  // 1. The window: the keyframe and its strongest covisible neighbours.
+  std::map<KfId, int> frame_index;  // keyframe -> BaProblem frame
+  BaProblem P;
+  auto add_frame = [&](KfId id, bool fixed) {
+    frame_index[id] = static_cast<int>(P.T_c_w.size());
+    P.T_c_w.push_back(map.keyframe(id).T_w_c.inverse());
+    P.fixed.push_back(fixed ? 1 : 0);
+  };
+  add_frame(kf_id, false);
+  for (KfId nb : map.keyframe(kf_id).best_covisible(config.max_local_keyframes - 1)) add_frame(nb, false);
+  st.n_local_keyframes = static_cast<int>(frame_index.size());
+  // 2. Points seen by the window; 3. the other keyframes that see them are held fixed.
+  std::map<PointId, int> point_index;
+  std::vector<PointId> point_ids;
+  for (const auto& [id, f] : std::map<KfId, int>(frame_index))
+    for (PointId pid : map.keyframe(id).points)
+      if (pid != kNoId && !point_index.count(pid)) {
+        point_index[pid] = static_cast<int>(P.p_w.size());
+        P.p_w.push_back(map.point(pid).p_w);
+        point_ids.push_back(pid);
+      }
+  std::vector<std::pair<PointId, KfId>> obs_keys;
+  for (PointId pid : point_ids)
+    for (const auto& [kf, idx] : map.point(pid).observations) {
+      if (!frame_index.count(kf)) add_frame(kf, true);
+      const KeyFrame& k = map.keyframe(kf);
+      const auto& kp = k.features->keypoints[idx];
+      BaObservation o;
+      o.frame = frame_index.at(kf);
+      o.point = point_index.at(pid);
+      o.uv = {kp.pt.x, kp.pt.y};
+      o.u_right = k.features->u_right[idx];
+      o.inv_sigma2 = k.features->pyramid.inv_sigma2[kp.octave];
+      P.obs.push_back(o);
+      obs_keys.emplace_back(pid, kf);
+    }
+  st.n_fixed_keyframes = static_cast<int>(P.T_c_w.size()) - st.n_local_keyframes;
+  // The gauge: with no fixed neighbour (start of the map) hold the oldest keyframe.
+  if (st.n_fixed_keyframes == 0) P.fixed[frame_index.begin()->second] = 1;
+  st.n_points = static_cast<int>(P.p_w.size());
+  st.n_observations = static_cast<int>(P.obs.size());
+
+  // 4. Solve, 5. erase outlier observations, write back poses and points.
+  const BaResult res = bundle_adjust(P, camera, config);
+  if (!res.converged) return st;
+  for (std::size_t k = 0; k < P.obs.size(); ++k)
+    if (res.outlier[k] && map.has_point(obs_keys[k].first)) {
+      map.erase_observation(obs_keys[k].first, obs_keys[k].second);
+      ++st.n_outliers;
+    }
+  for (const auto& [id, f] : frame_index)
+    if (!P.fixed[f]) map.set_keyframe_pose(id, P.T_c_w[f].inverse());
+  for (std::size_t i = 0; i < point_ids.size(); ++i)
+    if (map.has_point(point_ids[i])) {
+      map.set_point_position(point_ids[i], P.p_w[i]);
+      map.update_point_appearance(point_ids[i]);
+    }
+  return st;
+}
+
+}  // namespace s3m::slam

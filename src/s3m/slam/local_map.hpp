@@ -1,0 +1,63 @@
+#pragma once
+// Messages between tracking and local mapping. The tracker never touches the Map: it sends a
+// KeyFrameRequest and receives LocalMapSnapshot copies of the map around the newest keyframe.
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "s3m/core/se3.hpp"
+#include "s3m/features/frame_features.hpp"
+#include "s3m/slam/map.hpp"
+#include "s3m/slam/types.hpp"
+
+namespace s3m::slam {
+
+struct PointVisibility {
+  PointId id = kNoId;
+  int n_visible = 0;  // times the point was predicted inside a tracked frame
+  int n_found = 0;    // times it was matched and an inlier
+};
+
+struct KeyFrameRequest {
+  int frame_index = 0;
+  double t_s = 0;
+  SE3 T_w_c = SE3::Identity();
+  std::shared_ptr<const features::FrameFeatures> features;
+  std::vector<PointId> points;            // per keypoint: tracked inlier map point or kNoId
+  std::vector<PointVisibility> visibility;  // tracking statistics since the previous request
+};
+
+struct SnapshotPoint {
+  PointId id = kNoId;
+  Vec3 p_w = Vec3::Zero();
+  Descriptor descriptor{};
+  Vec3 normal_w = Vec3::UnitZ();
+  double min_dist_m = 0, max_dist_m = 0;
+};
+
+struct SnapshotKeyFrame {
+  KfId id = kNoId;
+  SE3 T_w_c = SE3::Identity();
+  std::shared_ptr<const features::FrameFeatures> features;
+  std::vector<PointId> points;
+};
+
+struct LocalMapSnapshot {
+  KfId reference_kf = kNoId;               // the newest keyframe; keyframes[0]
+  std::vector<SnapshotKeyFrame> keyframes;  // reference first, then its covisibility window
+  std::vector<SnapshotPoint> points;       // every point those keyframes observe
+  std::unordered_map<PointId, int> point_index;
+  int n_map_keyframes = 0;
+  int ref_tracked_points = 0;  // reference keyframe points with enough observations (keyframe rule)
+
+  const SnapshotPoint* find(PointId id) const {
+    const auto it = point_index.find(id);
+    return it == point_index.end() ? nullptr : &points[it->second];
+  }
+};
+
+// Copies the map around keyframe ref: ref, its best covisible keyframes and their neighbours, up
+// to max_keyframes, with all their points.
+LocalMapSnapshot make_snapshot(const Map& map, KfId ref, int max_keyframes);
+
+}  // namespace s3m::slam

@@ -1,0 +1,62 @@
+#pragma once
+// Local mapping: turns each keyframe request from tracking into map content and returns the
+// snapshot tracking continues with. One visible process() with numbered steps; owns nothing but
+// a reference to the Map (the caller decides which thread that is).
+#include <deque>
+#include <functional>
+#include <utility>
+
+#include "s3m/core/camera.hpp"
+#include "s3m/slam/bundle_adjustment.hpp"
+#include "s3m/slam/local_map.hpp"
+#include "s3m/slam/map.hpp"
+#include "s3m/slam/point_fusion.hpp"
+
+namespace s3m::slam {
+
+struct MapperConfig {
+  double close_depth_m = 3.0;     // points are created for all keypoints closer than this [m] ...
+  int min_new_points = 100;       // ... and for at least this many of the closest ones
+  double min_found_ratio = 0.25;  // recent points found less often than this are culled
+  int fuse_neighbours = 10;       // covisible keyframes searched for duplicates
+  bool local_ba = true;
+  bool cull_keyframes = true;
+  double redundant_ratio = 0.9;   // a keyframe whose points are this often seen by >= 3 others goes
+  int snapshot_keyframes = 40;    // keyframes in the snapshot sent to tracking
+  BaConfig ba;
+  FusionConfig fusion;
+  void validate() const;
+};
+
+struct MapperStats {
+  int n_new_points = 0, n_fused = 0, n_culled_points = 0, n_culled_keyframes = 0;
+  LocalBaStats ba;
+  double ms = 0;
+};
+
+class LocalMapper {
+ public:
+  // Runs after local BA and culling, with the map and the new keyframe; loop closing plugs in here.
+  using KeyFrameHook = std::function<void(Map&, KfId)>;
+
+  LocalMapper(Map& map, const PinholeCamera& camera, const MapperConfig& config);
+  LocalMapSnapshot process(const KeyFrameRequest& request);
+  void set_keyframe_hook(KeyFrameHook hook) { hook_ = std::move(hook); }
+  const MapperStats& last_stats() const { return stats_; }
+
+ private:
+  KfId insert_keyframe(const KeyFrameRequest& r);
+  void create_points(KfId kf);
+  void cull_recent_points(KfId kf);
+  void fuse_with_neighbours(KfId kf);
+  void cull_keyframes(KfId kf);
+
+  Map& map_;
+  PinholeCamera camera_;
+  MapperConfig config_;
+  std::deque<std::pair<PointId, KfId>> recent_points_;  // (point, keyframe that created it)
+  KeyFrameHook hook_;
+  MapperStats stats_;
+};
+
+}  // namespace s3m::slam

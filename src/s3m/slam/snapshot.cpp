@@ -1,0 +1,42 @@
+#include <set>
+
+#include "s3m/slam/local_map.hpp"
+
+namespace s3m::slam {
+
+LocalMapSnapshot make_snapshot(const Map& map, KfId ref, int max_keyframes) {
+  LocalMapSnapshot s;
+  s.reference_kf = ref;
+  s.n_map_keyframes = map.n_keyframes();
+  const KeyFrame& ref_kf = map.keyframe(ref);
+  s.ref_tracked_points = ref_kf.n_tracked_points(map.n_keyframes() <= 2 ? 1 : 2, map.points());
+  // 1. Keyframes: ref, its neighbours, then the neighbours' best neighbours and the spanning tree.
+  std::vector<KfId> order{ref};
+  std::set<KfId> seen{ref};
+  auto add = [&](KfId id) {
+    if (static_cast<int>(order.size()) < max_keyframes && map.has_keyframe(id) && seen.insert(id).second)
+      order.push_back(id);
+  };
+  for (KfId nb : ref_kf.best_covisible()) add(nb);
+  const std::size_t first_ring = order.size();
+  for (std::size_t i = 0; i < first_ring; ++i) {
+    const KeyFrame& k = map.keyframe(order[i]);
+    for (KfId nb : k.best_covisible(10)) add(nb);
+    for (KfId c : k.children) add(c);
+    if (k.parent != kNoId) add(k.parent);
+  }
+  // 2. Copies of the keyframes and of every point they observe.
+  for (KfId id : order) {
+    const KeyFrame& k = map.keyframe(id);
+    s.keyframes.push_back({id, k.T_w_c, k.features, k.points});
+    for (PointId pid : k.points) {
+      if (pid == kNoId || s.point_index.count(pid)) continue;
+      const MapPoint& p = map.point(pid);
+      s.point_index[pid] = static_cast<int>(s.points.size());
+      s.points.push_back({pid, p.p_w, p.descriptor, p.normal_w, p.min_dist_m, p.max_dist_m});
+    }
+  }
+  return s;
+}
+
+}  // namespace s3m::slam

@@ -1,0 +1,105 @@
+#pragma once
+// s3m::slam::System — the library entry point for RGB-D SLAM (thin: wires Tracker, LocalMapper
+// and the Map). Single-thread mode runs local mapping inside track() right after a keyframe and
+// is deterministic; threaded mode runs local mapping in its own thread, connected to tracking by
+// two bounded queues (keyframe requests one way, map snapshots the other).
+//
+//   slam::System slam(camera, slam::load_slam_config("config/slam_default.yaml"));
+//   for (const RgbdFrame& f : frames) { auto r = slam.track(f); ... r.T_w_c, r.state ... }
+//   slam.finish();
+//   slam::write_tum_trajectory("trajectory_camera.txt", slam.camera_trajectory());
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "s3m/core/bounded_queue.hpp"
+#include "s3m/core/camera.hpp"
+#include "s3m/core/rgbd_frame.hpp"
+#include "s3m/slam/local_mapper.hpp"
+#include "s3m/slam/map.hpp"
+#include "s3m/slam/slam_config.hpp"
+#include "s3m/slam/tracker.hpp"
+
+namespace s3m::slam {
+
+struct TrackResult {
+  int frame_index = 0;
+  double t_s = 0;
+  TrackState state = TrackState::kNotInitialized;
+  SE3 T_w_c = SE3::Identity();  // camera-to-world at tracking time
+  SE3 T_w_r = SE3::Identity();  // robot-to-world: T_w_c * T_c_r
+  bool keyframe = false;
+  int n_inliers = 0;            // tracked map points
+  double track_ms = 0;          // tracking only (features + pose)
+  double mapping_ms = 0;        // local mapping run inside track() (single-thread mode only)
+};
+
+struct StampedPose {
+  double t_s = 0;
+  int frame_index = 0;
+  SE3 T_w_x = SE3::Identity();  // camera, robot or keyframe pose in the world [m]
+  TrackState state = TrackState::kOk;
+};
+
+class System {
+ public:
+  System(const PinholeCamera& camera, const SlamConfig& config);
+  ~System();
+  System(const System&) = delete;
+  System& operator=(const System&) = delete;
+
+  TrackResult track(const RgbdFrame& frame);
+  // Threaded mode: waits until local mapping has processed every keyframe and stops its thread.
+  // Idempotent; track() must not be called afterwards.
+  void finish();
+
+  // Every tracked frame (from the first keyframe on), each expressed relative to its reference
+  // keyframe's final pose — so BA and loop corrections reach every frame. Call after finish().
+  std::vector<StampedPose> camera_trajectory() const;
+  std::vector<StampedPose> robot_trajectory() const;    // camera_trajectory() * T_c_r
+  std::vector<StampedPose> keyframe_trajectory() const;  // live keyframes, camera poses
+
+  // The map. Threaded mode: only after finish() (the mapping thread owns it before that).
+  const Map& map() const { return map_; }
+  // Runs in the mapping stage after each keyframe (loop closing plugs in here). Set before track().
+  void set_keyframe_hook(LocalMapper::KeyFrameHook hook) { mapper_.set_keyframe_hook(std::move(hook)); }
+  Tracker& tracker() { return tracker_; }
+  const SlamConfig& config() const { return config_; }
+  int n_lost_frames() const { return n_lost_; }
+
+ private:
+  struct FrameRecord {
+    int frame_index;
+    double t_s;
+    TrackState state;
+    KfId ref_kf;
+    SE3 T_ref_c;
+  };
+  void drain_snapshots();
+  void mapping_loop();
+
+  PinholeCamera camera_;
+  SlamConfig config_;
+  Map map_;
+  Tracker tracker_;
+  LocalMapper mapper_;
+  std::vector<FrameRecord> records_;
+  int n_lost_ = 0;
+  // Threaded mode.
+  BoundedQueue<KeyFrameRequest> requests_;
+  BoundedQueue<std::shared_ptr<const LocalMapSnapshot>> snapshots_;
+  std::thread mapping_thread_;
+  int n_sent_ = 0, n_received_ = 0;
+  bool finished_ = false;
+};
+
+// The paper's calibration equation: robot-to-world from camera-to-world and the robot-to-camera
+// calibration T_c_r (maps robot-frame points into the camera frame).
+inline SE3 robot_pose(const SE3& T_w_c, const SE3& T_c_r) { return T_w_c * T_c_r; }
+
+// TUM format: "t tx ty tz qx qy qz qw" per line, with a header comment. Throws s3m::Error when
+// the file cannot be written.
+void write_tum_trajectory(const std::string& path, const std::vector<StampedPose>& poses);
+
+}  // namespace s3m::slam

@@ -1,0 +1,208 @@
+#include "s3m/slam/tracker.hpp"
+
+#include <algorithm>
+
+#include "s3m/core/error.hpp"
+
+namespace s3m::slam {
+
+void TrackerConfig::validate() const {
+  pose.validate();
+  require(close_depth_m > 0, "tracker.close_depth_m must be > 0");
+  require(motion_radius_px > 0 && local_radius_factor > 0, "tracker: search radii must be > 0");
+  require(min_pose_inliers >= 3 && min_local_inliers >= min_pose_inliers,
+          "tracker: need 3 <= min_pose_inliers <= min_local_inliers");
+  require(max_frames_between_keyframes >= 1 && min_frames_between_keyframes >= 0,
+          "tracker: keyframe frame gaps must be >= 1 / >= 0");
+  require(keyframe_ref_ratio > 0 && keyframe_ref_ratio <= 1, "tracker.keyframe_ref_ratio must be in (0, 1]");
+  require(max_pending_keyframes >= 1 && min_init_depth_points >= 3, "tracker: bad pending/init limits");
+}
+
+int Tracker::Frame::n_matched() const { return static_cast<int>(std::count(matched.begin(), matched.end(), 1)); }
+
+Tracker::Tracker(const PinholeCamera& camera, const features::FeatureConfig& features, const TrackerConfig& config)
+    : camera_(camera), feature_config_(features), config_(config), extractor_(features.orb) {
+  camera_.validate();
+  feature_config_.validate();
+  config_.validate();
+}
+
+void Tracker::set_snapshot(std::shared_ptr<const LocalMapSnapshot> snapshot) {
+  // Keyframe poses may have moved (local BA, loop closure): move the last frame and its points
+  // rigidly with the keyframe they are stored against, so the motion model stays consistent.
+  if (snapshot && ref_kf_ != kNoId)
+    for (const auto& k : snapshot->keyframes)
+      if (k.id == ref_kf_) {
+        const SE3 correction = k.T_w_c * T_w_ref_.inverse();
+        last_.T_c_w = last_.T_c_w * correction.inverse();
+        for (std::size_t i = 0; i < last_.p_w.size(); ++i)
+          if (last_.matched[i]) last_.p_w[i] = correction * last_.p_w[i];
+        T_w_ref_ = k.T_w_c;
+        break;
+      }
+  snapshot_ = std::move(snapshot);
+}
+
+void Tracker::set_pose(const SE3& T_w_c) {
+  last_.T_c_w = T_w_c.inverse();
+  std::fill(last_.matched.begin(), last_.matched.end(), 0);
+  velocity_.reset();
+  state_ = TrackState::kLost;  // the next frame tracks against the reference keyframe / local map
+}
+
+TrackerOutput Tracker::process(const RgbdFrame& frame, int pending_keyframes) {
+  // 1. Features.
+  return track(frame,
+               std::make_shared<features::FrameFeatures>(
+                   features::compute_frame_features(frame.rgb, frame.depth_m, camera_, extractor_, feature_config_)),
+               pending_keyframes);
+}
+
+TrackerOutput Tracker::retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
+                               int pending_keyframes) {
+  return track(frame, std::move(features), pending_keyframes);
+}
+
+TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
+                             int pending) {
+  TrackerOutput out;
+  out.features = features;
+  Frame cur;
+  cur.f = std::move(features);
+  const int n = cur.f->size();
+  cur.pid.assign(n, kNoId);
+  cur.p_w.assign(n, Vec3::Zero());
+  cur.matched.assign(n, 0);
+  // 2. The first frame with enough depth starts the map.
+  if (state_ == TrackState::kNotInitialized) {
+    initialize(cur, frame, out);
+    return out;
+  }
+  // 3. Frame to frame: motion model, else the reference keyframe.
+  bool ok = false;
+  if (state_ == TrackState::kOk && velocity_) ok = track_motion_model(cur);
+  if (!ok) {
+    cur = Frame{cur.f, last_.T_c_w, std::vector<PointId>(n, kNoId), std::vector<Vec3>(n, Vec3::Zero()),
+                std::vector<char>(n, 0)};
+    ok = track_reference_keyframe(cur);
+  }
+  // 4. Local map: more matches, final pose.
+  if (ok) ok = track_local_map(cur);
+  out.n_inliers = 0;
+  for (int i = 0; i < n; ++i) out.n_inliers += (cur.matched[i] && cur.pid[i] != kNoId);
+  if (!ok && pending > 0) {  // the map is behind: nothing changed, let the caller retry
+    out.deferred = true;
+    return out;
+  }
+  if (!ok) {
+    // Keep the prediction as the best guess; the next frame tries the reference keyframe again.
+    state_ = TrackState::kLost;
+    if (velocity_) cur.T_c_w = *velocity_ * last_.T_c_w;
+    velocity_.reset();
+    out.state = state_;
+    out.T_w_c = cur.T_c_w.inverse();
+    out.ref_kf = ref_kf_;
+    out.T_ref_c = T_w_ref_.inverse() * out.T_w_c;
+    last_.T_c_w = cur.T_c_w;
+    return out;
+  }
+  state_ = TrackState::kOk;
+  velocity_ = cur.T_c_w * last_.T_c_w.inverse();
+  out.state = state_;
+  out.T_w_c = cur.T_c_w.inverse();
+  // 5. Keyframe decision.
+  if (need_keyframe(cur, frame.index, out.n_inliers, pending)) out.keyframe = make_request(cur, frame);
+  out.ref_kf = ref_kf_;
+  out.T_ref_c = T_w_ref_.inverse() * out.T_w_c;
+  // 6. This frame (with fresh visual-odometry points) is the next frame's "last".
+  prepare_last_frame(std::move(cur));
+  return out;
+}
+
+bool Tracker::initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out) {
+  out.state = TrackState::kNotInitialized;
+  const int n_depth = static_cast<int>(std::count_if(cur.f->depth_m.begin(), cur.f->depth_m.end(),
+                                                     [](float z) { return z > 0; }));
+  if (n_depth < config_.min_init_depth_points) return false;
+  cur.T_c_w = SE3::Identity();  // the first keyframe defines the world frame
+  state_ = TrackState::kOk;
+  out.state = state_;
+  out.T_w_c = SE3::Identity();
+  out.keyframe = make_request(cur, frame);
+  out.ref_kf = ref_kf_;
+  prepare_last_frame(std::move(cur));
+  return true;
+}
+
+bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, int pending) const {
+  if (!snapshot_ || pending >= config_.max_pending_keyframes) return false;
+  const int since = frame_index - last_keyframe_frame_;
+  if (since < config_.min_frames_between_keyframes) return false;
+  // Close keypoints with depth: tracked vs. could become new points.
+  int close_tracked = 0, close_untracked = 0;
+  for (int i = 0; i < cur.f->size(); ++i) {
+    const float z = cur.f->depth_m[i];
+    if (z <= 0 || z > config_.close_depth_m) continue;
+    if (cur.matched[i] && cur.pid[i] != kNoId)
+      ++close_tracked;
+    else
+      ++close_untracked;
+  }
+  const bool need_close = close_tracked < config_.close_tracked_min && close_untracked > config_.close_untracked_min;
+  const double ref = snapshot_->ref_tracked_points;
+  const double ratio = snapshot_->n_map_keyframes < 2 ? 0.4 : config_.keyframe_ref_ratio;
+  const bool c1a = since >= config_.max_frames_between_keyframes;
+  const bool c1b = pending == 0;
+  const bool c1c = n_inliers < 0.25 * ref || need_close;
+  const bool c2 = (n_inliers < ratio * ref || need_close) && n_inliers > 15;
+  return (c1a || c1b || c1c) && c2;
+}
+
+KeyFrameRequest Tracker::make_request(const Frame& cur, const RgbdFrame& frame) {
+  KeyFrameRequest r;
+  r.frame_index = frame.index;
+  r.t_s = frame.t_s;
+  r.T_w_c = cur.T_c_w.inverse();
+  r.features = cur.f;
+  r.points.assign(cur.f->size(), kNoId);
+  for (int i = 0; i < cur.f->size(); ++i)
+    if (cur.matched[i]) r.points[i] = cur.pid[i];
+  for (const auto& [id, v] : visibility_) r.visibility.push_back(v);
+  std::sort(r.visibility.begin(), r.visibility.end(),
+            [](const PointVisibility& a, const PointVisibility& b) { return a.id < b.id; });
+  visibility_.clear();
+  last_keyframe_frame_ = frame.index;
+  ref_kf_ = n_requests_++;
+  T_w_ref_ = r.T_w_c;
+  return r;
+}
+
+void Tracker::prepare_last_frame(Frame cur) {
+  // Keep map-point matches; add temporary points from depth for the closest unmatched keypoints
+  // (ORB-SLAM's visual-odometry points), so the next frame has enough to match against.
+  std::vector<std::pair<float, int>> by_depth;
+  for (int i = 0; i < cur.f->size(); ++i) {
+    if (cur.matched[i] && cur.pid[i] == kNoId) cur.matched[i] = 0;  // previous VO match: drop
+    if (!cur.matched[i] && cur.f->has_depth(i)) by_depth.emplace_back(cur.f->depth_m[i], i);
+  }
+  std::sort(by_depth.begin(), by_depth.end());
+  const SE3 T_w_c = cur.T_c_w.inverse();
+  int n = 0;
+  for (const auto& [z, i] : by_depth) {
+    if (z > config_.close_depth_m && n >= 100) break;
+    const auto& kp = cur.f->keypoints[i];
+    cur.p_w[i] = T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z);
+    cur.matched[i] = 1;
+    ++n;
+  }
+  last_ = std::move(cur);
+}
+
+void Tracker::note_visible(PointId id, int visible, int found) {
+  auto& v = visibility_[id];
+  v.id = id;
+  v.n_visible += visible;
+  v.n_found += found;
+}
+
+}  // namespace s3m::slam

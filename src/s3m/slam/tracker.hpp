@@ -1,0 +1,107 @@
+#pragma once
+// Tracking: estimates the camera pose of every frame against the local map.
+// process() steps: 1 features, 2 initialise (first frame), 3 frame-to-frame tracking with the
+// constant-velocity model (fallback: reference keyframe), 4 local-map tracking, 5 keyframe
+// decision, 6 bookkeeping for the next frame. It reads only LocalMapSnapshot copies and emits
+// KeyFrameRequests, so it can run in its own thread next to local mapping.
+#include <memory>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "s3m/core/camera.hpp"
+#include "s3m/core/rgbd_frame.hpp"
+#include "s3m/features/frame_features.hpp"
+#include "s3m/features/orb_extractor.hpp"
+#include "s3m/slam/local_map.hpp"
+#include "s3m/slam/pose_optimizer.hpp"
+
+namespace s3m::slam {
+
+struct TrackerConfig {
+  PoseOptimizerConfig pose;
+  double close_depth_m = 3.0;       // "close" points: reliable depth (keyframe rule, VO points) [m]
+  double motion_radius_px = 15;     // frame-to-frame search window at level 0 [px]
+  int min_motion_matches = 20;
+  int min_pose_inliers = 10;
+  double local_radius_factor = 3.0; // local-map search window factor (times 2.5/4 px per level scale)
+  int min_local_inliers = 30;       // below this after local-map tracking the frame is LOST
+  int max_frames_between_keyframes = 30;
+  int min_frames_between_keyframes = 0;
+  double keyframe_ref_ratio = 0.75;  // new keyframe when tracked < ratio * reference's points
+  int close_tracked_min = 100;       // ... or fewer close points tracked than this
+  int close_untracked_min = 70;      //     while this many close keypoints could become points
+  int max_pending_keyframes = 3;     // no new keyframe while this many wait for local mapping
+  int min_init_depth_points = 100;   // keypoints with depth needed to start the map
+  void validate() const;
+};
+
+struct TrackerOutput {
+  TrackState state = TrackState::kNotInitialized;
+  SE3 T_w_c = SE3::Identity();
+  int n_inliers = 0;                       // map-point inliers after local-map tracking
+  std::optional<KeyFrameRequest> keyframe;  // set when this frame becomes a keyframe
+  KfId ref_kf = kNoId;                      // keyframe the pose is stored relative to
+  SE3 T_ref_c = SE3::Identity();            // pose relative to ref_kf at tracking time
+  std::shared_ptr<const features::FrameFeatures> features;  // this frame's features (reusable)
+  // Tracking failed while keyframes were still being mapped and nothing was changed: retry with
+  // retrack() once the pending snapshots have arrived.
+  bool deferred = false;
+};
+
+class Tracker {
+ public:
+  Tracker(const PinholeCamera& camera, const features::FeatureConfig& features, const TrackerConfig& config);
+
+  // pending_keyframes: requests sent but not yet answered by a snapshot (0 in single-thread mode).
+  // With pending keyframes a failure is deferred (out.deferred) instead of declaring LOST.
+  TrackerOutput process(const RgbdFrame& frame, int pending_keyframes = 0);
+  // Tracks a frame again with its already extracted features (after a deferred failure).
+  TrackerOutput retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
+                        int pending_keyframes = 0);
+  // A newer view of the map (after local mapping or a loop correction).
+  void set_snapshot(std::shared_ptr<const LocalMapSnapshot> snapshot);
+  // Relocalisation hook: resume tracking from this camera pose on the next frame.
+  void set_pose(const SE3& T_w_c);
+  TrackState state() const { return state_; }
+  const features::OrbExtractor& extractor() const { return extractor_; }
+
+ private:
+  // The frame being tracked and what it is matched to.
+  struct Frame {
+    std::shared_ptr<const features::FrameFeatures> f;
+    SE3 T_c_w = SE3::Identity();
+    std::vector<PointId> pid;  // per keypoint: map point (kNoId: none or a VO point)
+    std::vector<Vec3> p_w;     // per keypoint: position of the matched point
+    std::vector<char> matched; // per keypoint: has a map or VO point
+    int n_matched() const;
+  };
+
+  TrackerOutput track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features, int pending);
+  bool initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
+  bool track_motion_model(Frame& cur);
+  bool track_reference_keyframe(Frame& cur);
+  bool track_local_map(Frame& cur);
+  int match_last_frame(Frame& cur, double radius_px);
+  int optimize_and_discard(Frame& cur);  // returns the map-point inliers
+  bool need_keyframe(const Frame& cur, int frame_index, int n_inliers, int pending) const;
+  KeyFrameRequest make_request(const Frame& cur, const RgbdFrame& frame);
+  void prepare_last_frame(Frame cur);
+  void note_visible(PointId id, int visible, int found);
+
+  PinholeCamera camera_;
+  features::FeatureConfig feature_config_;
+  TrackerConfig config_;
+  features::OrbExtractor extractor_;
+  std::shared_ptr<const LocalMapSnapshot> snapshot_;
+  TrackState state_ = TrackState::kNotInitialized;
+  Frame last_;
+  std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
+  int last_keyframe_frame_ = 0;
+  KfId n_requests_ = 0;          // keyframe ids are assigned by the Map in request order
+  KfId ref_kf_ = kNoId;
+  SE3 T_w_ref_ = SE3::Identity();
+  std::unordered_map<PointId, PointVisibility> visibility_;
+};
+
+}  // namespace s3m::slam

@@ -1,0 +1,170 @@
+// Tracker stages that find correspondences and optimise the pose (see tracker.hpp).
+#include <algorithm>
+
+#include "s3m/features/orb_matcher.hpp"
+#include "s3m/slam/point_fusion.hpp"
+#include "s3m/slam/tracker.hpp"
+
+namespace s3m::slam {
+
+int Tracker::match_last_frame(Frame& cur, double radius_px) {
+  const auto& L = *last_.f;
+  const auto& pyr = L.pyramid;
+  // Forward motion makes points appear at coarser levels, backward at finer ones.
+  const Vec3 t_last_cur = (last_.T_c_w * cur.T_c_w.inverse()).translation();
+  const double baseline_m = camera_.bf / camera_.fx;
+  const bool forward = t_last_cur.z() > baseline_m, backward = t_last_cur.z() < -baseline_m;
+  std::vector<features::ProjectionQuery> queries;
+  std::vector<int> source;
+  for (int i = 0; i < L.size(); ++i) {
+    if (!last_.matched[i]) continue;
+    const Vec3 p_c = cur.T_c_w * last_.p_w[i];
+    if (p_c.z() <= 1e-3) continue;
+    const Eigen::Vector2d uv = camera_.project(p_c);
+    if (!camera_.in_image(uv.x(), uv.y())) continue;
+    const int octave = L.keypoints[i].octave;
+    features::ProjectionQuery q;
+    q.u = uv.x();
+    q.v = uv.y();
+    q.u_right = uv.x() - camera_.bf / p_c.z();
+    q.min_level = forward ? octave : backward ? 0 : std::max(0, octave - 1);
+    q.max_level = forward ? -1 : octave + 1;
+    if (backward) q.max_level = octave;
+    q.radius_px = radius_px * pyr.scale[octave];
+    q.descriptor = L.descriptor(i);
+    q.angle_deg = L.keypoints[i].angle;
+    queries.push_back(q);
+    source.push_back(i);
+  }
+  features::ProjectionMatchParams params;
+  params.ratio = 1.0;
+  params.check_orientation = true;
+  std::vector<char> taken(cur.f->size(), 0);
+  const auto m = features::match_by_projection(*cur.f, queries, params, taken);
+  int n = 0;
+  for (std::size_t q = 0; q < m.size(); ++q) {
+    if (m[q] < 0) continue;
+    const int i = source[q];
+    cur.pid[m[q]] = last_.pid[i];
+    cur.p_w[m[q]] = last_.p_w[i];
+    if (snapshot_ && last_.pid[i] != kNoId)
+      if (const auto* sp = snapshot_->find(last_.pid[i])) cur.p_w[m[q]] = sp->p_w;
+    cur.matched[m[q]] = 1;
+    ++n;
+  }
+  return n;
+}
+
+bool Tracker::track_motion_model(Frame& cur) {
+  cur.T_c_w = *velocity_ * last_.T_c_w;
+  int n = match_last_frame(cur, config_.motion_radius_px);
+  if (n < config_.min_motion_matches) {  // fast motion: a wider window
+    std::fill(cur.matched.begin(), cur.matched.end(), 0);
+    std::fill(cur.pid.begin(), cur.pid.end(), kNoId);
+    n = match_last_frame(cur, 2 * config_.motion_radius_px);
+  }
+  if (n < config_.min_motion_matches) return false;
+  return optimize_and_discard(cur) >= config_.min_pose_inliers;
+}
+
+bool Tracker::track_reference_keyframe(Frame& cur) {
+  if (!snapshot_ || snapshot_->keyframes.empty()) return false;
+  const auto& ref = snapshot_->keyframes.front();
+  // Brute-force matching of the keyframe's mapped keypoints; no pose prior is trusted here.
+  std::vector<int> rows;
+  for (int i = 0; i < static_cast<int>(ref.points.size()); ++i)
+    if (ref.points[i] != kNoId && snapshot_->find(ref.points[i])) rows.push_back(i);
+  if (rows.size() < 15) return false;
+  cv::Mat desc(static_cast<int>(rows.size()), 32, CV_8U);
+  for (std::size_t r = 0; r < rows.size(); ++r) ref.features->descriptors.row(rows[r]).copyTo(desc.row(int(r)));
+  const auto matches = features::match_brute_force(desc, cur.f->descriptors, features::kMatchStrict, 0.7);
+  if (static_cast<int>(matches.size()) < 15) return false;
+  for (const auto& [r, j] : matches) {
+    const PointId pid = ref.points[rows[r]];
+    cur.pid[j] = pid;
+    cur.p_w[j] = snapshot_->find(pid)->p_w;
+    cur.matched[j] = 1;
+  }
+  return optimize_and_discard(cur) >= config_.min_pose_inliers;
+}
+
+bool Tracker::track_local_map(Frame& cur) {
+  if (!snapshot_) return optimize_and_discard(cur) >= config_.min_local_inliers;
+  const SE3 T_w_c = cur.T_c_w.inverse();
+  const auto& pyr = cur.f->pyramid;
+  std::vector<char> already(snapshot_->points.size(), 0);
+  for (int i = 0; i < cur.f->size(); ++i)
+    if (cur.matched[i] && cur.pid[i] != kNoId) {
+      const auto it = snapshot_->point_index.find(cur.pid[i]);
+      if (it != snapshot_->point_index.end()) already[it->second] = 1;
+      note_visible(cur.pid[i], 1, 0);
+    }
+  // 1. Project every local point that could be visible; 2. match in a window scaled by level.
+  std::vector<features::ProjectionQuery> queries;
+  std::vector<int> source;
+  for (int k = 0; k < static_cast<int>(snapshot_->points.size()); ++k) {
+    if (already[k]) continue;
+    const auto& p = snapshot_->points[k];
+    Visibility vis;
+    if (!predict_visibility(p.p_w, p.normal_w, p.min_dist_m, p.max_dist_m, T_w_c, camera_, pyr, vis)) continue;
+    note_visible(p.id, 1, 0);
+    features::ProjectionQuery q;
+    q.u = vis.uv.x();
+    q.v = vis.uv.y();
+    q.u_right = vis.u_right;
+    q.min_level = std::max(0, vis.level - 1);
+    q.max_level = vis.level;
+    q.radius_px = config_.local_radius_factor * (vis.view_cos > 0.998 ? 2.5 : 4.0) * pyr.scale[vis.level];
+    q.descriptor = p.descriptor.data();
+    queries.push_back(q);
+    source.push_back(k);
+  }
+  std::vector<char> taken(cur.matched.begin(), cur.matched.end());
+  for (int i = 0; i < cur.f->size(); ++i)  // VO matches may be replaced by real map points
+    if (cur.matched[i] && cur.pid[i] == kNoId) taken[i] = 0;
+  const auto m = features::match_by_projection(*cur.f, queries, {}, taken);
+  for (std::size_t q = 0; q < m.size(); ++q) {
+    if (m[q] < 0) continue;
+    const auto& p = snapshot_->points[source[q]];
+    cur.pid[m[q]] = p.id;
+    cur.p_w[m[q]] = p.p_w;
+    cur.matched[m[q]] = 1;
+  }
+  // 3. Final pose with every correspondence; 4. statistics for point culling.
+  const int inliers = optimize_and_discard(cur);
+  for (int i = 0; i < cur.f->size(); ++i)
+    if (cur.matched[i] && cur.pid[i] != kNoId) note_visible(cur.pid[i], 0, 1);
+  return inliers >= config_.min_local_inliers;
+}
+
+int Tracker::optimize_and_discard(Frame& cur) {
+  std::vector<PoseObservation> obs;
+  std::vector<int> kp_index;
+  const auto& F = *cur.f;
+  for (int i = 0; i < F.size(); ++i) {
+    if (!cur.matched[i]) continue;
+    PoseObservation o;
+    o.p_w = cur.p_w[i];
+    o.uv = {F.keypoints[i].pt.x, F.keypoints[i].pt.y};
+    o.u_right = F.u_right[i];
+    o.inv_sigma2 = F.pyramid.inv_sigma2[F.keypoints[i].octave];
+    obs.push_back(o);
+    kp_index.push_back(i);
+  }
+  if (obs.size() < 3) return 0;
+  const auto res = optimize_pose(obs, cur.T_c_w, camera_, config_.pose);
+  cur.T_c_w = res.T_c_w;
+  int map_inliers = 0;
+  for (std::size_t k = 0; k < obs.size(); ++k) {
+    const int i = kp_index[k];
+    if (!res.inlier[k]) {
+      cur.matched[i] = 0;
+      cur.pid[i] = kNoId;
+    } else if (cur.pid[i] != kNoId) {
+      ++map_inliers;
+    }
+  }
+  return map_inliers;
+}
+
+}  // namespace s3m::slam

@@ -1,0 +1,25 @@
+#pragma once
+// Identifiers and small value types shared by the SLAM stages.
+#include <array>
+#include <cstdint>
+
+namespace s3m::slam {
+
+using KfId = std::int64_t;     // keyframe id, increasing in insertion order
+using PointId = std::int64_t;  // map point id, increasing in creation order
+constexpr std::int64_t kNoId = -1;
+
+using Descriptor = std::array<std::uint8_t, 32>;  // one ORB descriptor
+
+enum class TrackState { kNotInitialized, kOk, kLost };
+
+inline const char* to_string(TrackState s) {
+  switch (s) {
+    case TrackState::kNotInitialized: return "NOT_INITIALIZED";
+    case TrackState::kOk: return "OK";
+    case TrackState::kLost: return "LOST";
+  }
+  return "?";
+}
+
+}  // namespace s3m::slam

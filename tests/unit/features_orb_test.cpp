@@ -1,0 +1,138 @@
+// ORB extraction (pyramid, distribution), keypoint depth / virtual right coordinate, matching.
+#include <random>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "s3m/features/frame_features.hpp"
+#include "s3m/features/keypoint_distribution.hpp"
+#include "s3m/features/orb_matcher.hpp"
+
+namespace s3m::features {
+namespace {
+
+// Blocky random texture at several scales: corners everywhere, deterministic.
+cv::Mat textured_image(int w, int h, unsigned seed) {
+  cv::Mat img(h, w, CV_8UC1, cv::Scalar(128));
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> x(0, w), y(0, h), s(4, 40), g(0, 255);
+  for (int i = 0; i < 1500; ++i) {
+    const int sz = s(rng);
+    cv::rectangle(img, cv::Rect(x(rng), y(rng), sz, sz), cv::Scalar(g(rng)), cv::FILLED);
+  }
+  cv::GaussianBlur(img, img, cv::Size(3, 3), 0.7);
+  return img;
+}
+
+TEST(ScalePyramid, ExactScales) {
+  const auto p = ScalePyramid::make(1.2, 3);
+  ASSERT_EQ(p.n_levels(), 3);
+  EXPECT_DOUBLE_EQ(p.scale[2], 1.44);
+  EXPECT_DOUBLE_EQ(p.inv_sigma2[1], 1.0 / 1.44);
+  EXPECT_DOUBLE_EQ(p.sigma2[2], 1.44 * 1.44);
+}
+
+TEST(Quadtree, KeepsIsolatedWeakCornersOverAStrongCluster) {
+  std::vector<cv::KeyPoint> kps;
+  for (int i = 0; i < 200; ++i) kps.emplace_back(cv::Point2f(90.0f + i % 20, 90.0f + i / 20), 7.0f, -1, 10.0f + i);
+  const cv::Point2f lone[3] = {{500, 100}, {100, 400}, {500, 400}};
+  for (const auto& p : lone) kps.emplace_back(p, 7.0f, -1, 1.0f);
+  const auto out = distribute_quadtree(kps, 0, 640, 0, 480, 8);
+  EXPECT_LE(out.size(), 8u);
+  for (const auto& p : lone)
+    EXPECT_EQ(std::count_if(out.begin(), out.end(), [&](const cv::KeyPoint& k) { return k.pt == p; }), 1);
+  // The strongest corner of the cluster is kept.
+  EXPECT_EQ(std::count_if(out.begin(), out.end(), [](const cv::KeyPoint& k) { return k.response == 209.0f; }), 1);
+}
+
+TEST(OrbExtractor, CountLevelsAndSpread) {
+  OrbConfig cfg;
+  cfg.n_features = 800;
+  const OrbExtractor ex(cfg);
+  const cv::Mat img = textured_image(640, 480, 3);
+  std::vector<cv::KeyPoint> kps;
+  cv::Mat desc;
+  ex.extract(img, kps, desc);
+  EXPECT_LE(static_cast<int>(kps.size()), 800);
+  EXPECT_GE(static_cast<int>(kps.size()), 600);
+  EXPECT_EQ(desc.rows, static_cast<int>(kps.size()));
+  EXPECT_EQ(desc.cols, 32);
+  int max_level = 0, quadrant[4] = {0, 0, 0, 0};
+  for (const auto& k : kps) {
+    max_level = std::max(max_level, k.octave);
+    ++quadrant[(k.pt.x >= 320) + 2 * (k.pt.y >= 240)];
+    EXPECT_GE(k.angle, 0.0f);
+    EXPECT_LT(k.angle, 360.0f);
+  }
+  EXPECT_GE(max_level, 6);
+  for (int q : quadrant) EXPECT_GT(q, 0.15 * kps.size());
+}
+
+TEST(OrbMatcher, BruteForceFindsKnownShift) {
+  const OrbExtractor ex(OrbConfig{});
+  const cv::Mat a = textured_image(640, 480, 5);
+  cv::Mat b;
+  cv::warpAffine(a, b, cv::Mat(cv::Matx23d(1, 0, 7, 0, 1, -4)), a.size(), cv::INTER_LINEAR,
+                 cv::BORDER_REPLICATE);
+  std::vector<cv::KeyPoint> ka, kb;
+  cv::Mat da, db;
+  ex.extract(a, ka, da);
+  ex.extract(b, kb, db);
+  const auto m = match_brute_force(da, db);
+  ASSERT_GT(m.size(), 200u);
+  int good = 0;
+  for (const auto& [i, j] : m) good += cv::norm(kb[j].pt - ka[i].pt - cv::Point2f(7, -4)) < 2.0;
+  EXPECT_GT(good, 0.9 * m.size());
+}
+
+TEST(OrbMatcher, DescriptorDistanceAndRotationHistogram) {
+  std::uint8_t a[32] = {}, b[32] = {};
+  b[0] = 0xFF;
+  b[31] = 0x01;
+  EXPECT_EQ(descriptor_distance(a, b), 9);
+  std::vector<float> diffs(20, 5.0f);
+  diffs.push_back(100.0f);  // 1 < 10 % of 20: not a dominant bin
+  diffs.push_back(-355.0f); // wraps to 5 deg
+  const auto keep = rotation_consistent(diffs);
+  EXPECT_EQ(keep.size(), 21u);
+  EXPECT_EQ(std::count(keep.begin(), keep.end(), 20), 0);
+}
+
+TEST(FrameFeatures, DepthRightCoordinateAndDiscontinuities) {
+  PinholeCamera cam;
+  cam.fx = cam.fy = 500;
+  cam.cx = 320;
+  cam.cy = 240;
+  cam.bf = 40;
+  const cv::Mat img = textured_image(640, 480, 9);
+  cv::Mat depth(480, 640, CV_32FC1, cv::Scalar(2.0f));
+  depth.colRange(320, 640).setTo(3.0f);  // a depth edge at u = 320
+  depth.rowRange(0, 40).setTo(0.0f);      // no depth at the top
+  const OrbExtractor ex(OrbConfig{});
+  const auto f = compute_frame_features(img, depth, cam, ex, FeatureConfig{});
+  ASSERT_GT(f.size(), 500);
+  int with_depth = 0;
+  for (int i = 0; i < f.size(); ++i) {
+    const auto& p = f.keypoints[i].pt;
+    if (std::abs(p.x - 320) <= 1.5f || p.y < 39.5f) {
+      EXPECT_FALSE(f.has_depth(i)) << p;  // on the edge or in the hole
+      continue;
+    }
+    if (std::abs(p.x - 320) > 3.5f && p.y > 42.5f) {
+      ASSERT_TRUE(f.has_depth(i)) << p;
+      const float z = p.x < 320 ? 2.0f : 3.0f;
+      EXPECT_FLOAT_EQ(f.depth_m[i], z);
+      EXPECT_FLOAT_EQ(f.u_right[i], static_cast<float>(p.x - 40.0 / z));
+      ++with_depth;
+    }
+  }
+  EXPECT_GT(with_depth, 400);
+  // Grid query returns exactly the keypoints in the window.
+  const auto in = f.in_area(200, 200, 30);
+  int brute = 0;
+  for (const auto& k : f.keypoints) brute += std::abs(k.pt.x - 200) < 30 && std::abs(k.pt.y - 200) < 30;
+  EXPECT_EQ(static_cast<int>(in.size()), brute);
+}
+
+}  // namespace
+}  // namespace s3m::features
