@@ -91,16 +91,13 @@ TEST(PipelineConfig, MissingFileIsAClearError) {
 }
 
 TEST(PipelineConfig, EveryShippedPresetLoads) {
+  // config/ also holds other modules' files (simulator, mapping, SLAM settings): test the presets.
   const auto dir = std::filesystem::path(S3M_TEST_DATA_DIR) / ".." / ".." / "config";
-  int n = 0;
-  for (const auto& e : std::filesystem::directory_iterator(dir)) {
-    if (e.path().extension() != ".yaml") continue;
-    SCOPED_TRACE(e.path().string());
-    const PipelineConfig c = load_pipeline_config(e.path().string());
+  for (const char* name : {"sim", "tum_fr1", "tum_fr2", "tum_fr3", "realsense_d455", "kitchen_7scenes"}) {
+    SCOPED_TRACE(name);
+    const PipelineConfig c = load_pipeline_config((dir / (std::string(name) + ".yaml")).string());
     EXPECT_NO_THROW(c.validate());
-    ++n;
   }
-  EXPECT_GE(n, 6);  // sim, tum_fr1/2/3, realsense_d455, kitchen_7scenes
   // The preset's camera file is resolved next to the preset.
   const auto d455 = load_pipeline_config((dir / "realsense_d455.yaml").string());
   EXPECT_TRUE(std::filesystem::exists(d455.dataset.camera)) << d455.dataset.camera;

@@ -15,9 +15,7 @@ MapIntegrator::MapIntegrator(const MapConfig& config) : config_(config), inserte
 }
 
 std::unique_ptr<mapping::SemanticOcTree> MapIntegrator::make_tree() const {
-  auto tree = std::make_unique<mapping::SemanticOcTree>(config_.resolution_m);
-  tree->setFusionConfig(config_.fusion);
-  return tree;
+  return mapping::make_semantic_map(config_);
 }
 
 void MapIntegrator::insert(const mapping::LabeledCloud& cloud_c, const SE3& T_w_c) {

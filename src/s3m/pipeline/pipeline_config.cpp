@@ -97,22 +97,6 @@ void load_eval(const YAML::Node& n, EvalConfig& c, const std::string& ctx) {
 
 }  // namespace
 
-void MapConfig::validate() const {
-  require(std::isfinite(resolution_m) && resolution_m >= 0.005 && resolution_m <= 1.0,
-          "map.resolution_m must be in [0.005, 1] m (got " + std::to_string(resolution_m) + ")");
-  fusion.validate();
-  insert.validate();
-}
-
-MapConfig map_config_from_yaml(const YAML::Node& node, const std::string& ctx) {
-  MapConfig c;
-  check_known_keys(node, {"resolution_m", "fusion", "insert"}, ctx);
-  yaml_get(node, "resolution_m", c.resolution_m, ctx);
-  if (node["fusion"]) c.fusion = mapping::fusion_config_from_yaml(node["fusion"], ctx);
-  if (node["insert"]) c.insert = mapping::insert_config_from_yaml(node["insert"], ctx);
-  return c;
-}
-
 void SegmenterConfig::validate() const {
   require(type == "onnx" || type == "oracle" || type == "none",
           "segmenter.type must be onnx | oracle | none (got '" + type + "')");
@@ -178,7 +162,7 @@ PipelineConfig load_pipeline_config(const std::string& path) {
   if (const auto n = section(root, "threads", path)) load_threads(n, c.threads, path);
   if (const auto n = section(root, "flow", path)) load_flow(n, c.flow, path);
   if (const auto n = section(root, "eval", path)) load_eval(n, c.eval, path);
-  if (const auto n = section(root, "map", path)) c.map = map_config_from_yaml(n, path);
+  if (const auto n = section(root, "map", path)) c.map = mapping::load_mapping_config(n, path);
   if (const auto n = section(root, "segmenter", path)) load_segmenter(n, c.segmenter, path);
   // A relative camera file is relative to the preset (presets live next to their camera files).
   const auto& cam = c.dataset.camera;

@@ -10,6 +10,7 @@
 #include "s3m/core/se3.hpp"
 #include "s3m/mapping/fusion.hpp"
 #include "s3m/mapping/insert.hpp"
+#include "s3m/mapping/mapping_config.hpp"
 #include "s3m/semantics/oracle_segmenter.hpp"
 #include "s3m/slam/slam_config.hpp"
 
@@ -66,14 +67,8 @@ struct EvalConfig {
   void validate() const;
 };
 
-// The `map:` section of a preset.
-struct MapConfig {
-  double resolution_m = 0.05;          // voxel edge [m]
-  mapping::FusionConfig fusion;        // `fusion:` policy (paper | max_confidence | bayesian), k, alpha
-  mapping::InsertConfig insert;        // `insert:` ranges [m], outlier removal, threads
-  void validate() const;
-};
-MapConfig map_config_from_yaml(const YAML::Node& node, const std::string& ctx);
+// The `map:` section of a preset is mapping::MappingConfig (resolution_m, occupancy, fusion, insert).
+using MapConfig = mapping::MappingConfig;
 
 // The `segmenter:` section. `s3m run --segmenter` overrides type/model.
 struct SegmenterConfig {
