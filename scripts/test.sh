@@ -1,8 +1,32 @@
 #!/usr/bin/env bash
-# s3m test suite: builds (Release, incremental) and runs every unit and integration test with ctest.
-# Needs only the repository (no ../shared data). Usage: scripts/test.sh [extra ctest args]
+# s3m test suite. Needs only the repository (no ../shared data).
+#  1. Release build (build/, incremental): every unit and integration test with ctest.
+#  2. Sanitizer build (build-asan/: ASan + UBSan, -O1 -g, no benchmarks): the unit tests again
+#     (ctest -L unit, which includes the fuzz-corpus replay); any sanitizer report or leak fails.
+# Usage: scripts/test.sh [--quick] [extra ctest args]
+#   --quick (or S3M_TEST_QUICK=1) runs stage 1 only, for quick local iterations.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+quick="${S3M_TEST_QUICK:-0}"
+args=()
+for a in "$@"; do
+  if [ "$a" = --quick ]; then quick=1; else args+=("$a"); fi
+done
+
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "$(nproc)"
-ctest --test-dir build --output-on-failure -j "$(nproc)" "$@"
+ctest --test-dir build --output-on-failure -j "$(nproc)" "${args[@]}"
+[ "$quick" = 1 ] && exit 0
+
+echo "test.sh: stage 2, unit tests under ASan + UBSan in build-asan/ (skip with --quick)"
+# halt_on_error + -fno-sanitize-recover: the first report aborts the test, so ctest fails on it.
+export ASAN_OPTIONS="halt_on_error=1:abort_on_error=1:detect_leaks=1:strict_string_checks=1:check_initialization_order=1"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0"
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
+  -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g" -DS3M_SANITIZE=ON -DS3M_BUILD_BENCH=OFF >/dev/null
+# Only the unit-test executables (and what they link): the integration tests stay Release-only.
+mapfile -t unit_targets < <(cmake --build build-asan --target help | sed -n 's/^\(test_[a-z0-9_]*\): .*/\1/p' |
+                            grep -v '^test_integration$')
+cmake --build build-asan -j "$(nproc)" --target "${unit_targets[@]}"
+ctest --test-dir build-asan --output-on-failure -j "$(nproc)" -L unit "${args[@]}"

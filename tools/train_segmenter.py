@@ -2,7 +2,7 @@
 """Trains s3m's small PSPNet-style segmentation network on simulator output and exports it to ONNX.
 
 Network ("s3m_pspnet_small"): a light MobileNet-like backbone (stride 8, depthwise-separable blocks)
-and a PSPNet pyramid pooling head (bins 1, 2, 4, 8 over the stride-8 features, 1x1 reductions,
+and a PSPNet pyramid pooling head (bins 1, 2, 4 over the stride-8 features, 1x1 reductions,
 bilinear upsampling, concatenation, 3x3 fusion conv, 1x1 classifier). It outputs raw logits over the
 project's 16 indoor classes at stride 8 of the input (half-pixel grid); OnnxSegmenter upsamples the
 class probabilities to the camera image. Channel 0 ("unknown") is never trained (ignore index) and
@@ -79,7 +79,7 @@ class PyramidPooling(nn.Module):
 
 
 class PSPNetSmall(nn.Module):
-    def __init__(self, input_hw, num_classes=NUM_CLASSES, width=1.0, bins=(1, 2, 4, 8)):
+    def __init__(self, input_hw, num_classes=NUM_CLASSES, width=1.0, bins=(1, 2, 4)):
         super().__init__()
         c = [int(v * width) for v in (16, 32, 64, 96)]
         self.backbone = nn.Sequential(
@@ -101,10 +101,10 @@ class PSPNetSmall(nn.Module):
 
 
 # ---------------------------------------------------------------- data
-def read_sequence(folder: Path, input_hw):
+def read_sequence(folder: Path, input_hw, label_scale):
     """Loads one sequence: images (N,3,h,w) float RGB in [0,1] resized like OnnxSegmenter does
     (bilinear, half-pixel, no anti-aliasing = cv::resize INTER_LINEAR), labels (N,2h,2w) int64
-    resized nearest (the loss compares logits upsampled to 2x the input size)."""
+    (N, s*h, s*w) int64 resized nearest (the loss compares logits upsampled to s x the input size)."""
     from PIL import Image  # python3-pil comes with python3-matplotlib; no OpenCV for Python needed
     rgb_dir, lab_dir = folder / "rgb", folder / "labels"
     if not rgb_dir.is_dir() or not lab_dir.is_dir():
@@ -122,14 +122,14 @@ def read_sequence(folder: Path, input_hw):
         x = torch.from_numpy(rgb.copy()).permute(2, 0, 1)[None].float() / 255.0
         images.append(F.interpolate(x, size=(h, w), mode="bilinear", align_corners=False)[0])
         y = torch.from_numpy(lab.astype(np.int64))[None, None].float()
-        labels.append(F.interpolate(y, size=(2 * h, 2 * w), mode="nearest")[0, 0].long())
+        labels.append(F.interpolate(y, size=(label_scale * h, label_scale * w), mode="nearest")[0, 0].long())
     if not images:
         sys.exit(f"train_segmenter: {rgb_dir} holds no images")
     return torch.stack(images), torch.stack(labels)
 
 
-def load(folders, input_hw):
-    xs, ys = zip(*(read_sequence(Path(f), input_hw) for f in folders))
+def load(folders, input_hw, label_scale):
+    xs, ys = zip(*(read_sequence(Path(f), input_hw, label_scale) for f in folders))
     return torch.cat(xs), torch.cat(ys)
 
 
@@ -210,15 +210,16 @@ def main():
     ap.add_argument("--train", nargs="+", help="training sequence folders (s3m sim output)")
     ap.add_argument("--val", nargs="*", default=[], help="held-out sequence folders")
     ap.add_argument("--out", required=True, help="output .onnx path")
-    ap.add_argument("--height", type=int, default=192)
-    ap.add_argument("--width", type=int, default=256)
-    ap.add_argument("--bins", type=int, nargs="+", default=[1, 2, 4, 8],
+    ap.add_argument("--height", type=int, default=128)
+    ap.add_argument("--width", type=int, default=160)
+    ap.add_argument("--label-scale", type=int, default=1, help="loss resolution as a multiple of the input size")
+    ap.add_argument("--bins", type=int, nargs="+", default=[1, 2, 4],
                     help="pyramid pooling bins; must divide the stride-8 feature size")
     ap.add_argument("--minutes", type=float, default=15.0, help="wall-clock training budget")
     ap.add_argument("--epochs", type=int, default=1000)
-    ap.add_argument("--batch", type=int, default=16)
+    ap.add_argument("--batch", type=int, default=8)
     ap.add_argument("--lr", type=float, default=3e-3)
-    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--threads", type=int, default=1, help="torch threads (1 is fastest on a busy machine)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--export-only", action="store_true", help="export untrained weights (speed checks)")
     args = ap.parse_args()
@@ -233,12 +234,12 @@ def main():
     if not args.train:
         sys.exit("train_segmenter: --train is required (or --export-only)")
 
-    xs, y_train = load(args.train, hw)
+    xs, y_train = load(args.train, hw, args.label_scale)
     x_train = normalise(xs)
     print(f"training frames: {len(x_train)} from {len(args.train)} sequences")
     val = None
     if args.val:
-        xv, yv = load(args.val, hw)
+        xv, yv = load(args.val, hw, args.label_scale)
         val = (normalise(xv), yv)
         print(f"validation frames: {len(xv)} from {len(args.val)} sequences")
     weights = class_weights(y_train)
@@ -278,7 +279,7 @@ def main():
             break
     if val is not None:
         m, per_class = evaluate(model, *val)
-        print(f"final val mIoU {m:.4f} (PyTorch, labels at {2 * hw[0]}x{2 * hw[1]}): {per_class}")
+        print(f"final val mIoU {m:.4f} (PyTorch, labels at {args.label_scale}x the input size): {per_class}")
     export(model, hw, Path(args.out))
     torch.save(model.state_dict(), str(Path(args.out).with_suffix(".pt")))
     print(f"wrote {args.out} ({Path(args.out).stat().st_size / 1e6:.2f} MB)")

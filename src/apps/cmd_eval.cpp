@@ -5,7 +5,6 @@
 #include "commands.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/eval/report.hpp"
-#include "s3m/io/atomic_file.hpp"
 #include "s3m/io/trajectory.hpp"
 
 namespace s3m::apps {
@@ -58,21 +57,8 @@ void run_eval(const EvalArgs& a) {
   std::cout << eval::format_table(evals, opt);
   if (a.out.empty()) return;
   // 3. Files: metrics, aligned trajectories, plot data and plots.
-  std::error_code ec;
-  fs::create_directories(a.out, ec);
-  if (ec) throw Error("cannot create output directory '" + a.out + "': " + ec.message());
-  const fs::path out(a.out);
-  eval::write_metrics_json((out / "metrics.json").string(), evals, opt);
-  for (std::size_t i = 0; i < evals.size(); ++i) {
-    io::Trajectory aligned = estimates[i];
-    for (auto& p : aligned) p.T_w_x = evals[i].ate.alignment.apply(p.T_w_x);
-    io::write_tum_trajectory((out / (names[i] + "_aligned.txt")).string(), aligned);
-  }
-  const std::string plot_data = (out / "plot_data.json").string();
-  io::write_text_atomic(plot_data, eval::plot_data_json(gt, estimates, evals).dump() + "\n");
-  std::cout << "wrote " << (out / "metrics.json").string() << "\n";
-  if (a.no_plots) return;
-  const auto plots = eval::run_plot_script(plot_data, a.out);
+  const auto plots = eval::write_evaluation_report(a.out, gt, estimates, evals, opt, !a.no_plots);
+  std::cout << "wrote " << (fs::path(a.out) / "metrics.json").string() << "\n";
   if (!plots.ok) {
     std::cerr << "s3m eval: warning: no plots: " << plots.message << " (metrics.json is complete)\n";
     return;

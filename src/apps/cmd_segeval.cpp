@@ -32,7 +32,7 @@ struct SegevalOptions {
   int max_images = 0;
 };
 
-// A single image file, or every .png/.jpg/.jpeg in a folder, sorted by name.
+// A single image file, or every .png/.jpg/.jpeg in a folder, sorted by name (numerically for timestamps).
 std::vector<fs::path> list_images(const std::string& path, int every, int max_images) {
   if (!fs::exists(path)) throw Error("'" + path + "' does not exist");
   std::vector<fs::path> all;
@@ -43,7 +43,17 @@ std::vector<fs::path> list_images(const std::string& path, int every, int max_im
       const auto ext = e.path().extension().string();
       if (e.is_regular_file() && (ext == ".png" || ext == ".jpg" || ext == ".jpeg")) all.push_back(e.path());
     }
-    std::sort(all.begin(), all.end());
+    // TUM-style names are timestamps: order numerically when every stem is a number.
+    auto number = [](const fs::path& p) {
+      char* end = nullptr;
+      const std::string s = p.stem().string();
+      const double v = std::strtod(s.c_str(), &end);
+      return std::make_pair(!s.empty() && *end == '\0', v);
+    };
+    const bool numeric = std::all_of(all.begin(), all.end(), [&](const fs::path& p) { return number(p).first; });
+    std::sort(all.begin(), all.end(), [&](const fs::path& a, const fs::path& b) {
+      return numeric ? number(a).second < number(b).second : a < b;
+    });
   }
   std::vector<fs::path> out;
   for (std::size_t i = 0; i < all.size(); i += std::max(every, 1)) {
@@ -158,7 +168,13 @@ void run_segeval(const SegevalOptions& o) {
   const auto pairs = pair_files(pred_dir, o.gt_dir);
   for (const auto& [p, g] : pairs) {
     cv::Mat gt = read_labels(g);
-    if (!o.gt_map.empty()) gt = gt_map.apply(gt);
+    if (!o.gt_map.empty()) {
+      gt = gt_map.apply(gt);
+      if (!o.out_dir.empty()) {  // keep the translated ground truth for inspection and figures
+        fs::create_directories(fs::path(o.out_dir) / "gt_mapped");
+        cv::imwrite((fs::path(o.out_dir) / "gt_mapped" / (p.stem().string() + ".png")).string(), gt);
+      }
+    }
     cm.add(gt, read_labels(p));
   }
   const SegMetrics m = cm.metrics(exclude);

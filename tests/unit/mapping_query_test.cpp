@@ -7,7 +7,9 @@
 #include <octomap/OcTree.h>
 
 #include "s3m/io/ply.hpp"
+#include "s3m/core/error.hpp"
 #include "s3m/mapping/export.hpp"
+#include "s3m/mapping/mapping_config.hpp"
 #include "s3m/mapping/metrics.hpp"
 #include "s3m/mapping/queries.hpp"
 
@@ -152,6 +154,7 @@ TEST(MappingMetrics, PrecisionRecallAndMiou) {
   EXPECT_NEAR(ev.iou.at(cls::kCabinet), 0.0, 1e-9);
   EXPECT_NEAR(ev.iou.at(cls::kWall), 0.0, 1e-9);  // in GT, never matched
   EXPECT_NEAR(ev.miou, (1.0 + 8.0 / 12.0) / 4.0, 1e-9);
+  EXPECT_NEAR(ev.miou_observed, (1.0 + 8.0 / 12.0 + 0.0) / 3.0, 1e-9);  // wall never matched
   EXPECT_NEAR(ev.label_accuracy, 16.0 / 20.0, 1e-9);
   // With one voxel of tolerance, the bar chair (x = 1.0 .. 1.3) is still far from any GT voxel.
   cfg.tolerance_voxels = 1;
@@ -165,4 +168,29 @@ TEST(MappingMetrics, MapSize) {
   EXPECT_EQ(s.raw_cloud_bytes, 100000u * (12 + 3 + 3 * 6));
   EXPECT_GT(s.file_bytes, 0u);
   EXPECT_GT(s.compression, 1.0);
+}
+
+TEST(MappingConfigTest, YamlRoundTripAndErrors) {
+  const auto y = YAML::Load(
+      "resolution_m: 0.02\noccupancy: {prob_hit: 0.8}\nfusion: {policy: bayesian, k: 4}\n"
+      "insert: {max_range_m: 3.5, sor_neighbors: 6}\n");
+  const MappingConfig c = load_mapping_config(y, "m.yaml");
+  EXPECT_DOUBLE_EQ(c.resolution_m, 0.02);
+  EXPECT_DOUBLE_EQ(c.occupancy.prob_hit, 0.8);
+  EXPECT_EQ(c.fusion.policy, FusionPolicy::kBayesian);
+  EXPECT_EQ(c.insert.sor_neighbors, 6);
+  const auto tree = make_semantic_map(c);
+  EXPECT_DOUBLE_EQ(tree->getResolution(), 0.02);
+  EXPECT_EQ(tree->fusionConfig().k, 4);
+  EXPECT_EQ(tree->fusionConfig().num_classes, int(indoor_classes().size()));
+  EXPECT_NEAR(tree->occupancyParams().prob_hit, 0.8, 1e-6);
+  EXPECT_THROW(load_mapping_config(YAML::Load("resolution: 0.1"), "m.yaml"), ParseError);
+  EXPECT_THROW(load_mapping_config(YAML::Load("resolution_m: -1"), "m.yaml"), ParseError);
+  EXPECT_THROW(load_mapping_config(YAML::Load("insert: {max_range_m: 0}"), "m.yaml"), Error);
+  // The shipped preset parses (the repo root is two levels above tests/data).
+  const std::string data_dir = S3M_TEST_DATA_DIR;
+  const std::string root = data_dir.substr(0, data_dir.rfind("/tests/data"));
+  const MappingConfig preset = load_mapping_config_file(root + "/config/mapping.yaml");
+  EXPECT_EQ(preset.fusion.policy, FusionPolicy::kPaper);
+  EXPECT_DOUBLE_EQ(preset.insert.max_range_m, 4.0);
 }

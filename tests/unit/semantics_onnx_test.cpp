@@ -55,7 +55,7 @@ TEST(SemanticsOnnx, CommittedCardRunsAndGivesExactProbabilities) {
 
 TEST(SemanticsOnnx, ArgmaxOnSyntheticImageAtCameraSize) {
   for (const char* model : {"tiny_rgb.onnx", "tiny_rgb_s2.onnx"})
-    for (const char* up : {"nearest", "linear"}) {
+    for (const char* up : {"nearest", "linear", "linear\nlabel_stride: 2"}) {
       SCOPED_TRACE(std::string(model) + " " + up);
       // 32x24 camera image stretched to the 16x16 input; the strided model outputs 8x8.
       OnnxSegmenter seg(load_model_card(write_card("argmax", card_text(kData + model, 16, 16, std::string("upsample: ") + up + "\n"))));

@@ -51,3 +51,23 @@ TEST(SemanticsResample, MatchesBruteForceInterpolationThenTopK) {
     }
   EXPECT_GT(checked, out.area() * 2);
 }
+
+TEST(SemanticsResample, UpsampleBlocksCopiesEachPixelIntoItsBlock) {
+  LabelMap m = make_label_map(2, 3, 2);
+  for (int r = 0; r < 2; ++r)
+    for (int c = 0; c < 3; ++c) {
+      m.ids.ptr<ClassId>(r)[c * 2] = ClassId(10 * r + c + 1);
+      m.probs.ptr<float>(r)[c * 2 + 1] = 0.1f * float(c);
+      m.argmax.at<ClassId>(r, c) = ClassId(10 * r + c + 1);
+    }
+  const LabelMap up = upsample_blocks(m, 2, {5, 3});  // 6x4 cropped to 5x3
+  ASSERT_EQ(up.cols(), 5);
+  ASSERT_EQ(up.rows(), 3);
+  ASSERT_EQ(up.k(), 2);
+  for (int v = 0; v < 3; ++v)
+    for (int u = 0; u < 5; ++u) {
+      EXPECT_EQ(up.id(v, u, 0), ClassId(10 * (v / 2) + u / 2 + 1));
+      EXPECT_FLOAT_EQ(up.prob(v, u, 1), 0.1f * float(u / 2));
+      EXPECT_EQ(up.argmax.at<ClassId>(v, u), up.id(v, u, 0));
+    }
+}

@@ -17,7 +17,10 @@ YAML::Node load_yaml_file(const std::string& path) {
 void check_known_keys(const YAML::Node& node, const std::vector<std::string>& known, const std::string& ctx) {
   if (!node.IsMap()) return;
   for (const auto& kv : node) {
-    const auto key = kv.first.as<std::string>();
+    // YAML allows sequences and maps as keys ('? [a, b]: 1'); no s3m config uses them.
+    if (!kv.first.IsScalar())
+      throw ParseError(ctx, kv.first.Mark().line + 1, "a key that is not a plain name", "keys like 'name: value'");
+    const auto key = kv.first.Scalar();
     if (std::find(known.begin(), known.end(), key) == known.end()) {
       std::string list;
       for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;

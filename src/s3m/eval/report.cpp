@@ -3,12 +3,14 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
 
 #include <fmt/format.h>
 
+#include "s3m/core/error.hpp"
 #include "s3m/io/atomic_file.hpp"
 
 extern char** environ;
@@ -168,6 +170,33 @@ PlotResult run_plot_script(const std::string& plot_data_path, const std::string&
       if (fs::exists(fs::path(out_dir) / f)) r.files.push_back((fs::path(out_dir) / f).string());
   }
   return r;
+}
+
+PlotResult write_evaluation_report(const std::string& out_dir, const io::Trajectory& gt,
+                                   const std::vector<io::Trajectory>& estimates,
+                                   const std::vector<TrajectoryEvaluation>& evals, const EvalOptions& options,
+                                   bool plots) {
+  require(estimates.size() == evals.size(), "write_evaluation_report: one evaluation per estimate expected");
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) throw Error("cannot create output directory '" + out_dir + "': " + ec.message());
+  const fs::path out(out_dir);
+  // 1. Numbers first: they must exist even if plotting fails.
+  write_metrics_json((out / "metrics.json").string(), evals, options);
+  // 2. Aligned estimates, so other tools can overlay them without redoing the alignment.
+  for (std::size_t i = 0; i < evals.size(); ++i) {
+    io::Trajectory aligned = estimates[i];
+    for (auto& p : aligned) p.T_w_x = evals[i].ate.alignment.apply(p.T_w_x);
+    std::string file = evals[i].name;  // a display name may hold '/' or spaces: keep file names tame
+    for (char& c : file)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+    io::write_tum_trajectory((out / (file + "_aligned.txt")).string(), aligned);
+  }
+  // 3. Plot data and pictures.
+  const std::string plot_data = (out / "plot_data.json").string();
+  io::write_text_atomic(plot_data, plot_data_json(gt, estimates, evals).dump() + "\n");
+  if (!plots) return {true, {}, "plots disabled"};
+  return run_plot_script(plot_data, out_dir);
 }
 
 }  // namespace s3m::eval

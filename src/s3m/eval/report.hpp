@@ -37,4 +37,13 @@ struct PlotResult {
 PlotResult run_plot_script(const std::string& plot_data_path, const std::string& out_dir);
 std::string find_tools_dir();  // empty when not found
 
+// Everything `s3m eval --out DIR` writes: metrics.json, <name>_aligned.txt per estimate (TUM format,
+// in the ground-truth frame), plot_data.json and, when plots is true, the PNGs. DIR is created.
+// Throws s3m::Error when a file cannot be written; a missing plotting environment is only reported
+// in the returned PlotResult.
+PlotResult write_evaluation_report(const std::string& out_dir, const io::Trajectory& gt,
+                                   const std::vector<io::Trajectory>& estimates,
+                                   const std::vector<TrajectoryEvaluation>& evals, const EvalOptions& options,
+                                   bool plots = true);
+
 }  // namespace s3m::eval

@@ -1,6 +1,8 @@
 #include "s3m/io/camera_yaml.hpp"
 
+#include <cmath>
 #include <filesystem>
+#include <optional>
 #include <fstream>
 #include <sstream>
 
@@ -53,6 +55,27 @@ double optional_number(const YAML::Node& root, const std::vector<std::string>& k
   return fallback;
 }
 
+// Image sizes arrive as YAML numbers; casting an out-of-range double to int is undefined behaviour,
+// so the range is checked on the double first.
+int required_size(const YAML::Node& root, const std::vector<std::string>& keys, const std::string& path,
+                  std::optional<double> fallback = std::nullopt) {
+  const double v = fallback ? optional_number(root, keys, path, *fallback) : required_number(root, keys, path);
+  if (!(v >= 1 && v <= 16384) || v != std::floor(v)) {
+    const YAML::Node node = root[keys.front()];
+    throw ParseError(path, node ? node.Mark().line + 1 : 0, fmt::format("bad image size {} = {}", keys.front(), v),
+                     "a whole number of pixels in 1..16384");
+  }
+  return static_cast<int>(v);
+}
+
+std::string optional_string(const YAML::Node& root, const std::string& key, const std::string& path,
+                            const std::string& fallback) {
+  const YAML::Node v = root[key];
+  if (!v) return fallback;
+  if (!v.IsScalar()) throw ParseError(path, v.Mark().line + 1, "bad value for '" + key + "'", "a string");
+  return v.Scalar();
+}
+
 void validate_in_file(const PinholeCamera& cam, const std::string& path) {
   try {
     cam.validate();
@@ -79,16 +102,16 @@ PinholeCamera read_camera_yaml(const std::string& path) {
   check_known_keys(root, {"camera_model", "fx", "fy", "cx", "cy", "width", "height", "depth_factor", "k1", "k2", "p1",
                           "p2", "k3", "bf", "fps"},
                    path);
-  if (root["camera_model"] && root["camera_model"].as<std::string>() != "pinhole")
-    throw ParseError(path, root["camera_model"].Mark().line + 1,
-                     "unsupported camera_model '" + root["camera_model"].as<std::string>() + "'", "pinhole");
+  if (const std::string model = optional_string(root, "camera_model", path, "pinhole"); model != "pinhole")
+    throw ParseError(path, root["camera_model"].Mark().line + 1, "unsupported camera_model '" + model + "'",
+                     "pinhole");
   PinholeCamera cam;
   cam.fx = required_number(root, {"fx"}, path);
   cam.fy = required_number(root, {"fy"}, path);
   cam.cx = required_number(root, {"cx"}, path);
   cam.cy = required_number(root, {"cy"}, path);
-  cam.width = static_cast<int>(required_number(root, {"width"}, path));
-  cam.height = static_cast<int>(required_number(root, {"height"}, path));
+  cam.width = required_size(root, {"width"}, path);
+  cam.height = required_size(root, {"height"}, path);
   cam.depth_factor = required_number(root, {"depth_factor"}, path);
   const char* dist_keys[] = {"k1", "k2", "p1", "p2", "k3"};
   for (int i = 0; i < 5; ++i) cam.dist[i] = optional_number(root, {dist_keys[i]}, path, 0.0);
@@ -120,8 +143,8 @@ PinholeCamera read_orbslam_settings(const std::string& path) {
   const char* dist_keys[] = {"k1", "k2", "p1", "p2", "k3"};
   for (int i = 0; i < 5; ++i) cam.dist[i] = optional_number(root, key(dist_keys[i]), path, 0.0);
   // ORB-SLAM2 files often omit the size; the Kinect/Xtion 640x480 they were made for is the default.
-  cam.width = static_cast<int>(optional_number(root, {"Camera.width"}, path, 640));
-  cam.height = static_cast<int>(optional_number(root, {"Camera.height"}, path, 480));
+  cam.width = required_size(root, {"Camera.width"}, path, 640);
+  cam.height = required_size(root, {"Camera.height"}, path, 480);
   cam.depth_factor = required_number(root, {"DepthMapFactor", "RGBD.DepthMapFactor"}, path);
   if (root["Camera.bf"]) cam.bf = required_number(root, {"Camera.bf"}, path);
   else if (root["Stereo.b"]) cam.bf = required_number(root, {"Stereo.b"}, path) * cam.fx;

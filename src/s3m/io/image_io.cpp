@@ -1,7 +1,9 @@
 #include "s3m/io/image_io.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
@@ -19,8 +21,29 @@ std::string describe(const cv::Mat& m) {
   return fmt::format("{} {}-channel {}x{}", depth_names[m.depth()], m.channels(), m.cols, m.rows);
 }
 
+// Largest image side accepted, as for cameras (PinholeCamera::validate).
+constexpr std::uint32_t kMaxSidePx = 16384;
+
+// A PNG states its size in the first chunk. Checking it before decoding keeps a 70-byte file that
+// claims 30000x30000 pixels from costing gigabytes of memory and seconds of decoding.
+void check_png_header(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char h[24] = {};
+  if (!in.read(reinterpret_cast<char*>(h), sizeof(h))) return;  // too short for PNG: let the decoder report it
+  static const unsigned char kSig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (std::memcmp(h, kSig, 8) != 0 || std::memcmp(h + 12, "IHDR", 4) != 0) return;
+  const auto be32 = [&](int i) {
+    return std::uint32_t(h[i]) << 24 | std::uint32_t(h[i + 1]) << 16 | std::uint32_t(h[i + 2]) << 8 | h[i + 3];
+  };
+  const std::uint32_t w = be32(16), hgt = be32(20);
+  if (w == 0 || hgt == 0 || w > kMaxSidePx || hgt > kMaxSidePx)
+    throw ParseError(path, 0, fmt::format("PNG header says {}x{} pixels", w, hgt),
+                     fmt::format("{} with sides in 1..{} px", what, kMaxSidePx));
+}
+
 cv::Mat read_any(const std::string& path, int flags, const std::string& what) {
   if (!std::filesystem::exists(path)) throw ParseError(path, 0, "image file not found", what);
+  check_png_header(path, what);
   cv::Mat img;
   try {
     img = cv::imread(path, flags);

@@ -1,6 +1,7 @@
 #include "s3m/io/ply.hpp"
 
 #include <bit>
+#include <charconv>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -52,9 +53,16 @@ std::vector<PlyPoint> read_ply(const std::string& path) {
   std::string line, head;
   std::size_t n = 0;
   int line_no = 0;
+  std::size_t header_bytes = 0;
   while (std::getline(in, line)) {
     ++line_no;
-    if (line.rfind("element vertex ", 0) == 0) n = std::stoull(line.substr(15));
+    header_bytes += line.size() + 1;
+    if (line.rfind("element vertex ", 0) == 0) {
+      const std::string_view count = std::string_view(line).substr(15);
+      const auto [end, ec] = std::from_chars(count.data(), count.data() + count.size(), n);
+      if (ec != std::errc() || end != count.data() + count.size())
+        throw ParseError(path, line_no, "bad vertex count '" + std::string(count) + "'", "'element vertex <count>'");
+    }
     if (line.rfind("comment", 0) != 0 && line.rfind("element vertex", 0) != 0) head += line + "\n";
     if (line == "end_header") break;
     if (line_no > 64) throw ParseError(path, line_no, "no end_header in the first 64 lines", "a PLY header");
@@ -63,6 +71,15 @@ std::vector<PlyPoint> read_ply(const std::string& path) {
   const bool sem = head == base + kSemProps + "end_header\n";
   if (!sem && head != base + "end_header\n")
     throw ParseError(path, 0, "unsupported PLY layout", "binary_little_endian x y z red green blue [label confidence] as written by s3m");
+  // Check the count against the bytes present before allocating: a corrupt header must not
+  // turn into a multi-gigabyte allocation.
+  const std::size_t stride = sem ? 21 : 15;
+  const std::size_t file_bytes = std::filesystem::file_size(path);
+  const std::size_t body_bytes = file_bytes > header_bytes ? file_bytes - header_bytes : 0;
+  if (n > body_bytes / stride)
+    throw ParseError(path, 0, "file ends before " + std::to_string(n) + " vertices (" + std::to_string(body_bytes) +
+                                  " bytes of vertex data)",
+                     "complete vertex data");
   std::vector<PlyPoint> pts(n);
   for (auto& p : pts) {
     get(in, p.x), get(in, p.y), get(in, p.z), get(in, p.r), get(in, p.g), get(in, p.b);

@@ -66,7 +66,8 @@ Trajectory read_kitti_trajectory(const std::string& path, double dt_s) {
     for (int i = 0; i < 12; ++i) M(i / 4, i % 4) = reader.number(tok, i, "matrix entry");
     const Mat3 R = M.leftCols<3>();
     const double ortho_err = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
-    if (ortho_err > 1e-3 || R.determinant() < 0)
+    // Written so that NaN (from overflowing entries like 1e308) fails the test too.
+    if (!(ortho_err <= 1e-3) || !(R.determinant() > 0))
       reader.fail(fmt::format("the 3x3 rotation block is not a rotation (|R^T R - I| = {:.3g}, det = {:.4f})",
                               ortho_err, R.determinant()),
                   "an orthonormal rotation with det +1");

@@ -80,9 +80,14 @@ MapEvaluation evaluate_map(const SemanticOcTree& tree, const io::GtVoxelMap& gt,
   }
   for (const auto& [c, n_map] : uni_map)  // classes predicted but absent from GT: IoU 0
     if (c != cls::kUnknown && !ev.iou.count(c) && n_map > 0) ev.iou[c] = 0.0;
-  double sum = 0.0;
-  for (const auto& [c, v] : ev.iou) sum += v;
+  double sum = 0.0, sum_observed = 0.0;
+  std::size_t observed = 0;
+  for (const auto& [c, v] : ev.iou) {
+    sum += v;
+    if (uni_gt[c] + uni_map[c] > 0) sum_observed += v, ++observed;
+  }
   ev.miou = ev.iou.empty() ? 0.0 : sum / double(ev.iou.size());
+  ev.miou_observed = observed ? sum_observed / double(observed) : 0.0;
   return ev;
 }
 

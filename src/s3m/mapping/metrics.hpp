@@ -26,6 +26,9 @@ struct MapEvaluation {
   // in precision/recall; mIoU is the mean over those classes.
   std::map<ClassId, double> iou;
   double miou = 0.0;
+  // Mean IoU over the classes with a non-empty union on matched voxels only: label quality on
+  // what the map observed (fair for comparing a single-frame map with a fused one).
+  double miou_observed = 0.0;
   double label_accuracy = 0.0;  // matched voxels with the right label / matched voxels
 };
 

@@ -58,13 +58,14 @@ void ModelCard::validate() const {
   for (double s : std)
     if (!(s > 0)) fail("input.std entries must be positive", "std > 0");
   if (top_k < 1 || top_k > 32) fail("top_k = " + std::to_string(top_k) + " out of range", "1..32");
+  if (label_stride < 1 || label_stride > 16) fail("label_stride = " + std::to_string(label_stride) + " out of range", "1..16");
   if (threads < 0) fail("threads must be >= 0", "0 (OpenCV default) or a thread count");
 }
 
 ModelCard load_model_card(const std::string& card_path, const std::string& model_dir) {
   const YAML::Node root = load_yaml_file(card_path);
   const std::string& ctx = card_path;
-  check_known_keys(root, {"name", "model", "classes", "class_map", "ignore_classes", "input", "output", "upsample",
+  check_known_keys(root, {"name", "model", "classes", "class_map", "ignore_classes", "input", "output", "upsample", "label_stride",
                           "top_k", "threads", "notes", "training", "metrics"},
                    ctx);
   const std::string card_dir = fs::path(card_path).parent_path().string();
@@ -79,6 +80,7 @@ ModelCard load_model_card(const std::string& card_path, const std::string& model
   yaml_get(root, "ignore_classes", c.ignore_classes, ctx);
   yaml_get(root, "top_k", c.top_k, ctx);
   yaml_get(root, "threads", c.threads, ctx);
+  yaml_get(root, "label_stride", c.label_stride, ctx);
   c.model_path = resolve(data_dir, model);
   c.classes_path = resolve(data_dir, classes);
   c.class_map_path = resolve(card_dir, class_map);

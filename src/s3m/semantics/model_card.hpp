@@ -22,6 +22,9 @@
 //                                       # half_pixel (like cv::resize) | align_corners
 //   upsample: linear                    # linear: class probabilities bilinearly resampled, then top-k;
 //                                       # nearest: top-k at network resolution, then nearest (faster)
+//   label_stride: 1                     # linear only: interpolate + rank at every s-th pixel, then copy
+//                                       # each result into its s x s block (s = 2: ~4x cheaper; the
+//                                       # network's own grid is 8-32 camera pixels, so no visible loss)
 //   top_k: 3
 //   threads: 0                          # cv::setNumThreads (process-wide!); 0 = leave as is
 #include <array>
@@ -50,6 +53,7 @@ struct ModelCard {
   Output output = Output::kLogits;
   Grid grid = Grid::kHalfPixel;
   Upsample upsample = Upsample::kLinear;
+  int label_stride = 1;  // [px]
   int top_k = 3;
   int threads = 0;
 

@@ -167,9 +167,16 @@ LabelMap OnnxSegmenter::segment(const cv::Mat& bgr) {
   // 4. back to the camera image and top-k
   const cv::Mat M = camera_to_output(geo);
   const int k = card_.top_k;
-  if (card_.upsample == ModelCard::Upsample::kLinear)
-    return resample_topk(proj, active_, k, bgr.size(),
-                         AxisMap{M.at<double>(0, 0), M.at<double>(0, 2), M.at<double>(1, 1), M.at<double>(1, 2)});
+  if (card_.upsample == ModelCard::Upsample::kLinear) {
+    const int s = card_.label_stride;
+    const double ax = M.at<double>(0, 0), bx = M.at<double>(0, 2), ay = M.at<double>(1, 1), by = M.at<double>(1, 2);
+    if (s == 1) return resample_topk(proj, active_, k, bgr.size(), AxisMap{ax, bx, ay, by});
+    // coarse pixel u' stands for the centre of camera block [s u', s u' + s): u = s u' + (s - 1) / 2
+    const cv::Size coarse((bgr.cols + s - 1) / s, (bgr.rows + s - 1) / s);
+    const double c = 0.5 * (s - 1);
+    const LabelMap m = resample_topk(proj, active_, k, coarse, AxisMap{ax * s, ax * c + bx, ay * s, ay * c + by});
+    return upsample_blocks(m, s, bgr.size());
+  }
   const LabelMap small = topk_from_planes(proj, active_, k);
   LabelMap full = make_label_map(bgr.rows, bgr.cols, k);
   std::vector<int> xs(bgr.cols);

@@ -22,4 +22,7 @@ struct AxisMap {
 LabelMap resample_topk(const std::vector<cv::Mat>& planes, const std::vector<ClassId>& plane_ids, int k,
                        cv::Size out_size, const AxisMap& map);
 
+// Copies each pixel of m into an s x s block and crops to out_size (nearest-neighbour upsampling).
+LabelMap upsample_blocks(const LabelMap& m, int s, cv::Size out_size);
+
 }  // namespace s3m::semantics
