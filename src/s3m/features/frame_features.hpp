@@ -20,8 +20,8 @@ struct FeatureConfig {
   // Depth is not trusted where the neighbourhood spans an edge (unregistered depth makes
   // keypoints on object borders pick up the background): reject when max - min over a
   // (2*depth_window_px+1)^2 window exceeds depth_discontinuity_ratio * z.
-  double depth_discontinuity_ratio = 0.02;
-  int depth_window_px = 3;
+  double depth_discontinuity_ratio = 0.05;
+  int depth_window_px = 2;
 
   void validate() const;
 };
