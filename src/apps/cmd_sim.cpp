@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "commands.hpp"
 #include "s3m/core/error.hpp"
@@ -18,10 +19,23 @@ struct SimArgs {
   int frames = 300, width = 640, height = 480, drop_frames = 0, motion_blur = 1;
   std::uint64_t seed = 7;
   double fps = 30.0, voxel_res_m = 0.05;
-  bool noise = true;
+  bool noise = true, snapshots_only = false;
 };
 
-// One picture per requested frame: colour | colourised depth | colourised labels.
+// A strip naming the classes present in a label image, with their palette colours.
+cv::Mat label_legend(const cv::Mat& labels, int width) {
+  cv::Mat strip(36, width, CV_8UC3, cv::Scalar(255, 255, 255));
+  int x = 8;
+  for (const ClassInfo& c : indoor_classes().all()) {
+    if (c.id == cls::kUnknown || cv::countNonZero(labels == c.id) == 0) continue;
+    cv::rectangle(strip, cv::Rect(x, 9, 18, 18), cv::Scalar(c.b, c.g, c.r), cv::FILLED);
+    cv::putText(strip, c.name, {x + 24, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    x += 24 + 11 * static_cast<int>(c.name.size()) + 18;
+  }
+  return strip;
+}
+
+// One picture per requested frame: colour | depth (turbo, 0-5 m, black = missing) | labels, and a legend.
 void write_snapshots(const sim::SimConfig& cfg, const std::string& list, const std::string& out_dir) {
   const sim::Simulation sim(cfg);
   std::stringstream ss(list);
@@ -32,9 +46,10 @@ void write_snapshots(const sim::SimConfig& cfg, const std::string& list, const s
     require(i >= 0 && i < static_cast<int>(sim.size()), "--snapshots: frame " + item + " is outside the sequence");
     const RgbdFrame f = sim.frame(i);
     cv::Mat row;
-    cv::hconcat(std::vector<cv::Mat>{f.rgb, sim::colourise_depth(f.depth_m, cfg.sensor.max_depth_m),
+    cv::hconcat(std::vector<cv::Mat>{f.rgb, sim::colourise_depth(f.depth_m, 5.0),
                                      sim::colourise_labels(f.labels)},
                 row);
+    cv::vconcat(row, label_legend(f.labels, row.cols), row);
     const std::string path = (std::filesystem::path(out_dir) / "snapshots" / ("frame_" + item + ".png")).string();
     if (!cv::imwrite(path, row)) throw Error("cannot write " + path);
   }
@@ -57,6 +72,12 @@ void run(const SimArgs& a, const CLI::App& cmd) {
     cfg.sensor.camera = sim::sensor_camera(a.camera, a.width, a.height);
   cfg.validate();
 
+  if (a.snapshots_only) {
+    require(!a.snapshots.empty(), "--snapshots-only needs --snapshots");
+    write_snapshots(cfg, a.snapshots, a.out_dir);
+    std::fprintf(stderr, "s3m sim: wrote snapshots %s to %s/snapshots\n", a.snapshots.c_str(), a.out_dir.c_str());
+    return;
+  }
   std::fprintf(stderr, "s3m sim: scene %s (seed %llu), trajectory %s, %d frames at %dx%d -> %s\n", cfg.scene.c_str(),
                static_cast<unsigned long long>(cfg.seed), cfg.trajectory.type.c_str(), cfg.trajectory.frames,
                cfg.sensor.camera.width, cfg.sensor.camera.height, a.out_dir.c_str());
@@ -97,6 +118,7 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--motion-blur", args->motion_blur, "Motion blur samples per frame (1 = off)")->capture_default_str();
   cmd->add_option("--voxel-res", args->voxel_res_m, "Ground-truth voxel map resolution [m]")->capture_default_str();
   cmd->add_option("--snapshots", args->snapshots, "Comma-separated frame indices to save as rgb|depth|labels PNGs");
+  cmd->add_flag("--snapshots-only", args->snapshots_only, "Only write the --snapshots pictures, no sequence");
   cmd->callback([args, cmd] { run(*args, *cmd); });
 }
 

@@ -122,18 +122,19 @@ TEST(MappingFusionPaper, DifferentLengths) {
   EXPECT_NEAR(map.prob_of(C), 0.025 / 0.275, 1e-6);
 }
 
-TEST(MappingFusionMax, AgreeAveragesDisagreeReplacesOrDecays) {
+TEST(MappingFusionMax, KeepsMostConfidentViewAndDecaysOnDisagreement) {
   const auto c = cfg(FusionPolicy::kMaxConfidence);
   LabelSet map = L({{A, 0.6f}, {B, 0.3f}});
-  fuse_max_confidence(map, L({{A, 0.8f}, {C, 0.1f}}), c);  // agree: per-label mean
-  EXPECT_NEAR(map.prob_of(A), 0.7, 1e-6);
-  EXPECT_NEAR(map.prob_of(B), 0.15, 1e-6);
-  EXPECT_NEAR(map.prob_of(C), 0.05, 1e-6);
-  fuse_max_confidence(map, L({{C, 0.5f}}), c);  // less confident disagreement: decay by .9
-  EXPECT_NEAR(map.prob_of(A), 0.63, 1e-6);
+  fuse_max_confidence(map, L({{A, 0.5f}, {C, 0.4f}}), c);  // weaker, agrees: unchanged
+  EXPECT_EQ(map, L({{A, 0.6f}, {B, 0.3f}}));
+  fuse_max_confidence(map, L({{A, 0.8f}, {C, 0.1f}}), c);  // more confident: replaces
+  EXPECT_EQ(map, L({{A, 0.8f}, {C, 0.1f}}));
+  fuse_max_confidence(map, L({{C, 0.5f}}), c);  // weaker, disagrees: decay by .9
+  EXPECT_NEAR(map.prob_of(A), 0.72, 1e-6);
+  EXPECT_NEAR(map.prob_of(C), 0.09, 1e-6);
   EXPECT_EQ(map.top(), A);
-  fuse_max_confidence(map, L({{C, 0.9f}, {A, 0.05f}}), c);  // more confident: replace
-  EXPECT_EQ(map, L({{C, 0.9f}, {A, 0.05f}}));
+  fuse_max_confidence(map, L({{C, 0.75f}, {A, 0.05f}}), c);  // beats the decayed .72
+  EXPECT_EQ(map, L({{C, 0.75f}, {A, 0.05f}}));
 }
 
 TEST(MappingFusionBayes, MultiplyAndNormaliseWithOtherBin) {

@@ -1,6 +1,7 @@
 // Ray-cast geometry and labels: every pixel's depth back-projects onto the surface it hit.
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
+#include <tbb/global_control.h>
 
 #include "s3m/sim/simulate.hpp"
 #include "sim_test_util.hpp"
@@ -105,6 +106,47 @@ TEST(SimRender, ImagesAreTexturedNotFlat) {
   cv::Sobel(grey, gy, CV_32F, 0, 1);
   cv::Mat mag = cv::abs(gx) + cv::abs(gy);
   EXPECT_GT(cv::countNonZero(mag > 60.0f), 0.03 * grey.total());
+}
+
+}  // namespace
+}  // namespace s3m::sim
+
+namespace s3m::sim {
+namespace {
+
+TEST(SimRender, ResultDoesNotDependOnThreadCount) {
+  const Renderer r(make_scene("office", 2), test::small_sensor(128, 96, true));
+  const SE3 T = test::looking_along_x({2.0, 2.5, 1.2});
+  RgbdFrame one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = r.render(T, 9);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = r.render(T, 9);
+  }
+  EXPECT_EQ(cv::norm(one.rgb, two.rgb, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(one.depth_m, two.depth_m, cv::NORM_INF), 0.0);
+}
+
+TEST(SimRender, MotionBlurAveragesTheExposure) {
+  SensorConfig s = test::small_sensor(128, 96, false);
+  s.optics_blur_px = 0.0;
+  s.motion_blur_samples = 4;
+  const Renderer r(make_scene("office", 2), s);
+  const SE3 T_close = test::looking_along_x({2.0, 2.5, 1.2});
+  SE3 T_open = T_close;
+  T_open.translation().y() += 0.05;  // 5 cm sideways during the exposure
+  const RgbdFrame still = r.render(T_close, 1, &T_close), moving = r.render(T_close, 1, &T_open);
+  EXPECT_EQ(cv::norm(still.rgb, r.render_ideal(T_close).rgb, cv::NORM_INF), 0.0) << "no motion, no blur";
+  EXPECT_GT(cv::norm(moving.rgb, still.rgb, cv::NORM_L1) / still.rgb.total(), 1.0);
+  EXPECT_EQ(cv::norm(moving.depth_m, still.depth_m, cv::NORM_INF), 0.0) << "depth is the closing-shutter snapshot";
+  // Blur removes high frequencies: less gradient energy than the sharp image.
+  cv::Mat gs, gm;
+  cv::Laplacian(still.rgb, gs, CV_32F);
+  cv::Laplacian(moving.rgb, gm, CV_32F);
+  EXPECT_LT(cv::norm(gm, cv::NORM_L2), 0.9 * cv::norm(gs, cv::NORM_L2));
 }
 
 }  // namespace

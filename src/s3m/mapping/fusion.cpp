@@ -148,25 +148,21 @@ void fuse_paper(LabelSet& map, const LabelSet& obs, const FusionConfig& cfg) {
   write_top_k(q1, cfg.k, map);
 }
 
-// Max-confidence (as in semantic_slam's max fusion, extended to k labels): agreeing top labels
-// average their lists; a more confident disagreeing observation replaces the list; a less
-// confident one decays the stored list so persistent contrary evidence eventually wins.
+// Max-confidence (semantic_slam's max fusion, extended to k labels): the voxel keeps the list of
+// its most confident view. A weaker view that agrees on the top label changes nothing; a weaker
+// disagreeing view decays the stored list by max_decay, so persistent contrary evidence
+// eventually wins; a more confident view replaces the list.
 void fuse_max_confidence(LabelSet& map, const LabelSet& obs_in, const FusionConfig& cfg) {
   LabelSet obs = obs_in;
   obs.normalise(cfg.k);
   if (obs.empty()) return;
-  if (map.empty() || (obs.top() != map.top() && obs.top_prob() > map.top_prob())) {
+  if (map.empty() || obs.top_prob() > map.top_prob()) {
     map = obs;
     return;
   }
+  if (obs.top() == map.top()) return;
   Work w(map);
-  if (obs.top() == map.top()) {
-    for (int i = 0; i < obs.n; ++i)
-      if (w.find(obs.ids[i]) < 0) w.push(obs.ids[i], 0.0);
-    for (int i = 0; i < w.n; ++i) w.p[i] = 0.5 * (w.p[i] + obs.prob_of(w.ids[i]));
-  } else {
-    for (int i = 0; i < w.n; ++i) w.p[i] *= cfg.max_decay;
-  }
+  for (int i = 0; i < w.n; ++i) w.p[i] *= cfg.max_decay;
   write_top_k(w, cfg.k, map);
 }
 

@@ -28,9 +28,8 @@ const std::array<std::uint8_t, 4096>& srgb_table() {
   }();
   return table;
 }
-inline std::uint8_t to_srgb(float x) {
-  const int i = static_cast<int>(std::min(std::max(x, 0.0f), 1.0f) * 4095.0f + 0.5f);
-  return srgb_table()[i];
+inline std::uint8_t to_srgb(const std::uint8_t* table, float x) {
+  return table[static_cast<int>(std::min(std::max(x, 0.0f), 1.0f) * 4095.0f + 0.5f)];
 }
 
 // Outward unit normal of the primitive surface nearest to p_p (primitive frame).
@@ -60,6 +59,14 @@ Eigen::Vector3f local_normal(Shape shape, const Eigen::Vector3f& h, const Eigen:
 Renderer::Renderer(const Scene& scene, const SensorConfig& sensor)
     : scene_(scene), sensor_(sensor), raycaster_(scene_) {
   sensor_.validate();
+  // 1 / |(x, y, 1)| per pixel: the ray length per unit depth does not depend on the pose.
+  const PinholeCamera& c = sensor_.camera;
+  inv_ray_length_.create(c.height, c.width, CV_32FC1);
+  for (int v = 0; v < c.height; ++v)
+    for (int u = 0; u < c.width; ++u) {
+      const double x = (u - c.cx) / c.fx, y = (v - c.cy) / c.fy;
+      inv_ray_length_.at<float>(v, u) = static_cast<float>(1.0 / std::sqrt(x * x + y * y + 1.0));
+    }
   for (const auto& p : scene_.primitives) {
     const SE3 T_p_w = p.T_w_p.inverse();
     prim_cache_.push_back({T_p_w.linear().cast<float>(), p.T_w_p.linear().cast<float>(),
@@ -84,11 +91,13 @@ IdealView Renderer::render_ideal(const SE3& T_w_c) const {
     float gain;
   };
   std::vector<Light> lights;
+  const std::uint8_t* srgb = srgb_table().data();
   for (const auto& l : scene_.lights) lights.push_back({l.position_w.cast<float>(), kLightGain * l.intensity});
 
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 4), [&](const tbb::blocked_range<int>& rows) {
     RayPacket pk;
     for (int r = rows.begin(); r < rows.end(); ++r) {
+      const float* inv_len = inv_ray_length_.ptr<float>(r);
       for (int u0 = 0; u0 < W; u0 += kPacket) {
         // 1. Rays with camera-frame direction (x, y, 1): the hit parameter t is the z depth.
         Eigen::Vector3f d_w[kPacket];
@@ -124,7 +133,7 @@ IdealView Renderer::render_ideal(const SE3& T_w_c) const {
           const Eigen::Vector3f p_p = pc.R_p_w * p_w + pc.t_p_w;
           const Eigen::Vector3f n_p = local_normal(prim.shape, pc.half_m, p_p);
           Eigen::Vector3f n_w = pc.R_w_p * n_p;
-          const float dn = n_w.dot(d_w[i]) / d_w[i].norm();
+          const float dn = n_w.dot(d_w[i]) * inv_len[u];
           if (dn > 0) n_w = -n_w;  // seen from behind (inside a primitive): light the visible side
           const Eigen::Vector3f a = albedo(prim.material, prim.shape, pc.half_m, p_p, n_p);
           float light = scene_.ambient;
@@ -133,7 +142,7 @@ IdealView Renderer::render_ideal(const SE3& T_w_c) const {
             const float d2 = L.squaredNorm();
             light += std::max(0.0f, n_w.dot(L)) * l.gain / (std::sqrt(d2) * (1.0f + kLightFalloff * d2));
           }
-          bgr[u] = {to_srgb(a.z() * light), to_srgb(a.y() * light), to_srgb(a.x() * light)};
+          bgr[u] = {to_srgb(srgb, a.z() * light), to_srgb(srgb, a.y() * light), to_srgb(srgb, a.x() * light)};
           depth[u] = pk.t_hit[i];
           label[u] = prim.label;
           lum[u] = 0.2126f * a.x() + 0.7152f * a.y() + 0.0722f * a.z();

@@ -49,6 +49,7 @@ class Renderer {
     Eigen::Vector3f t_p_w, half_m;
   };
   std::vector<PrimCache> prim_cache_;
+  cv::Mat inv_ray_length_;  // CV_32FC1: 1 / |(x, y, 1)| of each pixel's ray
 };
 
 // Colour image of a label map using the indoor class palette (BGR), for pictures and debugging.

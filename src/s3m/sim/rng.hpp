@@ -46,4 +46,11 @@ inline double gaussian(std::uint64_t h1, std::uint64_t h2) {
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
 }
 
+// Single-precision variant for per-pixel sensor noise (float log/cos are ~2x cheaper).
+inline float gaussian_f(std::uint64_t h) {
+  const float u1 = static_cast<float>((h >> 40) + 1) * (1.0f / 16777217.0f);  // (0, 1]
+  const float u2 = static_cast<float>(h & 0xFFFFFF) * (1.0f / 16777216.0f);
+  return std::sqrt(-2.0f * std::log(u1)) * std::cos(6.2831853f * u2);
+}
+
 }  // namespace s3m::sim

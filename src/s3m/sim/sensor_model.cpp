@@ -34,7 +34,7 @@ bool is_depth_edge(const cv::Mat& z, int r, int u, float rel) {
 cv::Mat sensor_depth(const IdealView& v, const SensorConfig& s, std::uint64_t seed) {
   cv::Mat out(v.depth_m.size(), CV_32FC1);
   const std::uint64_t k_edge = stream_key(seed, kEdge), k_dark = stream_key(seed, kDark),
-                      k_rand = stream_key(seed, kRandom), k_a = stream_key(seed, kDepthA), k_b = stream_key(seed, kDepthB);
+                      k_rand = stream_key(seed, kRandom), k_a = stream_key(seed, kDepthA);
   tbb::parallel_for(tbb::blocked_range<int>(0, out.rows, 8), [&](const tbb::blocked_range<int>& rows) {
     for (int r = rows.begin(); r < rows.end(); ++r)
       for (int u = 0; u < out.cols; ++u) {
@@ -52,8 +52,8 @@ cv::Mat sensor_depth(const IdealView& v, const SensorConfig& s, std::uint64_t se
           o = 0.0f;
           continue;
         }
-        const double n = gaussian(draw(k_a, px), draw(k_b, px));
-        o = static_cast<float>(std::max(1e-3, z + s.depth_sigma_m(z) * n));
+        const float n = gaussian_f(draw(k_a, px));
+        o = std::max(1e-3f, z + static_cast<float>(s.depth_sigma_m(z)) * n);
       }
   });
   return out;

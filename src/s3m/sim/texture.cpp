@@ -68,7 +68,7 @@ FaceUv face_uv(const Vec3f& p, const Vec3f& n, const Vec3f& h) {
 }
 
 Vec3f paint(const Material& m, const FaceUv& f) {
-  const float blot = fbm(f.s / m.scale_m, f.t / m.scale_m, m.seed, 3);
+  const float blot = fbm(f.s / m.scale_m, f.t / m.scale_m, m.seed, 2);
   Vec3f c = m.base * (0.88f + 0.24f * blot);
   if (blot > 0.66f) c = mix(c, m.accent, 0.35f);  // sharp-edged stains give corners
   const float speck = hash01(static_cast<int>(f.s * 200.0f), static_cast<int>(f.t * 200.0f), m.seed ^ 7u);
