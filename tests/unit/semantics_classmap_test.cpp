@@ -59,6 +59,8 @@ TEST(SemanticsClassMap, ErrorsNameFileLineAndProblem) {
   expect_error("maps:\n  wall: [wall]\n", "unknown key 'maps'");
   expect_error("palette:\n  wall: [1, 2]\nmap:\n  wall: wall\n", "bad palette colour");
   expect_error("default: other\n", "missing 'map'");
+  expect_error("map:\n  [wall, floor]: wall\n", "bad class map entry");  // wrong shapes -> ParseError, not YAML's
+  expect_error("map:\n  wall: [[wall]]\n", "bad class map entry");
 }
 
 TEST(SemanticsClassMap, ByNameAndNameFileFormats) {
@@ -74,6 +76,7 @@ TEST(SemanticsClassMap, ByNameAndNameFileFormats) {
   EXPECT_EQ(tsv[3], "floor mat");
   EXPECT_EQ(tsv[1], "");
   EXPECT_THROW(read_class_names("/nonexistent/names.txt"), ParseError);
+  EXPECT_THROW(read_class_names(write_tmp("huge.tsv", "99999999999999999999999\twall\n")), ParseError);
 }
 
 TEST(SemanticsClassMap, ShippedAde20kAndSunMapsLoad) {

@@ -119,5 +119,7 @@ TEST(SemanticsOnnx, BadCardsAndModelsFailAtLoadWithClearMessages) {
   expect_error(card_text() + "output: {type: softmax}\n", "bad value 'softmax' for 'type'");
   expect_error(card_text() + "ignore_classes: [sky]\n", "ignore_classes names 'sky'");
   expect_error(card_text() + "modle: x.onnx\n", "unknown key 'modle'");
+  expect_error(card_text() + "output: {type: {a: 1}}\n", "bad model card entry");
+  expect_error(card_text(kData + "tiny_rgb.onnx", 100000, 16), "input size missing or out of range");
   expect_error("classes: x.txt\ninput: {width: 16, height: 16}\n", "no 'model' given");
 }

@@ -168,4 +168,5 @@ TEST(SemanticsOracle, ConfigValidationAndYaml) {
   EXPECT_EQ(c.similar.at(cls::kWall), default_similar().at(cls::kWall));
   EXPECT_THROW(load_oracle_config(YAML::Load("similar:\n  chair: [spaceship]\n"), "t.yaml"), ParseError);
   EXPECT_THROW(load_oracle_config(YAML::Load("confusion: 0.1\n"), "t.yaml"), ParseError);
+  EXPECT_THROW(load_oracle_config(YAML::Load("similar:\n  [chair]: [sofa]\n"), "t.yaml"), ParseError);
 }

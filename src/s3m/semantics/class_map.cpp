@@ -43,7 +43,7 @@ std::vector<std::string> read_class_names(const std::string& path) {
     if (tab != std::string::npos) {
       const std::string id_str = trim(t.substr(0, tab));
       if (!id_str.empty() && id_str.find_first_not_of("0123456789") == std::string::npos) {
-        const std::size_t id = std::stoul(id_str);
+        const std::size_t id = id_str.size() > 6 ? 999999 : std::stoul(id_str);
         if (id > 65535) throw ParseError(path, line_no, "class id " + id_str + " too large", "an id <= 65535");
         if (names.size() <= id) names.resize(id + 1);
         if (!names[id].empty()) throw ParseError(path, line_no, "class id " + id_str + " listed twice", "unique ids");
@@ -61,6 +61,15 @@ std::vector<std::string> read_class_names(const std::string& path) {
 ClassMap ClassMap::load(const std::string& yaml_path, const std::vector<std::string>& source_names,
                         const ClassList& target) {
   const YAML::Node root = load_yaml_file(yaml_path);
+  try {
+    return parse(root, yaml_path, source_names, target);
+  } catch (const YAML::Exception& e) {  // an entry of the wrong shape
+    throw ParseError(yaml_path, e.mark.line + 1, "bad class map entry: " + e.msg, "the layout in class_map.hpp");
+  }
+}
+
+ClassMap ClassMap::parse(const YAML::Node& root, const std::string& yaml_path, const std::vector<std::string>& source_names,
+                         const ClassList& target) {
   check_known_keys(root, {"source", "default", "map", "palette"}, yaml_path);
   std::map<std::string, int> source_index;
   for (std::size_t i = 0; i < source_names.size(); ++i)

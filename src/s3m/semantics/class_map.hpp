@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
+#include <yaml-cpp/yaml.h>
 
 #include "s3m/core/classes.hpp"
 
@@ -46,6 +47,8 @@ class ClassMap {
   cv::Mat apply(const cv::Mat& source_labels, ClassId out_of_range = cls::kUnknown) const;
 
  private:
+  static ClassMap parse(const YAML::Node& root, const std::string& yaml_path, const std::vector<std::string>& source_names,
+                        const ClassList& target);
   std::vector<ClassId> table_;  // source id -> project id
   ClassList target_;
 };

@@ -47,13 +47,16 @@ std::array<double, 3> triple(const YAML::Node& node, const std::string& key, std
 
 }  // namespace
 
+ModelCard parse_model_card(const YAML::Node& root, const std::string& card_path, const std::string& model_dir);
+
 void ModelCard::validate() const {
   auto fail = [&](const std::string& what, const std::string& expected) {
     throw ParseError(card_path, 0, what, expected);
   };
   if (model_path.empty()) fail("no 'model' given", "model: <file.onnx>");
   if (classes_path.empty()) fail("no 'classes' given", "classes: <class names file>");
-  if (input_width <= 0 || input_height <= 0) fail("input size missing or not positive", "input: {width: W, height: H} in pixels");
+  if (input_width <= 0 || input_height <= 0 || input_width > 8192 || input_height > 8192)
+    fail("input size missing or out of range", "input: {width: W, height: H}, 1..8192 pixels");
   if (!(scale > 0)) fail("input.scale must be positive", "scale > 0");
   for (double s : std)
     if (!(s > 0)) fail("input.std entries must be positive", "std > 0");
@@ -64,6 +67,14 @@ void ModelCard::validate() const {
 
 ModelCard load_model_card(const std::string& card_path, const std::string& model_dir) {
   const YAML::Node root = load_yaml_file(card_path);
+  try {
+    return parse_model_card(root, card_path, model_dir);
+  } catch (const YAML::Exception& e) {  // a value of the wrong shape (a map where a name belongs, ...)
+    throw ParseError(card_path, e.mark.line + 1, "bad model card entry: " + e.msg, "the layout in model_card.hpp");
+  }
+}
+
+ModelCard parse_model_card(const YAML::Node& root, const std::string& card_path, const std::string& model_dir) {
   const std::string& ctx = card_path;
   check_known_keys(root, {"name", "model", "classes", "class_map", "ignore_classes", "input", "output", "upsample", "label_stride",
                           "top_k", "threads", "notes", "training", "metrics"},

@@ -39,6 +39,8 @@ ClassId surrounding_class(const cv::Mat& gt, const cv::Mat& region_mask, const c
 
 }  // namespace
 
+OracleNoiseConfig parse_oracle_config(const YAML::Node& node, const std::string& ctx);
+
 std::map<ClassId, std::vector<ClassId>> default_similar() {
   using namespace cls;
   return {{kWall, {kDoor, kWindow, kCeiling}}, {kFloor, {kOther, kTable}},     {kCeiling, {kWall}},
@@ -58,6 +60,14 @@ void OracleNoiseConfig::validate() const {
 }
 
 OracleNoiseConfig load_oracle_config(const YAML::Node& node, const std::string& ctx) {
+  try {
+    return parse_oracle_config(node, ctx);
+  } catch (const YAML::Exception& e) {
+    throw ParseError(ctx, e.mark.line + 1, "bad oracle entry: " + e.msg, "oracle: {enabled, confusion_rate, ..., similar: {class: [classes]}}");
+  }
+}
+
+OracleNoiseConfig parse_oracle_config(const YAML::Node& node, const std::string& ctx) {
   OracleNoiseConfig c;
   c.similar = default_similar();
   if (!node) return c;
