@@ -47,7 +47,8 @@ void Tracker::set_pose(const SE3& T_w_c) {
   last_.T_c_w = T_w_c.inverse();
   std::fill(last_.matched.begin(), last_.matched.end(), 0);
   velocity_.reset();
-  state_ = TrackState::kLost;  // the next frame tracks against the reference keyframe / local map
+  state_ = TrackState::kLost;  // the next frame tracks against the local map from this pose
+  resume_from_pose_ = true;
 }
 
 TrackerOutput Tracker::process(const RgbdFrame& frame, int pending_keyframes) {
@@ -84,8 +85,11 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   if (!ok) {
     cur = Frame{cur.f, last_.T_c_w, std::vector<PointId>(n, kNoId), std::vector<Vec3>(n, Vec3::Zero()),
                 std::vector<char>(n, 0)};
-    ok = track_reference_keyframe(cur);
+    // After relocalisation the pose prior is good while the reference keyframe's view may be too
+    // different for brute-force matching: local-map tracking by projection decides directly.
+    ok = resume_from_pose_ || track_reference_keyframe(cur);
   }
+  resume_from_pose_ = false;
   // 4. Local map: more matches, final pose.
   if (ok) ok = track_local_map(cur);
   out.n_inliers = 0;

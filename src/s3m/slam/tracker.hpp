@@ -96,6 +96,7 @@ class Tracker {
   std::shared_ptr<const LocalMapSnapshot> snapshot_;
   TrackState state_ = TrackState::kNotInitialized;
   Frame last_;
+  bool resume_from_pose_ = false;  // set_pose() was called: the next frame tracks the local map from it
   std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
   int last_keyframe_frame_ = 0;
   KfId n_requests_ = 0;          // keyframe ids are assigned by the Map in request order

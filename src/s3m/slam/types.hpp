@@ -11,13 +11,15 @@ constexpr std::int64_t kNoId = -1;
 
 using Descriptor = std::array<std::uint8_t, 32>;  // one ORB descriptor
 
-enum class TrackState { kNotInitialized, kOk, kLost };
+// kRelocalised: the frame was LOST for tracking and relocalised against the whole map (issue 6).
+enum class TrackState { kNotInitialized, kOk, kLost, kRelocalised };
 
 inline const char* to_string(TrackState s) {
   switch (s) {
     case TrackState::kNotInitialized: return "NOT_INITIALIZED";
     case TrackState::kOk: return "OK";
     case TrackState::kLost: return "LOST";
+    case TrackState::kRelocalised: return "RELOCALISED";
   }
   return "?";
 }

@@ -1,0 +1,150 @@
+#include "s3m/slam/loop_closer.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "s3m/core/error.hpp"
+#include "s3m/features/orb_matcher.hpp"
+#include "s3m/slam/point_fusion.hpp"
+
+namespace s3m::slam {
+
+void LoopConfig::validate() const {
+  require(min_keyframes >= 1 && min_keyframes_since_loop >= 0, "loop: keyframe gaps must be >= 1 / >= 0");
+  require(direct_level >= 0, "loop.direct_level must be >= 0");
+  detector.validate();
+  bow_match.validate();
+  ransac.validate();
+  require(min_bow_matches >= 3 && min_projection_matches >= 3, "loop: match minimums must be >= 3");
+  require(loop_group_size >= 0 && search_radius_factor > 0, "loop: bad loop_group_size / search_radius_factor");
+  pose_graph.validate();
+}
+
+LoopCloser::LoopCloser(std::shared_ptr<const features::Vocabulary> vocabulary, const PinholeCamera& camera,
+                       const LoopConfig& config)
+    : camera_(camera), config_(config), index_(std::move(vocabulary), config.direct_level), detector_(config.detector) {
+  config_.validate();
+}
+
+bool LoopCloser::process(Map& map, KfId kf) {
+  // 1. Keep the BoW index in step with the map (new keyframe in, culled keyframes out).
+  index_.sync(map);
+  if (!map.has_keyframe(kf) || !index_.find(kf)) return false;
+  if (map.n_keyframes() < config_.min_keyframes) return false;
+  if (last_loop_kf_ != kNoId && kf - last_loop_kf_ < config_.min_keyframes_since_loop) return false;
+  // 2. Candidates that have been consistent for several keyframes.
+  const std::vector<KfId> candidates = detector_.detect(map, index_, kf);
+  if (candidates.empty()) return false;
+  // 3. Geometric verification.
+  const auto verified = verify(map, kf, candidates);
+  if (!verified) return false;
+  // 4-6. Correction, fusion, pose graph, optional global BA.
+  const LoopCorrection correction = correct(map, kf, *verified);
+  detector_.reset();
+  last_loop_kf_ = kf;
+  // 7. Tell whoever built something from keyframe poses.
+  for (const auto& l : listeners_) l(correction);
+  return true;
+}
+
+std::optional<SE3> LoopCloser::ransac_with_bow(const Map& map, KfId cur_id, KfId cand_id) const {
+  const KeyFrame& cur = map.keyframe(cur_id);
+  const KeyFrame& cand = map.keyframe(cand_id);
+  std::vector<bool> has_point(cand.points.size());
+  for (size_t j = 0; j < cand.points.size(); ++j) has_point[j] = cand.points[j] != kNoId && map.has_point(cand.points[j]);
+  const auto matches = features::match_by_bow(index_.find(cur_id)->direct, cur.features->descriptors,
+                                              index_.find(cand_id)->direct, cand.features->descriptors,
+                                              config_.bow_match, has_point);
+  if (int(matches.size()) < config_.min_bow_matches) return std::nullopt;
+  // Candidate side: its map points in its camera frame; current side: own map point if any, else
+  // the keypoint's depth.
+  const SE3 T_cand_w = cand.T_w_c.inverse(), T_cur_w = cur.T_w_c.inverse();
+  std::vector<Vec3> p_cand, p_cur;
+  for (const auto& [i, j] : matches) {
+    const Vec3 a = T_cand_w * map.point(cand.points[size_t(j)]).p_w;
+    const PointId own = cur.points[size_t(i)];
+    if (own != kNoId && map.has_point(own)) {
+      p_cur.push_back(T_cur_w * map.point(own).p_w);
+    } else if (cur.features->has_depth(i)) {
+      const auto& kp = cur.features->keypoints[size_t(i)];
+      p_cur.push_back(camera_.backproject(kp.pt.x, kp.pt.y, cur.features->depth_m[size_t(i)]));
+    } else {
+      continue;
+    }
+    p_cand.push_back(a);
+  }
+  const Se3RansacResult r = estimate_se3_ransac(p_cand, p_cur, config_.ransac);
+  if (!r.success) return std::nullopt;
+  return cand.T_w_c * r.T_a_b;  // T_w_cur as seen from the loop side
+}
+
+std::vector<std::pair<int, PointId>> LoopCloser::search_loop_group(const Map& map, KfId cur_id, KfId loop_kf,
+                                                                   const SE3& T_w_cur) const {
+  const KeyFrame& cur = map.keyframe(cur_id);
+  const features::FrameFeatures& F = *cur.features;
+  std::vector<KfId> group = map.keyframe(loop_kf).best_covisible(config_.loop_group_size);
+  group.push_back(loop_kf);
+  std::set<PointId> seen;
+  std::vector<PointId> ids;
+  std::vector<features::ProjectionQuery> queries;
+  for (KfId g : group) {
+    for (PointId pid : map.keyframe(g).points) {
+      if (pid == kNoId || !map.has_point(pid) || !seen.insert(pid).second) continue;
+      const MapPoint& p = map.point(pid);
+      if (p.bad || p.observations.count(cur_id)) continue;
+      Visibility vis;
+      if (!predict_visibility(p.p_w, p.normal_w, p.min_dist_m, p.max_dist_m, T_w_cur, camera_, F.pyramid, vis)) continue;
+      features::ProjectionQuery q;
+      q.u = vis.uv.x();
+      q.v = vis.uv.y();
+      q.min_level = std::max(0, vis.level - 1);
+      q.max_level = vis.level;
+      q.radius_px = config_.search_radius_factor * F.pyramid.scale[size_t(vis.level)];
+      q.descriptor = p.descriptor.data();
+      queries.push_back(q);
+      ids.push_back(pid);
+    }
+  }
+  features::ProjectionMatchParams params;
+  params.max_distance = features::kMatchStrict;
+  params.ratio = 0.9;
+  std::vector<char> taken(size_t(F.size()), 0);
+  const std::vector<int> hit = features::match_by_projection(F, queries, params, taken);
+  std::vector<std::pair<int, PointId>> matches;
+  for (size_t q = 0; q < hit.size(); ++q) {
+    if (hit[q] >= 0) matches.emplace_back(hit[q], ids[q]);
+  }
+  return matches;
+}
+
+std::optional<LoopCloser::Verified> LoopCloser::verify(const Map& map, KfId cur_id,
+                                                       const std::vector<KfId>& candidates) const {
+  const KeyFrame& cur = map.keyframe(cur_id);
+  for (KfId cand : candidates) {
+    // 1. BoW matches -> SE3 by 3D-3D RANSAC.
+    const auto T_w_cur = ransac_with_bow(map, cur_id, cand);
+    if (!T_w_cur) continue;
+    // 2. Guided search for the loop group's points with that pose.
+    auto matches = search_loop_group(map, cur_id, cand, *T_w_cur);
+    if (int(matches.size()) < config_.min_projection_matches) continue;
+    // 3. Refine on every match with depth: loop-group points (world, loop side) vs the current
+    //    keyframe's back-projected keypoints, then search again with the refined pose.
+    std::vector<Vec3> p_w, p_c;
+    for (const auto& [i, pid] : matches) {
+      if (!cur.features->has_depth(i)) continue;
+      const auto& kp = cur.features->keypoints[size_t(i)];
+      p_c.push_back(camera_.backproject(kp.pt.x, kp.pt.y, cur.features->depth_m[size_t(i)]));
+      p_w.push_back(map.point(pid).p_w);
+    }
+    const Se3RansacResult refined = estimate_se3_ransac(p_w, p_c, config_.ransac);
+    Verified v;
+    v.loop_kf = cand;
+    v.T_w_cur = refined.success ? refined.T_a_b : *T_w_cur;
+    v.matches = search_loop_group(map, cur_id, cand, v.T_w_cur);
+    if (int(v.matches.size()) < config_.min_projection_matches) continue;
+    return v;
+  }
+  return std::nullopt;
+}
+
+}  // namespace s3m::slam

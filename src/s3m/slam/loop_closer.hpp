@@ -1,0 +1,97 @@
+#pragma once
+// Loop closing (ORB-SLAM's LoopClosing, SE3 for RGB-D). Runs in the mapping stage after each
+// keyframe (LocalMapper's keyframe hook), so it owns the Map while it works; process() steps:
+//   1 index the keyframe's BoW, 2 covisibility-consistent candidates, 3 geometric verification
+//   (BoW matches -> 3D-3D RANSAC -> guided search -> refinement), 4 pose propagation to the
+//   keyframe's neighbourhood and fusion of duplicated map points, 5 essential-graph optimisation,
+//   6 optional global BA, 7 listeners get every corrected keyframe pose.
+#include <functional>
+#include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "s3m/core/camera.hpp"
+#include "s3m/features/bow_matcher.hpp"
+#include "s3m/slam/bundle_adjustment.hpp"
+#include "s3m/slam/loop_detector.hpp"
+#include "s3m/slam/loop_geometry.hpp"
+#include "s3m/slam/loop_keyframe_index.hpp"
+#include "s3m/slam/map.hpp"
+#include "s3m/slam/pose_graph.hpp"
+
+namespace s3m::slam {
+
+struct LoopConfig {
+  int min_keyframes = 10;             // no loop search in a map smaller than this
+  int min_keyframes_since_loop = 10;  // keyframes between two loop closures
+  int direct_level = 2;               // vocabulary level of the direct index for BoW matching
+  LoopDetectorConfig detector;
+  features::BowMatchConfig bow_match;
+  int min_bow_matches = 20;           // candidate needs this many BoW matches with map points
+  Se3RansacConfig ransac;             // 3D-3D verification (min_inliers = 20)
+  int loop_group_size = 10;           // covisible keyframes of the loop keyframe searched by projection
+  double search_radius_factor = 3.0;  // projection search window = factor * level scale [px]
+  int min_projection_matches = 40;    // matches with the loop group after the guided search
+  int essential_min_weight = 100;     // covisibility edges in the essential graph
+  PoseGraphConfig pose_graph;
+  bool global_ba = false;             // full BA after the pose graph (slow on large maps)
+  BaConfig ba;
+  void validate() const;
+};
+
+// What a loop closure changed; listeners re-integrate whatever they built from keyframe poses.
+struct LoopCorrection {
+  KfId current_kf = kNoId;
+  KfId loop_kf = kNoId;
+  SE3 T_loop_current = SE3::Identity();  // verified relative pose (current camera -> loop camera)
+  int n_matches = 0;                     // current keypoints matched to loop-group points
+  int n_fused = 0;                       // duplicated points merged or re-observed
+  std::map<KfId, SE3> T_w_kf_before;     // every keyframe, before the correction
+  std::map<KfId, SE3> T_w_kf_after;      // every keyframe, after pose graph (and global BA)
+  // The same corrected poses keyed by the index of the frame each keyframe was made from (the
+  // pipeline's keyframe ids, stable under keyframe culling).
+  std::map<int, SE3> T_w_kf_after_by_frame;
+};
+using LoopListener = std::function<void(const LoopCorrection&)>;
+
+class LoopCloser {
+ public:
+  LoopCloser(std::shared_ptr<const features::Vocabulary> vocabulary, const PinholeCamera& camera,
+             const LoopConfig& config = {});
+
+  // Processes a new keyframe; returns true when a loop was closed. Listeners run on the caller's
+  // thread (the mapping thread in threaded mode).
+  bool process(Map& map, KfId kf);
+  void add_listener(LoopListener listener) { listeners_.push_back(std::move(listener)); }
+  // The BoW index of all keyframes seen so far (shared with relocalisation in single-thread mode).
+  const KeyFrameBowIndex& index() const { return index_; }
+  KeyFrameBowIndex& index() { return index_; }
+  const std::vector<std::pair<KfId, KfId>>& loop_edges() const { return loop_edges_; }
+
+ private:
+  struct Verified {
+    KfId loop_kf = kNoId;
+    SE3 T_w_cur = SE3::Identity();                // corrected pose of the current keyframe
+    std::vector<std::pair<int, PointId>> matches;  // current keypoint -> loop-group point
+  };
+  std::optional<Verified> verify(const Map& map, KfId cur, const std::vector<KfId>& candidates) const;
+  std::optional<SE3> ransac_with_bow(const Map& map, KfId cur, KfId cand) const;
+  std::vector<std::pair<int, PointId>> search_loop_group(const Map& map, KfId cur, KfId loop_kf,
+                                                         const SE3& T_w_cur) const;
+  LoopCorrection correct(Map& map, KfId cur, const Verified& v);
+
+  PinholeCamera camera_;
+  LoopConfig config_;
+  KeyFrameBowIndex index_;
+  LoopDetector detector_;
+  std::vector<LoopListener> listeners_;
+  std::vector<std::pair<KfId, KfId>> loop_edges_;  // (current, loop) of every closed loop
+  KfId last_loop_kf_ = kNoId;
+};
+
+// Full bundle adjustment of every keyframe and point (first keyframe fixed), written back into
+// the map. Returns the number of outlier observations (left in the map, down-weighted by Huber).
+int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConfig& config);
+
+}  // namespace s3m::slam

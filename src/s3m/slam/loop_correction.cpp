@@ -1,0 +1,146 @@
+// Map correction after a verified loop: pose propagation, duplicate fusion, essential graph.
+#include <algorithm>
+#include <set>
+
+#include "s3m/slam/loop_closer.hpp"
+#include "s3m/slam/point_fusion.hpp"
+
+namespace s3m::slam {
+
+namespace {
+
+std::map<KfId, SE3> keyframe_poses(const Map& map) {
+  std::map<KfId, SE3> poses;
+  for (const auto& [id, kf] : map.keyframes()) poses[id] = kf.T_w_c;
+  return poses;
+}
+
+// Essential graph (ORB-SLAM): spanning tree, strong covisibility edges and past loop edges keep
+// the shape measured before the correction (T_before); the new loop links carry the correction.
+std::vector<PoseGraphEdge> essential_graph(const Map& map, const std::map<KfId, SE3>& T_before,
+                                           const std::vector<std::pair<KfId, KfId>>& old_loops,
+                                           const std::set<std::pair<KfId, KfId>>& new_links, int min_weight) {
+  std::vector<PoseGraphEdge> edges;
+  std::set<std::pair<KfId, KfId>> added;
+  auto add = [&](KfId a, KfId b, const SE3& T_w_a, const SE3& T_w_b, bool loop) {
+    if (a == b || !map.has_keyframe(a) || !map.has_keyframe(b)) return;
+    if (!added.insert({std::min(a, b), std::max(a, b)}).second) return;
+    edges.push_back(relative_edge(int(a), int(b), T_w_a, T_w_b, 1.0, loop));
+  };
+  for (const auto& [a, b] : new_links) add(a, b, map.keyframe(a).T_w_c, map.keyframe(b).T_w_c, true);
+  for (const auto& [id, kf] : map.keyframes()) {
+    if (kf.parent != kNoId && map.has_keyframe(kf.parent)) add(kf.parent, id, T_before.at(kf.parent), T_before.at(id), false);
+    for (const auto& [n, w] : kf.covisibility) {
+      if (w >= min_weight && map.has_keyframe(n)) add(id, n, T_before.at(id), T_before.at(n), false);
+    }
+  }
+  for (const auto& [a, b] : old_loops) {
+    if (map.has_keyframe(a) && map.has_keyframe(b)) add(a, b, T_before.at(a), T_before.at(b), true);
+  }
+  return edges;
+}
+
+}  // namespace
+
+LoopCorrection LoopCloser::correct(Map& map, KfId cur_id, const Verified& v) {
+  LoopCorrection out;
+  out.current_kf = cur_id;
+  out.loop_kf = v.loop_kf;
+  out.n_matches = int(v.matches.size());
+  out.T_w_kf_before = keyframe_poses(map);
+  out.T_loop_current = map.keyframe(v.loop_kf).T_w_c.inverse() * v.T_w_cur;
+
+  // 1. Move the current keyframe and its covisible neighbours rigidly onto the loop side.
+  std::set<KfId> group{cur_id};
+  for (const auto& [n, w] : map.keyframe(cur_id).covisibility) group.insert(n);
+  const SE3 correction = v.T_w_cur * map.keyframe(cur_id).T_w_c.inverse();
+  std::map<KfId, SE3> corrected;
+  std::map<KfId, std::set<KfId>> neighbours_before;
+  for (KfId k : group) {
+    corrected[k] = correction * map.keyframe(k).T_w_c;
+    for (const auto& [n, w] : map.keyframe(k).covisibility) neighbours_before[k].insert(n);
+  }
+  map.apply_corrected_poses(corrected);
+
+  // 2. Fuse duplicates: the current keyframe's matches first (the loop side's point survives,
+  //    it is the older, better-observed one), then the loop points projected into the group.
+  std::vector<PointId> loop_points;
+  for (const auto& [i, pid] : v.matches) {
+    if (!map.has_point(pid)) continue;
+    loop_points.push_back(pid);
+    const PointId own = map.keyframe(cur_id).points[size_t(i)];
+    if (own == pid) continue;
+    if (own != kNoId && map.has_point(own)) {
+      map.replace_point(own, pid);
+    } else if (!map.point(pid).observations.count(cur_id)) {
+      map.add_observation(pid, cur_id, i);
+      map.update_point_appearance(pid);
+    }
+    ++out.n_fused;
+  }
+  for (KfId k : group) {
+    if (map.has_keyframe(k)) out.n_fused += fuse_points(map, k, loop_points, camera_);
+  }
+
+  // 3. New covisibility links across the loop become loop edges of the essential graph.
+  std::set<std::pair<KfId, KfId>> new_links{{cur_id, v.loop_kf}};
+  for (KfId k : group) {
+    if (!map.has_keyframe(k)) continue;
+    map.update_covisibility(k);
+    for (const auto& [n, w] : map.keyframe(k).covisibility) {
+      if (!group.count(n) && !neighbours_before[k].count(n)) new_links.insert({k, n});
+    }
+  }
+
+  // 4. Essential-graph optimisation with the first keyframe fixed, then every keyframe (and the
+  //    points it created) moves to its optimised pose.
+  const auto edges = essential_graph(map, out.T_w_kf_before, loop_edges_, new_links, config_.essential_min_weight);
+  std::map<int, SE3> nodes;
+  for (const auto& [id, kf] : map.keyframes()) nodes[int(id)] = kf.T_w_c;
+  optimize_pose_graph(nodes, edges, {nodes.begin()->first}, config_.pose_graph);
+  std::map<KfId, SE3> optimised;
+  for (const auto& [id, T] : nodes) optimised[KfId(id)] = T;
+  map.apply_corrected_poses(optimised);
+  loop_edges_.emplace_back(cur_id, v.loop_kf);
+
+  // 5. Optional global BA to polish points and poses together.
+  if (config_.global_ba) global_bundle_adjustment(map, camera_, config_.ba);
+  out.T_w_kf_after = keyframe_poses(map);
+  for (const auto& [id, kf] : map.keyframes()) out.T_w_kf_after_by_frame[kf.frame_index] = kf.T_w_c;
+  return out;
+}
+
+int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConfig& config) {
+  BaProblem problem;
+  std::map<KfId, int> frame_of;
+  for (const auto& [id, kf] : map.keyframes()) {
+    frame_of[id] = int(problem.T_c_w.size());
+    problem.T_c_w.push_back(kf.T_w_c.inverse());
+    problem.fixed.push_back(problem.T_c_w.size() == 1 ? 1 : 0);
+  }
+  std::vector<PointId> point_ids;
+  for (const auto& [pid, p] : map.points()) {
+    if (p.bad || p.observations.size() < 2) continue;
+    const int point = int(problem.p_w.size());
+    problem.p_w.push_back(p.p_w);
+    point_ids.push_back(pid);
+    for (const auto& [k, idx] : p.observations) {
+      const auto& F = *map.keyframe(k).features;
+      const auto& kp = F.keypoints[size_t(idx)];
+      BaObservation o;
+      o.frame = frame_of.at(k);
+      o.point = point;
+      o.uv = {kp.pt.x, kp.pt.y};
+      o.u_right = F.u_right[size_t(idx)];
+      o.inv_sigma2 = F.pyramid.inv_sigma2[size_t(kp.octave)];
+      problem.obs.push_back(o);
+    }
+  }
+  if (problem.obs.empty()) return 0;
+  const BaResult r = bundle_adjust(problem, camera, config);
+  for (const auto& [id, f] : frame_of) map.set_keyframe_pose(id, problem.T_c_w[size_t(f)].inverse());
+  for (size_t i = 0; i < point_ids.size(); ++i) map.set_point_position(point_ids[i], problem.p_w[i]);
+  return r.n_outliers;
+}
+
+}  // namespace s3m::slam
