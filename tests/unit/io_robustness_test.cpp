@@ -158,3 +158,16 @@ TEST(IoRobustness, PngClaimingHugeSizeIsRejectedBeforeDecoding) {
   expect_error([&] { read_depth_png(path, 1000.0); }, {"bomb.png", "PNG header says 30000x30000 pixels", "1..16384"});
   expect_error([&] { read_label_png(path); }, {"bomb.png", "30000x30000"});
 }
+
+TEST(IoRobustness, ImplausiblyLargeCoordinatesAreRejected) {
+  const auto dir = fresh_temp_dir();
+  // 1e300 m is finite but squares to inf: ATE would print 'inf' instead of failing.
+  const auto tum = write_file(dir / "t.txt", "0 0 0 0 0 0 0 1\n1 1e300 0 0 0 0 0 1\n");
+  expect_error([&] { read_tum_trajectory(tum); }, {"t.txt:2", "coordinate tx = 1e300 m is implausibly large"});
+  const auto kitti = write_file(dir / "k.txt", "1 0 0 0 0 1 0 -2e9 0 0 1 0\n");
+  expect_error([&] { read_kitti_trajectory(kitti); }, {"k.txt:1", "coordinate ty = -2e9 m"});
+  const auto ok = write_file(dir / "ok.txt", "0 1e9 -1e9 0 0 0 0 1\n");
+  EXPECT_EQ(read_tum_trajectory(ok)[0].T_w_x.translation().x(), 1e9);
+  const auto vox = write_file(dir / "v.txt", "# s3m ground-truth voxel map v1\nresolution 0.05\n0 0 1e39 3\n");
+  expect_error([&] { read_gt_voxels(vox); }, {"v.txt:3", "coordinate z = 1e39 m"});
+}

@@ -76,17 +76,19 @@ OrbExtractor::OrbExtractor(const OrbConfig& config)
   for (int v = 0; v <= kHalfPatch; ++v)
     umax_[v] = static_cast<int>(std::floor(std::sqrt(double(kHalfPatch * kHalfPatch - v * v)) + 0.5));
 
-  orb_ = cv::ORB::create(config_.n_features, static_cast<float>(config_.scale_factor), config_.n_levels, kEdgePx, 0,
-                         2, cv::ORB::FAST_SCORE, kPatchSize, config_.ini_fast_threshold);
+  for (int l = 0; l < config_.n_levels; ++l)
+    orb_.push_back(cv::ORB::create(config_.n_features, 1.2f, 1, kEdgePx, 0, 2, cv::ORB::FAST_SCORE, kPatchSize,
+                                   config_.ini_fast_threshold));
 }
 
-std::vector<cv::KeyPoint> OrbExtractor::detect_level(const cv::Mat& img, int level) const {
+void OrbExtractor::process_level(const cv::Mat& img, int level, std::vector<cv::KeyPoint>& out, cv::Mat& desc) const {
+  out.clear();
   // 1. FAST with the low threshold over the usable area; the score tells which corners the high
   //    threshold would have found too.
   std::vector<cv::KeyPoint> all;
   cv::FAST(img, all, config_.min_fast_threshold, true);
   const float x0 = kEdgePx, y0 = kEdgePx, x1 = img.cols - kEdgePx, y1 = img.rows - kEdgePx;
-  if (x1 <= x0 || y1 <= y0) return {};
+  if (x1 <= x0 || y1 <= y0) return;
   // 2. Per cell: use the strong corners when the cell has any, the weak ones otherwise.
   const int cell = config_.cell_px;
   const int ncx = (img.cols + cell - 1) / cell, ncy = (img.rows + cell - 1) / cell;
@@ -103,16 +105,22 @@ std::vector<cv::KeyPoint> OrbExtractor::detect_level(const cv::Mat& img, int lev
   for (const auto& k : inside)
     if (!strong[int(k.pt.y) / cell * ncx + int(k.pt.x) / cell] || k.response >= config_.ini_fast_threshold)
       kept.push_back(k);
-  // 3. Spread over the image, 4. orientation, 5. to level-0 coordinates.
-  auto kps = distribute_quadtree(kept, x0, x1, y0, y1, features_per_level_[level]);
-  const float s = static_cast<float>(pyramid_.scale[level]);
-  for (auto& k : kps) {
+  // 3. Spread over the image, 4. orientation, 5. rotated BRIEF on the Gaussian-blurred level
+  //    (OpenCV, single-level ORB: same blur and pattern as its pyramid path), 6. to level 0.
+  out = distribute_quadtree(kept, x0, x1, y0, y1, features_per_level_[level]);
+  for (auto& k : out) {
     k.angle = ic_angle_deg(img, k.pt, umax_);
+    k.octave = 0;
+    k.size = kPatchSize;
+  }
+  if (out.empty()) return;
+  orb_[level]->compute(img, out, desc);  // keeps order; drops only points too close to the border
+  const float s = static_cast<float>(pyramid_.scale[level]);
+  for (auto& k : out) {
     k.octave = level;
     k.size = kPatchSize * s;
     k.pt *= s;
   }
-  return kps;
 }
 
 void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const {
@@ -126,20 +134,26 @@ void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
     const cv::Size sz(cvRound(gray.cols * pyramid_.inv_scale[l]), cvRound(gray.rows * pyramid_.inv_scale[l]));
     cv::resize(levels[l - 1], levels[l], sz, 0, 0, cv::INTER_LINEAR_EXACT);
   }
-  // 2. Detection per level (independent, so optionally in parallel).
+  // 2. Detection and description per level (independent, so optionally in parallel).
   std::vector<std::vector<cv::KeyPoint>> per_level(n);
+  std::vector<cv::Mat> per_level_desc(n);
   auto body = [&](const cv::Range& r) {
-    for (int l = r.start; l < r.end; ++l) per_level[l] = detect_level(levels[l], l);
+    for (int l = r.start; l < r.end; ++l) process_level(levels[l], l, per_level[l], per_level_desc[l]);
   };
   if (config_.parallel_levels)
     cv::parallel_for_(cv::Range(0, n), body);
   else
     body(cv::Range(0, n));
   keypoints.clear();
-  for (auto& v : per_level) keypoints.insert(keypoints.end(), v.begin(), v.end());
-  // 3. Rotated BRIEF on the Gaussian-blurred levels (OpenCV). Keypoints are sorted by level,
-  //    so OpenCV keeps their order; it only drops points too close to the border.
-  orb_->compute(gray, keypoints, descriptors);
+  std::vector<cv::Mat> descs;
+  for (int l = 0; l < n; ++l) {
+    keypoints.insert(keypoints.end(), per_level[l].begin(), per_level[l].end());
+    if (!per_level[l].empty()) descs.push_back(per_level_desc[l]);
+  }
+  if (descs.empty())
+    descriptors = cv::Mat(0, 32, CV_8U);
+  else
+    cv::vconcat(descs, descriptors);
 }
 
 }  // namespace s3m::features

@@ -45,13 +45,14 @@ class OrbExtractor {
   const OrbConfig& config() const { return config_; }
 
  private:
-  std::vector<cv::KeyPoint> detect_level(const cv::Mat& level_img, int level) const;
+  // Keypoints of one level (level coordinates) with their descriptors.
+  void process_level(const cv::Mat& level_img, int level, std::vector<cv::KeyPoint>& kps, cv::Mat& desc) const;
 
   OrbConfig config_;
   ScalePyramid pyramid_;
   std::vector<int> features_per_level_;
   std::vector<int> umax_;  // half-width of the orientation disc per row
-  cv::Ptr<cv::ORB> orb_;   // descriptor computation only
+  std::vector<cv::Ptr<cv::ORB>> orb_;  // descriptor computation only, one single-level ORB per level
 };
 
 }  // namespace s3m::features

@@ -43,7 +43,8 @@ GtVoxelMap read_gt_voxels(const std::string& path) {
   if (map.resolution_m <= 0) reader.fail("resolution must be > 0", "a positive voxel size in metres");
   while (reader.next(tok)) {
     reader.expect_tokens(tok, 4, "x y z class_id");
-    const Eigen::Vector3d c(reader.number(tok, 0, "x"), reader.number(tok, 1, "y"), reader.number(tok, 2, "z"));
+    const Eigen::Vector3d c(reader.coordinate_m(tok, 0, "x"), reader.coordinate_m(tok, 1, "y"),
+                            reader.coordinate_m(tok, 2, "z"));
     const double id = reader.number(tok, 3, "class_id");
     if (id < 0 || id > std::numeric_limits<ClassId>::max() || id != std::floor(id))
       reader.fail(fmt::format("class_id {} is not a valid id", id), "an integer in 0..65535");

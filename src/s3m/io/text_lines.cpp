@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include <fmt/format.h>
+
 #include "s3m/core/error.hpp"
 
 namespace s3m::io {
@@ -57,6 +59,15 @@ double LineReader::number(const std::vector<std::string_view>& tokens, std::size
   const bool non_finite = !std::isfinite(loose) && tok.find_first_of("nNiI") != std::string::npos;
   fail((non_finite ? "non-finite value '" : "cannot parse '") + tok + "' as " + name,
        "a finite number in column " + std::to_string(i + 1));
+}
+
+double LineReader::coordinate_m(const std::vector<std::string_view>& tokens, std::size_t i,
+                                const std::string& name) const {
+  const double v = number(tokens, i, name);
+  if (std::abs(v) > kMaxCoordinateM)
+    fail(fmt::format("coordinate {} = {} m is implausibly large", name, tokens[i]),
+         fmt::format("|{}| <= 1e9 m in column {}", name, i + 1));
+  return v;
 }
 
 void LineReader::expect_tokens(const std::vector<std::string_view>& tokens, std::size_t n,

@@ -24,6 +24,8 @@ class LineReader {
   [[noreturn]] void fail(const std::string& problem, const std::string& expected = "") const;
   // A finite double from token i (name used in the message), else ParseError.
   double number(const std::vector<std::string_view>& tokens, std::size_t i, const std::string& name) const;
+  // A coordinate in metres from token i: finite and |x| <= kMaxCoordinateM, else ParseError.
+  double coordinate_m(const std::vector<std::string_view>& tokens, std::size_t i, const std::string& name) const;
   // Requires exactly n tokens (or at least n when at_least) naming the expected layout.
   void expect_tokens(const std::vector<std::string_view>& tokens, std::size_t n, const std::string& layout,
                      bool at_least = false) const;
@@ -34,6 +36,10 @@ class LineReader {
   std::string buffer_;
   int line_no_ = 0;
 };
+
+// Largest accepted coordinate magnitude [m]. Far beyond any real scene (a million km), yet small
+// enough that squared errors and sums stay finite in double and coordinates fit in float.
+inline constexpr double kMaxCoordinateM = 1e9;
 
 // Parses a whole token as a finite double; false on garbage, trailing characters, NaN or Inf.
 bool parse_finite_double(std::string_view token, double& out);

@@ -30,7 +30,8 @@ Trajectory read_tum_trajectory(const std::string& path) {
   while (reader.next(tok)) {
     reader.expect_tokens(tok, 8, kTumLayout);
     double v[8];
-    for (int i = 0; i < 8; ++i) v[i] = reader.number(tok, i, names[i]);
+    for (int i = 0; i < 8; ++i)
+      v[i] = (i >= 1 && i <= 3) ? reader.coordinate_m(tok, i, names[i]) : reader.number(tok, i, names[i]);
     const Quat q(v[7], v[4], v[5], v[6]);
     if (std::abs(q.norm() - 1.0) > 0.01)
       reader.fail(fmt::format("quaternion (qx qy qz qw) = ({} {} {} {}) has norm {:.4f}", v[4], v[5], v[6], v[7],
@@ -63,7 +64,9 @@ Trajectory read_kitti_trajectory(const std::string& path, double dt_s) {
   while (reader.next(tok)) {
     reader.expect_tokens(tok, 12, "r11 r12 r13 tx r21 r22 r23 ty r31 r32 r33 tz");
     Eigen::Matrix<double, 3, 4> M;
-    for (int i = 0; i < 12; ++i) M(i / 4, i % 4) = reader.number(tok, i, "matrix entry");
+    for (int i = 0; i < 12; ++i)
+      M(i / 4, i % 4) = i % 4 == 3 ? reader.coordinate_m(tok, i, "t" + std::string(1, char('x' + i / 4)))
+                                   : reader.number(tok, i, "matrix entry");
     const Mat3 R = M.leftCols<3>();
     const double ortho_err = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
     // Written so that NaN (from overflowing entries like 1e308) fails the test too.

@@ -1,6 +1,7 @@
 #include "s3m/slam/system.hpp"
 
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 
 #include "s3m/core/error.hpp"
@@ -59,6 +60,7 @@ TrackResult System::track(const RgbdFrame& frame) {
     drain_snapshots();
   }
   Stopwatch sw;
+  const std::clock_t cpu0 = std::clock();
   TrackerOutput out = tracker_.process(frame, n_sent_ - n_received_);
   if (out.deferred) {
     // Lost only because local mapping lags: wait for every pending snapshot and try again.
@@ -71,6 +73,7 @@ TrackResult System::track(const RgbdFrame& frame) {
     out = tracker_.retrack(frame, out.features, 0);
   }
   r.track_ms = sw.elapsed_ms();
+  r.track_cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   r.state = out.state;
   r.T_w_c = out.T_w_c;
   r.T_w_r = robot_pose(out.T_w_c, config_.T_c_r);

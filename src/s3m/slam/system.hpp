@@ -31,7 +31,9 @@ struct TrackResult {
   SE3 T_w_r = SE3::Identity();  // robot-to-world: T_w_c * T_c_r
   bool keyframe = false;
   int n_inliers = 0;            // tracked map points
-  double track_ms = 0;          // tracking only (features + pose)
+  double track_ms = 0;          // tracking only (features + pose), wall clock
+  double track_cpu_ms = 0;      // process CPU time during tracking (all threads; in threaded mode
+                                // it includes whatever local mapping ran meanwhile)
   double mapping_ms = 0;        // local mapping run inside track() (single-thread mode only)
 };
 
