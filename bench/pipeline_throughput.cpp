@@ -13,6 +13,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "s3m/core/error.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/run.hpp"
 #include "s3m/sim/simulate.hpp"
