@@ -12,6 +12,7 @@
 #include <benchmark/benchmark.h>
 #include <octomap/OcTree.h>
 
+#include "occupied_keys.hpp"
 #include "s3m/core/timing.hpp"
 #include "s3m/mapping/insert.hpp"
 #include "s3m/mapping/metrics.hpp"
@@ -21,6 +22,7 @@
 
 using namespace s3m;
 using namespace s3m::mapping;
+using s3m::bench::occupied_keys;
 
 namespace {
 
@@ -113,21 +115,6 @@ void BM_SingleFrameMaps(benchmark::State& state) {
     }
   }
   report(state, mean);
-}
-
-template <typename Tree>
-std::set<std::uint64_t> occupied_keys(const Tree& tree) {
-  std::set<std::uint64_t> out;
-  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
-    if (!tree.isNodeOccupied(*it)) continue;
-    const int span = 1 << (tree.getTreeDepth() - it.getDepth());
-    const octomap::OcTreeKey b = tree.coordToKey(it.getCoordinate(), it.getDepth());
-    for (int x = 0; x < span; ++x)
-      for (int y = 0; y < span; ++y)
-        for (int z = 0; z < span; ++z)
-          out.insert(pack_key(octomap::OcTreeKey(b[0] - span / 2 + x, b[1] - span / 2 + y, b[2] - span / 2 + z)));
-  }
-  return out;
 }
 
 // Insertion time on simulated clouds, ours (stock-equivalent filters) vs stock, and agreement.

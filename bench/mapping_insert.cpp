@@ -21,12 +21,14 @@
 #include <octomap/OcTree.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "occupied_keys.hpp"
 #include "s3m/core/timing.hpp"
 #include "s3m/mapping/insert.hpp"
 #include "s3m/mapping/map_io.hpp"
 
 using namespace s3m;
 using namespace s3m::mapping;
+using s3m::bench::occupied_keys;
 
 namespace {
 
@@ -139,21 +141,6 @@ std::unique_ptr<octomap::OcTree> build_stock(double res) {
 }
 
 // Occupied finest-level keys of a tree (pruned leaves expanded).
-template <typename Tree>
-std::set<std::uint64_t> occupied_keys(const Tree& tree) {
-  std::set<std::uint64_t> out;
-  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
-    if (!tree.isNodeOccupied(*it)) continue;
-    const int span = 1 << (tree.getTreeDepth() - it.getDepth());
-    const octomap::OcTreeKey base = tree.coordToKey(it.getCoordinate(), it.getDepth());
-    for (int x = 0; x < span; ++x)
-      for (int y = 0; y < span; ++y)
-        for (int z = 0; z < span; ++z)
-          out.insert(pack_key(octomap::OcTreeKey(base[0] - span / 2 + x, base[1] - span / 2 + y, base[2] - span / 2 + z)));
-  }
-  return out;
-}
-
 void BM_StockInsert(benchmark::State& state) {
   if (skip_without_data(state)) return;
   const double res = state.range(0) / 100.0;
