@@ -87,6 +87,7 @@ json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& da
 }  // namespace
 
 std::string find_gt_voxel_map(const std::string& dataset_dir) {
+  if (dataset_dir.empty()) return "";
   for (const char* name : {"gt_voxels.txt", "groundtruth_voxels.txt", "gt_voxel_map.txt"}) {
     const fs::path p = fs::path(dataset_dir) / name;
     if (fs::exists(p)) return p.string();
@@ -94,7 +95,7 @@ std::string find_gt_voxel_map(const std::string& dataset_dir) {
   return "";
 }
 
-json compute_metrics(const Pipeline& p, const io::TumDataset& dataset, const PipelineConfig& config,
+json compute_metrics(const Pipeline& p, const FrameSource& source, const PipelineConfig& config,
                      const RunInfo& info, const OutputPaths& paths) {
   const PipelineCounters& c = p.counters();
   json m;
@@ -117,12 +118,12 @@ json compute_metrics(const Pipeline& p, const io::TumDataset& dataset, const Pip
     if (!f.tracked) lost[f.state] = lost.value(f.state, 0) + 1;
   m["untracked_by_state"] = lost;
   m["timings_ms"] = timings_json(p.timings());
-  const TrajectoryScore traj = evaluate_trajectory(p, dataset, config, paths);
+  const TrajectoryScore traj = evaluate_trajectory(p, source, config, paths);
   m["trajectory"] = traj.json;
   m["segmentation"] = segmentation_json(p);
   // The map lives in the estimate's world (identity for --poses gt).
   const SE3 T_map_gt = traj.T_est_gt.value_or(SE3::Identity());
-  m["map"] = map_json(p, paths, dataset.dir(), T_map_gt);
+  m["map"] = map_json(p, paths, source.eval_dir(), T_map_gt);
   m["classes"] = classes_json();
   m["outputs"] = {{"trajectory_camera", paths.trajectory_camera},
                   {"trajectory_robot", paths.trajectory_robot},

@@ -106,6 +106,7 @@ void Pipeline::steps3to5_map(Work& w) {
   counters_.keyframes += o.keyframe;
   counters_.segmented += o.segmented;
   counters_.integrated += o.integrated;
+  if (listener_) listener_(o, f, w.labels);
   outcomes_.push_back(std::move(o));
   frames_done_.fetch_add(1);
 }

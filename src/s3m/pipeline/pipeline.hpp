@@ -12,6 +12,7 @@
 // BoundedQueues: process() blocks when the tracking queue is full (back-pressure up to the reader).
 #include <atomic>
 #include <exception>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -52,6 +53,11 @@ struct PipelineCounters {
   std::size_t rebuilds = 0;          // map rebuilds from kept clouds
 };
 
+// Called after step 5 of every frame, from the thread that ran it (the caller of process() in
+// deterministic mode, else the mapping thread), with the frame's outcome and its labels (empty when
+// it was not segmented). Live front ends (the ROS node) publish from here; keep it short.
+using FrameListener = std::function<void(const FrameOutcome&, const RgbdFrame&, const semantics::LabelMap&)>;
+
 class Pipeline {
  public:
   // segmenter and map may be null (--slam-only / --segmenter none: no labels; no map at all
@@ -63,6 +69,8 @@ class Pipeline {
   Pipeline& operator=(const Pipeline&) = delete;
 
   void process(RgbdFrame frame);
+  // Set before the first process().
+  void set_frame_listener(FrameListener listener) { listener_ = std::move(listener); }
   // Drains the queues, stops the threads, applies the final keyframe poses to the map. Rethrows the
   // first error a worker thread hit. Idempotent.
   void finish();
@@ -99,6 +107,7 @@ class Pipeline {
 
   PipelineConfig config_;
   PinholeCamera camera_;
+  FrameListener listener_;
   std::unique_ptr<PoseSource> poses_;
   std::unique_ptr<semantics::Segmenter> segmenter_;
   std::unique_ptr<MapIntegrator> map_;

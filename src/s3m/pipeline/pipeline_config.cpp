@@ -150,7 +150,10 @@ void PipelineConfig::validate() const {
 }
 
 PipelineConfig load_pipeline_config(const std::string& path) {
-  const YAML::Node root = load_yaml_file(path);
+  return pipeline_config_from_yaml(load_yaml_file(path), path);
+}
+
+PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::string& path) {
   PipelineConfig c;
   c.source = path;
   if (!root || root.IsNull()) return c;  // an empty preset means "all defaults"

@@ -95,5 +95,8 @@ struct PipelineConfig {
 
 // Loads and validates a preset. Errors name the file, the line and what was expected.
 PipelineConfig load_pipeline_config(const std::string& path);
+// The same from an already parsed document (e.g. a preset merged with ROS parameters); `path`
+// names it in messages and anchors relative camera/model paths (its folder; "" = the working dir).
+PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::string& path);
 
 }  // namespace s3m::pipeline

@@ -1,0 +1,34 @@
+#pragma once
+// Where run_dataset() reads its frames from. A TUM-layout directory here; a rosbag in ROS builds
+// (src/ros/bag_source.hpp). Everything downstream (pipeline, outputs, metrics) only sees this.
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "s3m/core/camera.hpp"
+#include "s3m/core/rgbd_frame.hpp"
+#include "s3m/io/trajectory.hpp"
+#include "s3m/pipeline/pipeline_config.hpp"
+
+namespace s3m::pipeline {
+
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  // The next frame in time order (index counts from 0), or nullopt at the end.
+  virtual std::optional<RgbdFrame> next() = 0;
+  // Frames expected: exact for a directory; for a bag the number of colour images (an upper bound).
+  virtual std::size_t size_hint() const = 0;
+  virtual const PinholeCamera& camera() const = 0;
+  virtual const io::Trajectory& groundtruth() const = 0;  // camera ground truth T_w_c; empty when none
+  virtual bool has_labels() const = 0;                     // frames carry ground-truth label images
+  virtual std::string name() const = 0;                    // what was opened, for logs and metrics.json
+  // Folder with the simulator's evaluation files (groundtruth_robot.txt, gt_voxels.txt); "" when none.
+  virtual std::string eval_dir() const = 0;
+};
+
+// A TUM-layout directory (io::TumDataset) with the association window and camera of `config`.
+std::unique_ptr<FrameSource> open_tum_source(const std::string& dir, const DatasetConfig& config);
+
+}  // namespace s3m::pipeline
