@@ -90,7 +90,8 @@ sensor_msgs::Image depth_to_msg(const cv::Mat& depth_m, const std::string& encod
   for (int v = 0; v < depth_m.rows; ++v)
     for (int u = 0; u < depth_m.cols; ++u) {
       const float z = depth_m.at<float>(v, u);
-      mm.at<std::uint16_t>(v, u) = std::isfinite(z) && z > 0 && z < 65.535f ? static_cast<std::uint16_t>(std::lround(z * 1000.0f)) : 0;
+      const long z_mm = std::isfinite(z) ? std::lround(z * 1000.0f) : 0;
+      mm.at<std::uint16_t>(v, u) = z_mm > 0 && z_mm <= 65535 ? static_cast<std::uint16_t>(z_mm) : 0;  // 0 = none
     }
   return *cv_bridge::CvImage(std_msgs::Header(), encoding, mm).toImageMsg();
 }
