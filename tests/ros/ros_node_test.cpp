@@ -18,6 +18,8 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/String.h>
 #include <std_srvs/Trigger.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "conversions.hpp"
@@ -76,6 +78,8 @@ TEST(RosNode, TracksASimulatedFlightAndPublishesALabelledMap) {
   ros::NodeHandle nh;
   ros::AsyncSpinner spinner(1);
   spinner.start();
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer);
   Heard heard;
   auto pose_sub = nh.subscribe<geometry_msgs::PoseStamped>("/s3m_node/camera/pose", 100, [&](const geometry_msgs::PoseStamped::ConstPtr& m) {
     std::lock_guard l(heard.m);
@@ -138,6 +142,22 @@ TEST(RosNode, TracksASimulatedFlightAndPublishesALabelledMap) {
   const eval::TrajectoryEvaluation ev = eval::evaluate_trajectory(gt, est, {}, "s3m_node");
   EXPECT_LT(ev.ate.stats_m.rmse, 0.05) << "ATE RMSE " << ev.ate.stats_m.rmse << " m";
   std::printf("s3m_node: %zu/%d poses, ATE RMSE %.4f m\n", est.size(), kFrames, ev.ate.stats_m.rmse);
+
+  // TF map -> odom -> base_link -> camera (static, from the preset's T_c_r) composes to the
+  // published camera pose: the chain and the calibration are consistent.
+  {
+    const double t_last = est.back().t_s;
+    geometry_msgs::TransformStamped T;
+    ASSERT_NO_THROW(T = tf_buffer.lookupTransform("map", "camera_rgb_optical_frame", ros1::to_ros_time(t_last),
+                                                  ros::Duration(5.0)));
+    const SE3 T_map_c_tf = ros1::from_transform(T.transform), T_map_c = est.back().T_w_x;
+    EXPECT_LT((T_map_c_tf.translation() - T_map_c.translation()).norm(), 1e-6);
+    EXPECT_LT((T_map_c_tf.linear() - T_map_c.linear()).norm(), 1e-6);
+    // `map` is the robot body frame at the first tracked frame: base_link starts at the origin.
+    const geometry_msgs::TransformStamped T0 =
+        tf_buffer.lookupTransform("map", "base_link", ros1::to_ros_time(est.front().t_s), ros::Duration(1.0));
+    EXPECT_LT(ros1::from_transform(T0.transform).translation().norm(), 1e-9);
+  }
 
   // The map topics: class-coloured voxels of several classes, and a cloud with the label field.
   ASSERT_TRUE(wait_for([&] {
