@@ -139,6 +139,7 @@ void S3mNode::on_frame(const ImageCPtr& rgb, const ImageCPtr& depth, const senso
   } catch (const std::exception& e) {
     // A frame the pipeline refuses (wrong size, encoding) is a configuration error: stop loudly.
     ROS_FATAL("s3m_node: frame %d: %s", frames_ - 1, e.what());
+    failed_ = true;
     ros::shutdown();
   }
 }

@@ -49,6 +49,7 @@ class S3mNode {
   ~S3mNode();
   // Finishes the pipeline (final map rebuild) and, with save_on_exit, writes the outputs.
   void shutdown();
+  bool failed() const { return failed_; }  // a frame error stopped the node
 
  private:
   using ImageCPtr = sensor_msgs::ImageConstPtr;
@@ -82,6 +83,7 @@ class S3mNode {
   ros::Time stamp_;             // of the frame being processed
   int frames_ = 0;
   bool finished_ = false;
+  bool failed_ = false;
 };
 
 }  // namespace s3m::ros1

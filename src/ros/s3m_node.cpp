@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
     s3m::ros1::S3mNode node(nh, pnh);
     ros::spin();      // until SIGINT / rosnode kill / a fatal frame error
     node.shutdown();  // finish the pipeline and save (~save_on_exit) before ROS goes away
+    if (node.failed()) return 1;
   } catch (const std::exception& e) {
     ROS_FATAL("s3m_node: %s", e.what());
     return 1;
