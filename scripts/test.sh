@@ -14,6 +14,9 @@ for a in "$@"; do
   if [ "$a" = --quick ]; then quick=1; else args+=("$a"); fi
 done
 
+# ccache keys on paths below the repository relative to it, so another clone of it (CI's) reuses the cache.
+# (NOHASHDIR: the -g sanitizer build would otherwise key on the build directory's absolute path.)
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}" CCACHE_NOHASHDIR=1
 # The ROS1 front end and its tests (label "ros") are built whenever ROS is installed
 # (scripts/setup.sh --with-ros); the ASan stage below stays ROS-free.
 ros_flag=OFF

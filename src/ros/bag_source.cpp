@@ -87,11 +87,12 @@ class BagFrameSource final : public pipeline::FrameSource {
     pair(dataset.max_dt_s);
   }
 
-  std::optional<RgbdFrame> next() override {
-    if (next_ >= pairs_.size()) return std::nullopt;
-    const Pair& p = pairs_[next_];
+  RgbdFrame load(std::size_t index) const override {
+    require(index < pairs_.size(), path_ + ": frame " + std::to_string(index) + " requested, the bag has " +
+                                       std::to_string(pairs_.size()) + " colour/depth pairs");
+    const Pair& p = pairs_[index];
     RgbdFrame f;
-    f.index = static_cast<int>(next_++);
+    f.index = static_cast<int>(index);
     f.t_s = rgb_.by_time[p.rgb].t_s;
     f.rgb = colour_to_bgr(*image_at(rgb_, p.rgb, path_));
     f.depth_m = depth_to_metres(*image_at(depth_, p.depth, path_));
@@ -99,7 +100,7 @@ class BagFrameSource final : public pipeline::FrameSource {
     check_size(f);
     return f;
   }
-  std::size_t size_hint() const override { return pairs_.size(); }
+  std::size_t size() const override { return pairs_.size(); }
   const PinholeCamera& camera() const override { return camera_; }
   const io::Trajectory& groundtruth() const override { return groundtruth_; }
   bool has_labels() const override { return !labels_.empty(); }
@@ -164,7 +165,6 @@ class BagFrameSource final : public pipeline::FrameSource {
   std::vector<Pair> pairs_;
   PinholeCamera camera_;
   io::Trajectory groundtruth_;
-  std::size_t next_ = 0;
 };
 
 }  // namespace

@@ -9,11 +9,8 @@ class TumFrameSource final : public FrameSource {
  public:
   explicit TumFrameSource(io::TumDataset dataset) : dataset_(std::move(dataset)) {}
 
-  std::optional<RgbdFrame> next() override {
-    if (next_ >= dataset_.size()) return std::nullopt;
-    return dataset_.load(next_++);
-  }
-  std::size_t size_hint() const override { return dataset_.size(); }
+  std::size_t size() const override { return dataset_.size(); }
+  RgbdFrame load(std::size_t index) const override { return dataset_.load(index); }
   const PinholeCamera& camera() const override { return dataset_.camera(); }
   const io::Trajectory& groundtruth() const override { return dataset_.groundtruth(); }
   bool has_labels() const override { return dataset_.has_labels(); }
@@ -22,7 +19,6 @@ class TumFrameSource final : public FrameSource {
 
  private:
   io::TumDataset dataset_;
-  std::size_t next_ = 0;
 };
 
 }  // namespace

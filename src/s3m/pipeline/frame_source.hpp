@@ -3,7 +3,6 @@
 // (src/ros/bag_source.hpp). Everything downstream (pipeline, outputs, metrics) only sees this.
 #include <cstddef>
 #include <memory>
-#include <optional>
 #include <string>
 
 #include "s3m/core/camera.hpp"
@@ -16,10 +15,10 @@ namespace s3m::pipeline {
 class FrameSource {
  public:
   virtual ~FrameSource() = default;
-  // The next frame in time order (index counts from 0), or nullopt at the end.
-  virtual std::optional<RgbdFrame> next() = 0;
-  // Frames expected: exact for a directory; for a bag the number of colour images (an upper bound).
-  virtual std::size_t size_hint() const = 0;
+  // Frames in time order. Random access: the run reads 0, 1, 2, ...; evaluations after the run
+  // (reprojection into kept frames) read some again.
+  virtual std::size_t size() const = 0;
+  virtual RgbdFrame load(std::size_t index) const = 0;  // frame.index == index
   virtual const PinholeCamera& camera() const = 0;
   virtual const io::Trajectory& groundtruth() const = 0;  // camera ground truth T_w_c; empty when none
   virtual bool has_labels() const = 0;                     // frames carry ground-truth label images

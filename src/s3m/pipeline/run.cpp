@@ -75,7 +75,7 @@ RunResult run_dataset(const RunOptions& o) {
   fs::create_directories(o.out_dir);
 
   RunResult r;
-  r.frames_total = c.source->size_hint();
+  r.frames_total = c.source->size();
   if (o.max_frames >= 0) r.frames_total = std::min<std::size_t>(r.frames_total, o.max_frames);
   require(r.frames_total > 0, "run: dataset " + c.info.dataset_dir + " has no frames");
   spdlog::info("run: {} frames from {} (poses: {}, segmenter: {})", r.frames_total, c.info.dataset_dir,
@@ -89,12 +89,9 @@ RunResult run_dataset(const RunOptions& o) {
       r.interrupted = true;
       break;
     }
-    std::optional<RgbdFrame> frame = c.source->next();
-    if (!frame) break;  // a bag's colour count is an upper bound: unpaired images yield no frame
-    c.pipeline->process(std::move(*frame));
+    c.pipeline->process(c.source->load(submitted));
     progress.update(c.pipeline->frames_done(), c.pipeline->last_state());
   }
-  if (!r.interrupted) r.frames_total = submitted;
   c.pipeline->finish();
   c.info.wall_time_s = wall.elapsed_ms() / 1000.0;
   c.info.interrupted = r.interrupted;
