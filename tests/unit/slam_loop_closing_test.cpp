@@ -126,7 +126,9 @@ TEST(Relocalisation, TenBlankFramesAreMarkedLostAndTrackingRecovers) {
   for (int i = first_back + 1; i < kFrames; ++i) EXPECT_NE(r.states[size_t(i)], TrackState::kLost) << "frame " << i;
   // The final trajectory has the relocalised frame at its relocalised pose, not the LOST guess.
   for (const auto& p : r.traj)
-    if (p.frame_index == first_back) EXPECT_EQ(p.state, TrackState::kRelocalised);
+    if (p.frame_index == first_back) {
+      EXPECT_EQ(p.state, TrackState::kRelocalised);
+    }
   EXPECT_LT(ate_rmse(r.traj), 0.05);
 }
 
@@ -167,7 +169,9 @@ void expect_kidnapped_camera_relocalised(bool threaded) {
     if (p.frame_index < 130) continue;
     const Vec3 gt = (T_0_w * test::uav_pose(source[size_t(p.frame_index)], kLoopFrames)).translation();
     worst_m = std::max(worst_m, (p.T_w_x.translation() - gt).norm());
-    if (p.frame_index == 130) EXPECT_EQ(p.state, TrackState::kRelocalised) << mode;
+    if (p.frame_index == 130) {
+      EXPECT_EQ(p.state, TrackState::kRelocalised) << mode;
+    }
   }
   std::printf("%s: kidnapped camera relocalised at step 130 (%s), worst position error after it %.4f m\n", mode,
               to_string(states[130]), worst_m);
