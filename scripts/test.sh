@@ -13,6 +13,9 @@ for a in "$@"; do
   if [ "$a" = --quick ]; then quick=1; else args+=("$a"); fi
 done
 
+# ccache keys on paths below the repository relative to it, so another clone of it (CI's) reuses the cache.
+# (NOHASHDIR: the -g sanitizer build would otherwise key on the build directory's absolute path.)
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}" CCACHE_NOHASHDIR=1
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "$(nproc)"
 ctest --test-dir build --output-on-failure -j "$(nproc)" "${args[@]}"

@@ -26,6 +26,7 @@
 #include "s3m/pipeline/map_integrator.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 #include "s3m/pipeline/pose_source.hpp"
+#include "s3m/pipeline/reprojection.hpp"
 #include "s3m/pipeline/stage_timings.hpp"
 #include "s3m/semantics/seg_metrics.hpp"
 #include "s3m/semantics/segmenter.hpp"
@@ -79,6 +80,8 @@ class Pipeline {
   const StageTimings& timings() const { return timings_; }
   const PipelineCounters& counters() const { return counters_; }
   const semantics::ConfusionMatrix& confusion() const { return confusion_; }
+  // Segmented frames with ground truth kept for the map reprojection score (eval.reprojection_*).
+  const std::vector<EvalFrame>& eval_frames() const { return eval_frames_.frames(); }
   bool has_semantics() const { return segmenter_ != nullptr; }
 
  private:
@@ -107,6 +110,8 @@ class Pipeline {
   StageTimings timings_;
   PipelineCounters counters_;
   semantics::ConfusionMatrix confusion_{cls::kCount};
+  EvalFrameSampler eval_frames_;
+  std::size_t eval_offered_ = 0;
   std::vector<FrameOutcome> outcomes_;
   std::atomic<std::size_t> frames_done_{0};
 
