@@ -74,12 +74,14 @@ TEST(PipelineLoopClosing, LostFramesAreMarkedNotMappedAndTrackingIsRelocalised) 
   EXPECT_EQ(traj.size(), std::size_t(delivered - 10));
   const sim::Simulation& sim = loop_simulation();
   std::set<long> lost_stamps;
-  for (int i = kBlankFirst; i < kBlankFirst + 10; ++i) lost_stamps.insert(std::lround(sim.trajectory().samples[i].t_s * 1e4));
+  for (int i = kBlankFirst; i < kBlankFirst + 10; ++i)
+    lost_stamps.insert(std::lround(sim.trajectory().samples[std::size_t(i)].t_s * 1e4));
   for (const auto& p : traj) EXPECT_FALSE(lost_stamps.count(std::lround(p.t_s * 1e4))) << "LOST frame at " << p.t_s;
   // 3. The map's geometry equals the one built when those frames never arrived: their depth (with
   //    a stale pose) never went in, and relocalisation put the later frames where they belong.
   EXPECT_LT(m["trajectory"]["ate_rmse_m"].get<double>(), kMaxAteWithOutage_m);
-  EXPECT_NEAR(m["trajectory"]["ate_rmse_m"].get<double>(), gap.metrics["trajectory"]["ate_rmse_m"].get<double>(), 1e-4);
+  EXPECT_NEAR(m["trajectory"]["ate_rmse_m"].get<double>(),
+              gap.metrics["trajectory"]["ate_rmse_m"].get<double>(), 1e-4);
   EXPECT_EQ(m["map"]["voxels"].get<std::size_t>(), gap.metrics["map"]["voxels"].get<std::size_t>());
   EXPECT_NEAR(m["map"]["precision"].get<double>(), gap.metrics["map"]["precision"].get<double>(), 1e-9);
   // (Labels, hence mIoU, differ slightly: the oracle's noise is seeded by the frame's position.)

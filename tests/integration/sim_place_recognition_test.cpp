@@ -29,7 +29,8 @@ TEST(ShippedVocabularyOnSimulator, RecallsRevisitedLoopViewsAndRejectsAnotherSce
   const auto& poses = sim.trajectory().samples;
   // Database: the first lap, every 10th frame.
   features::BowDatabase db;
-  for (int i = 0; i < 250; i += 10) db.add(i, v.transform(features::extract_orb_descriptors(sim.frame(i).rgb, kFeatures)));
+  for (int i = 0; i < 250; i += 10)
+    db.add(i, v.transform(features::extract_orb_descriptors(sim.frame(std::size_t(i)).rgb, kFeatures)));
   // Queries: the revisit over the start. Only those with a same-place view in the database count.
   int queries = 0, recalled = 0;
   double worst_true = 1e9;

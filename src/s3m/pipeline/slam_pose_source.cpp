@@ -89,7 +89,8 @@ std::shared_ptr<const features::Vocabulary> load_vocabulary(const LoopClosingCon
   if (!std::filesystem::is_regular_file(path))
     throw Error("loop_closing.vocabulary: '" + path +
                 "' does not exist (expected a vocabulary file from `s3m vocab`, e.g. the shipped "
-                "vocab/orb_k10_l5.bin; or run without: s3m run --no-loop-closing, or loop_closing.enabled and relocalisation false)");
+                "vocab/orb_k10_l5.bin; or run without: s3m run --no-loop-closing, or "
+                "loop_closing.enabled and relocalisation false)");
   try {
     return std::make_shared<const features::Vocabulary>(features::Vocabulary::load(path));
   } catch (const Error& e) {

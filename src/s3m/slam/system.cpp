@@ -50,7 +50,8 @@ void System::query_map(const MapQuery& query) {
   }
   auto done = std::make_shared<std::promise<void>>();
   std::future<void> answered = done->get_future();
-  if (!requests_.push(MapperJob{std::nullopt, query, done})) throw Error("System::query_map: local mapping has stopped");
+  if (!requests_.push(MapperJob{std::nullopt, query, done}))
+    throw Error("System::query_map: local mapping has stopped");
   answered.get();
   // Every keyframe sent before the query has been mapped and its snapshot queued: take them now,
   // so whatever snapshot the caller sets after the query is not overwritten by an older one.
@@ -63,7 +64,8 @@ void System::query_map(const MapQuery& query) {
 }
 
 void System::note_relocalised(int frame_index, KfId kf, const SE3& T_kf_c) {
-  require(!records_.empty() && records_.back().frame_index == frame_index && records_.back().state == TrackState::kLost,
+  require(!records_.empty() && records_.back().frame_index == frame_index &&
+              records_.back().state == TrackState::kLost,
           "System::note_relocalised: frame " + std::to_string(frame_index) + " is not the last, LOST frame");
   records_.back() = {frame_index, records_.back().t_s, TrackState::kRelocalised, kf, T_kf_c};
   --n_lost_;
