@@ -39,6 +39,12 @@ class SlamPoses final : public PoseSource {
     });
   }
 
+  // The mapping thread calls into loops_ and this object's listener: stop it before members go
+  // (finish() is idempotent; it matters when a run is abandoned after an error).
+  ~SlamPoses() override { system_.finish(); }
+  SlamPoses(const SlamPoses&) = delete;
+  SlamPoses& operator=(const SlamPoses&) = delete;
+
   TrackOutput track(const RgbdFrame& frame) override {
     const slam::TrackResult r = loops_ ? loops_->track(frame) : system_.track(frame);
     TrackOutput out;

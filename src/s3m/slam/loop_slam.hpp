@@ -28,6 +28,8 @@ struct LoopSlamConfig {
   void validate() const;
 };
 
+// Threaded mode: the mapping thread calls into this object, so call System::finish() before it
+// is destroyed.
 class LoopClosingSlam {
  public:
   LoopClosingSlam(System& slam, const PinholeCamera& camera, std::shared_ptr<const features::Vocabulary> vocabulary,
