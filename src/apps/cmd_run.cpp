@@ -15,8 +15,8 @@ namespace s3m::apps {
 namespace {
 
 struct RunArgs {
-  std::string dataset, config, out, segmenter, model_dir, poses = "slam";
-  bool slam_only = false, deterministic = false, no_report = false;
+  std::string dataset, config, out, segmenter, model_dir, poses = "slam", vocab;
+  bool slam_only = false, deterministic = false, no_report = false, no_loop_closing = false;
   long max_frames = -1;
   RosbagArgs bag;
 };
@@ -25,6 +25,11 @@ void print_summary(const pipeline::RunResult& r, const std::string& out) {
   const auto& m = r.metrics;
   std::cout << "frames: " << r.frames_done << "/" << r.frames_total << (r.interrupted ? " (interrupted)" : "")
             << ", keyframes: " << m.value("keyframes", 0) << ", " << m.value("fps", 0.0) << " frames/s\n";
+  if (m.contains("tracking")) {
+    const auto& t = m["tracking"];
+    std::cout << "tracking: " << t["states"].value("LOST", 0) << " frames LOST, " << t["relocalised_frames"].size()
+              << " RELOCALISED, " << m.value("corrections", 0) << " loop corrections applied to the map\n";
+  }
   if (m.contains("trajectory") && m["trajectory"].contains("ate_rmse_m"))
     std::cout << "ATE RMSE: " << m["trajectory"]["ate_rmse_m"].get<double>() << " m\n";
   if (m.contains("segmentation") && m["segmentation"].contains("miou"))
@@ -50,6 +55,9 @@ void register_run(CLI::App& app) {
       ->check(CLI::IsMember({"slam", "gt"}));
   cmd->add_flag("--slam-only", args->slam_only, "trajectories only (no segmentation, no map)");
   cmd->add_flag("--deterministic", args->deterministic, "single thread, identical output run to run");
+  cmd->add_flag("--no-loop-closing", args->no_loop_closing,
+                "SLAM without loop closing and relocalisation (preset: loop_closing.enabled/relocalisation)");
+  cmd->add_option("--vocab", args->vocab, "bag-of-words vocabulary (default: the preset's, else vocab/orb_k10_l5.bin)");
   cmd->add_option("--max-frames", args->max_frames, "process at most N frames");
   cmd->add_flag("--no-report", args->no_report, "skip the plots and report.html");
   add_rosbag_options(*cmd, args->bag);
@@ -62,6 +70,8 @@ void register_run(CLI::App& app) {
     o.out_dir = args->out;
     o.config = args->config.empty() ? pipeline::PipelineConfig{} : pipeline::load_pipeline_config(args->config);
     if (args->deterministic) o.config.threads.deterministic = true;
+    if (args->no_loop_closing) o.config.loop_closing.enabled = o.config.loop_closing.relocalisation = false;
+    if (!args->vocab.empty()) o.config.loop_closing.vocabulary = args->vocab;
     o.segmenter = args->segmenter;
     o.model_dir = args->model_dir;
     o.poses = args->poses;

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <set>
+#include <vector>
 
 #include "s3m/features/bow_vocabulary.hpp"
 #include "s3m/slam/loop_slam.hpp"
@@ -123,8 +124,62 @@ TEST(Relocalisation, TenBlankFramesAreMarkedLostAndTrackingRecovers) {
   EXPECT_EQ(r.states[size_t(first_back)], TrackState::kRelocalised);
   EXPECT_GE(r.relocalisations, 1);
   for (int i = first_back + 1; i < kFrames; ++i) EXPECT_NE(r.states[size_t(i)], TrackState::kLost) << "frame " << i;
+  // The final trajectory has the relocalised frame at its relocalised pose, not the LOST guess.
+  for (const auto& p : r.traj)
+    if (p.frame_index == first_back) {
+      EXPECT_EQ(p.state, TrackState::kRelocalised);
+    }
   EXPECT_LT(ate_rmse(r.traj), 0.05);
 }
+
+// A kidnapped camera: 120 frames of the first lap, 10 blank frames, then the flight resumes from
+// frame 40 (the camera carried ~150 deg back round the room), so the tracker's own recovery from
+// its last pose cannot work and only relocalisation against the whole map can. Threaded mode runs
+// relocalisation as a map query on the local-mapping thread (the sanitizer stage runs this too).
+void expect_kidnapped_camera_relocalised(bool threaded) {
+  std::vector<int> source;  // room frame shown at each step; -1: blank
+  for (int i = 0; i < 120; ++i) source.push_back(i);
+  for (int i = 0; i < 10; ++i) source.push_back(-1);
+  for (int i = 40; i < 80; ++i) source.push_back(i);
+  SlamConfig cfg;
+  cfg.threaded = threaded;
+  System slam(room_camera(), cfg);
+  LoopClosingSlam loops(slam, room_camera(), vocabulary());
+  std::vector<TrackState> states;
+  for (size_t k = 0; k < source.size(); ++k) {
+    RgbdFrame f = room_frames()[size_t(std::max(source[k], 0))];
+    if (source[k] < 0) {
+      f.rgb = cv::Mat::zeros(f.rgb.size(), f.rgb.type());
+      f.depth_m = cv::Mat::zeros(f.depth_m.size(), f.depth_m.type());
+    }
+    f.index = int(k);
+    f.t_s = double(k) / 30.0;
+    states.push_back(loops.track(f).state);
+  }
+  slam.finish();
+  const char* mode = threaded ? "threaded" : "single-thread";
+  for (size_t k = 120; k < 130; ++k) EXPECT_EQ(states[k], TrackState::kLost) << mode << " step " << k;
+  EXPECT_EQ(states[130], TrackState::kRelocalised) << mode;
+  for (size_t k = 131; k < source.size(); ++k) EXPECT_EQ(states[k], TrackState::kOk) << mode << " step " << k;
+  EXPECT_EQ(loops.n_relocalisations(), 1) << mode;
+  // Where the relocalised frame ended up (final trajectory) against the ground truth of frame 40.
+  const SE3 T_0_w = test::uav_pose(0, kLoopFrames).inverse();
+  double worst_m = 0;
+  for (const auto& p : slam.camera_trajectory()) {
+    if (p.frame_index < 130) continue;
+    const Vec3 gt = (T_0_w * test::uav_pose(source[size_t(p.frame_index)], kLoopFrames)).translation();
+    worst_m = std::max(worst_m, (p.T_w_x.translation() - gt).norm());
+    if (p.frame_index == 130) {
+      EXPECT_EQ(p.state, TrackState::kRelocalised) << mode;
+    }
+  }
+  std::printf("%s: kidnapped camera relocalised at step 130 (%s), worst position error after it %.4f m\n", mode,
+              to_string(states[130]), worst_m);
+  EXPECT_LT(worst_m, 0.05) << mode;
+}
+
+TEST(Relocalisation, KidnappedCameraIsRelocalisedSingleThread) { expect_kidnapped_camera_relocalised(false); }
+TEST(Relocalisation, KidnappedCameraIsRelocalisedThreaded) { expect_kidnapped_camera_relocalised(true); }
 
 }  // namespace
 }  // namespace s3m::slam

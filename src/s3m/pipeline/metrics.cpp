@@ -117,6 +117,23 @@ json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& da
   return j;
 }
 
+// Every state's frame count, and which frames were LOST (as [first, last] index ranges) or
+// RELOCALISED: LOST frames are neither in the trajectory files nor in the map.
+json tracking_json(const std::vector<FrameOutcome>& frames) {
+  json states = json::object(), lost = json::array(), relocalised = json::array();
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const FrameOutcome& f = frames[i];
+    states[f.state] = states.value(f.state, 0) + 1;
+    if (f.state == "RELOCALISED") relocalised.push_back(f.index);
+    if (f.state != "LOST") continue;
+    if (i > 0 && frames[i - 1].state == "LOST" && !lost.empty())
+      lost.back()[1] = f.index;
+    else
+      lost.push_back({f.index, f.index});
+  }
+  return {{"states", states}, {"lost_frames", lost}, {"relocalised_frames", relocalised}};
+}
+
 }  // namespace
 
 std::string find_gt_voxel_map(const std::string& dataset_dir) {
@@ -150,6 +167,7 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   for (const auto& f : p.frames())
     if (!f.tracked) lost[f.state] = lost.value(f.state, 0) + 1;
   m["untracked_by_state"] = lost;
+  m["tracking"] = tracking_json(p.frames());
   m["timings_ms"] = timings_json(p.timings());
   const TrajectoryScore traj = evaluate_trajectory(p, source, config, paths);
   m["trajectory"] = traj.json;

@@ -90,12 +90,16 @@ void Pipeline::steps3to5_map(Work& w) {
     timings_.add("cloud", sw.elapsed_ms());
     // 4. map: insert at the current pose; keep the cloud so a correction can re-integrate it.
     sw.reset();
-    if (w.track.keyframe) store_.note_keyframe(w.track.keyframe_id, w.track.T_w_c);
-    else if (!store_.keyframes().count(w.track.keyframe_id)) store_.note_keyframe(w.track.keyframe_id, w.track.T_w_kf);
-    map_->insert(cloud, w.track.T_w_c);
-    store_.add(w.track.keyframe_id, w.track.T_w_c, f.index, std::move(cloud));
+    // A keyframe a correction has already placed keeps that pose (SLAM may close a loop at a
+    // keyframe before this step reaches it). The pose relative to the anchor is what tracking
+    // measured; the anchor's pose is the store's, with every correction so far applied (this frame
+    // may have been tracked before the latest one, in the uncorrected world).
+    if (!store_.keyframes().count(w.track.keyframe_id)) store_.note_keyframe(w.track.keyframe_id, w.track.T_w_kf);
+    const SE3 T_w_c = store_.keyframes().at(w.track.keyframe_id) * (w.track.T_w_kf.inverse() * w.track.T_w_c);
+    map_->insert(cloud, T_w_c);
+    store_.add(w.track.keyframe_id, T_w_c, f.index, std::move(cloud));
     timings_.add("map", sw.elapsed_ms());
-  } else if (w.track.keyframe) {
+  } else if (w.track.keyframe && !store_.keyframes().count(w.track.keyframe_id)) {
     store_.note_keyframe(w.track.keyframe_id, w.track.T_w_c);
   }
   // 5. record: outcome, counters, segmentation against ground-truth labels when the dataset has them.

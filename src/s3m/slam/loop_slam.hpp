@@ -8,9 +8,9 @@
 //   loops.add_listener([&](const slam::LoopCorrection& c) { /* re-integrate c.T_w_kf_after */ });
 //   for (const auto& f : frames) { TrackResult r = loops.track(f); ... }  // instead of slam.track
 //
-// Relocalisation reads the Map, which only the single-thread mode lets the caller touch while
-// tracking; in threaded mode loop closing still runs (on the mapping thread) but LOST frames are
-// left to the tracker's own recovery.
+// Relocalisation reads the Map and the keyframe BoW index, which belong to local mapping: it runs
+// as a System::query_map() — inline in single-thread mode, and in threaded mode on the mapping
+// thread between two keyframes while tracking waits for the answer (no shared mutable state).
 #include <memory>
 
 #include "s3m/slam/loop_closer.hpp"
@@ -28,17 +28,21 @@ struct LoopSlamConfig {
   void validate() const;
 };
 
+// Threaded mode: the mapping thread calls into this object, so call System::finish() before it
+// is destroyed.
 class LoopClosingSlam {
  public:
   LoopClosingSlam(System& slam, const PinholeCamera& camera, std::shared_ptr<const features::Vocabulary> vocabulary,
                   const LoopSlamConfig& config = {});
 
-  // 1. track with part 1; 2. if LOST (single-thread mode), relocalise against the map and, on
-  // success, restart the tracker there and report the frame as RELOCALISED.
+  // 1. track with part 1; 2. if LOST, relocalise against the whole map and, on success, restart
+  // the tracker there and report the frame as RELOCALISED (threaded mode too).
   TrackResult track(const RgbdFrame& frame);
 
   // Called with every loop correction (on the mapping thread in threaded mode).
   void add_listener(LoopListener listener) { closer_.add_listener(std::move(listener)); }
+  const LoopSlamConfig& config() const { return config_; }
+  // Threaded mode: after System::finish() (the mapping thread closes loops).
   const LoopCloser& loop_closer() const { return closer_; }
   int n_loops() const { return int(closer_.loop_edges().size()); }
   int n_relocalisations() const { return n_relocalisations_; }

@@ -27,10 +27,49 @@ System::~System() {
 }
 
 void System::mapping_loop() {
-  while (auto request = requests_.pop()) {
-    auto snapshot = std::make_shared<const LocalMapSnapshot>(mapper_.process(*request));
+  while (auto job = requests_.pop()) {
+    if (job->query) {
+      // The tracking thread waits on `done`, so the query's references stay valid until then.
+      try {
+        job->query(map_);
+        job->done->set_value();
+      } catch (...) {
+        job->done->set_exception(std::current_exception());
+      }
+      continue;
+    }
+    auto snapshot = std::make_shared<const LocalMapSnapshot>(mapper_.process(*job->keyframe));
     if (!snapshots_.push(std::move(snapshot))) return;
   }
+}
+
+void System::query_map(const MapQuery& query) {
+  if (!config_.threaded || finished_) {
+    query(map_);
+    return;
+  }
+  auto done = std::make_shared<std::promise<void>>();
+  std::future<void> answered = done->get_future();
+  if (!requests_.push(MapperJob{std::nullopt, query, done}))
+    throw Error("System::query_map: local mapping has stopped");
+  answered.get();
+  // Every keyframe sent before the query has been mapped and its snapshot queued: take them now,
+  // so whatever snapshot the caller sets after the query is not overwritten by an older one.
+  while (n_received_ < n_sent_) {
+    auto s = snapshots_.pop();
+    if (!s) break;
+    tracker_.set_snapshot(std::move(*s));
+    ++n_received_;
+  }
+}
+
+void System::note_relocalised(int frame_index, KfId kf, const SE3& T_kf_c) {
+  require(!records_.empty() && records_.back().frame_index == frame_index &&
+              records_.back().state == TrackState::kLost,
+          "System::note_relocalised: frame " + std::to_string(frame_index) + " is not the last, LOST frame");
+  records_.back() = {frame_index, records_.back().t_s, TrackState::kRelocalised, kf, T_kf_c};
+  --n_lost_;
+  ++n_relocalised_;
 }
 
 void System::drain_snapshots() {
@@ -79,9 +118,11 @@ TrackResult System::track(const RgbdFrame& frame) {
   r.T_w_r = robot_pose(out.T_w_c, config_.T_c_r);
   r.n_inliers = out.n_inliers;
   r.keyframe = out.keyframe.has_value();
+  r.ref_kf = out.ref_kf;
+  r.T_ref_c = out.T_ref_c;
   if (out.keyframe) {
     if (config_.threaded) {
-      requests_.push(std::move(*out.keyframe));
+      requests_.push(MapperJob{std::move(*out.keyframe), {}, nullptr});
       ++n_sent_;
     } else {
       Stopwatch mw;

@@ -8,7 +8,10 @@
 //   for (const RgbdFrame& f : frames) { auto r = slam.track(f); ... r.T_w_c, r.state ... }
 //   slam.finish();
 //   slam::write_tum_trajectory("trajectory_camera.txt", slam.camera_trajectory());
+#include <functional>
+#include <future>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -35,7 +38,13 @@ struct TrackResult {
   double track_cpu_ms = 0;      // process CPU time during tracking (all threads; in threaded mode
                                 // it includes whatever local mapping ran meanwhile)
   double mapping_ms = 0;        // local mapping run inside track() (single-thread mode only)
+  KfId ref_kf = kNoId;          // keyframe the pose is stored against (kNoId before the first one)
+  SE3 T_ref_c = SE3::Identity();  // pose relative to ref_kf at tracking time (same world as T_w_c)
 };
+
+// A read of the whole map for the tracking side (relocalisation). Runs where the Map may be
+// touched: inline in single-thread mode, on the local-mapping thread in threaded mode.
+using MapQuery = std::function<void(const Map&)>;
 
 struct StampedPose {
   double t_s = 0;
@@ -66,9 +75,18 @@ class System {
   const Map& map() const { return map_; }
   // Runs in the mapping stage after each keyframe (loop closing plugs in here). Set before track().
   void set_keyframe_hook(LocalMapper::KeyFrameHook hook) { mapper_.set_keyframe_hook(std::move(hook)); }
+  // Runs query on the map and waits for it. Threaded mode: the query travels through the keyframe
+  // request queue, so it sees every keyframe sent before it, and the snapshots those keyframes
+  // produced are handed to the tracker before this returns (a snapshot the query makes is newer).
+  // Call from the tracking thread only (the one calling track()); rethrows the query's exception.
+  void query_map(const MapQuery& query);
+  // Relocalisation hook: frame_index (the frame track() just returned LOST) was relocalised at
+  // T_kf_c relative to keyframe kf; its trajectory record is replaced accordingly.
+  void note_relocalised(int frame_index, KfId kf, const SE3& T_kf_c);
   Tracker& tracker() { return tracker_; }
   const SlamConfig& config() const { return config_; }
   int n_lost_frames() const { return n_lost_; }
+  int n_relocalised_frames() const { return n_relocalised_; }
 
  private:
   struct FrameRecord {
@@ -77,6 +95,12 @@ class System {
     TrackState state;
     KfId ref_kf;
     SE3 T_ref_c;
+  };
+  // What the local-mapping thread receives: a keyframe to map, or a map query to answer.
+  struct MapperJob {
+    std::optional<KeyFrameRequest> keyframe;
+    MapQuery query;
+    std::shared_ptr<std::promise<void>> done;  // set once the query ran (value or its exception)
   };
   void drain_snapshots();
   void mapping_loop();
@@ -87,9 +111,9 @@ class System {
   Tracker tracker_;
   LocalMapper mapper_;
   std::vector<FrameRecord> records_;
-  int n_lost_ = 0;
+  int n_lost_ = 0, n_relocalised_ = 0;
   // Threaded mode.
-  BoundedQueue<KeyFrameRequest> requests_;
+  BoundedQueue<MapperJob> requests_;
   BoundedQueue<std::shared_ptr<const LocalMapSnapshot>> snapshots_;
   std::thread mapping_thread_;
   int n_sent_ = 0, n_received_ = 0;
