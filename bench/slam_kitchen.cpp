@@ -9,6 +9,7 @@
 // computed by eval::evaluate_trajectory with s3m eval's defaults, so the ATE printed here is the
 // one `s3m eval --gt DATASET_DIR/groundtruth.txt --est OUT/trajectory_camera.txt` reports (with
 // --out the evaluation reads the written file back, and OUT/metrics.json is s3m eval's file).
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -130,8 +131,11 @@ int main(int argc, char** argv) {
     std::printf("evaluated trajectory: %s\n", a.robot ? "robot (T_w_c * T_c_r)" : "camera");
     std::printf("ATE_rmse_m %.4f  RPE_1frame_rmse_m %.4f  RPE_1s_rmse_m %.4f  (matched %zu)\n",
                 ev.ate.stats_m.rmse, ev1.rpe.trans_m.rmse, ev.rpe.trans_m.rmse, ev.matched);
-    std::printf("sim3 alignment: scale %.4f ATE_rmse_m %.4f (diagnostic)\n", evs.ate.alignment.scale,
-                evs.ate.stats_m.rmse);
+    if (std::isfinite(evs.ate.alignment.scale))
+      std::printf("sim3 alignment: scale %.4f ATE_rmse_m %.4f (diagnostic)\n", evs.ate.alignment.scale,
+                  evs.ate.stats_m.rmse);
+    else  // eval's Sim3 has no scale for an estimate without spread (every pose the same)
+      std::printf("sim3 alignment: undefined (the estimated positions have no spread)\n");
     std::printf("tracking_ms mean %.2f p50 %.2f p95 %.2f max %.2f | tracking+inline_mapping_ms mean %.2f | wall %.1f s\n",
                 ts.mean_ms, ts.p50_ms, ts.p95_ms, ts.max_ms, tt.mean_ms, st.wall_s);
     std::printf("tracking_cpu_ms mean %.2f p50 %.2f p95 %.2f (process CPU time; robust to other load)\n", tc.mean_ms,
