@@ -111,6 +111,7 @@ void BaConfig::validate() const {
   require(first_iterations >= 1 && second_iterations >= 0, "ba: iterations must be >= 1 / >= 0");
   require(chi2_mono > 0 && chi2_stereo > 0, "ba: chi2 thresholds must be > 0");
   require(max_local_keyframes >= 1, "ba.max_local_keyframes must be >= 1");
+  require(global_iterations >= 1, "ba.global_iterations must be >= 1");
 }
 
 BaResult bundle_adjust(BaProblem& P, const PinholeCamera& cam, const BaConfig& cfg) {

@@ -15,6 +15,8 @@ struct BaConfig {
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
   int max_local_keyframes = 20;  // covisibility window optimised around the new keyframe
+  // Final global BA (System::finish()): iterations before and again after outlier removal.
+  int global_iterations = 15;
   void validate() const;
 };
 

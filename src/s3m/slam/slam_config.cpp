@@ -57,7 +57,8 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
 void read_mapper(const YAML::Node& n, MapperConfig& c, const std::string& ctx) {
   if (!n) return;
   check_known_keys(n, {"close_depth_m", "min_new_points", "min_found_ratio", "fuse_neighbours", "local_ba",
-                       "cull_keyframes", "redundant_ratio", "snapshot_keyframes", "ba"}, ctx);
+                       "cull_keyframes", "redundant_ratio", "snapshot_keyframes", "final_global_ba", "ba"},
+                   ctx);
   yaml_get(n, "close_depth_m", c.close_depth_m, ctx);
   yaml_get(n, "min_new_points", c.min_new_points, ctx);
   yaml_get(n, "min_found_ratio", c.min_found_ratio, ctx);
@@ -66,11 +67,13 @@ void read_mapper(const YAML::Node& n, MapperConfig& c, const std::string& ctx) {
   yaml_get(n, "cull_keyframes", c.cull_keyframes, ctx);
   yaml_get(n, "redundant_ratio", c.redundant_ratio, ctx);
   yaml_get(n, "snapshot_keyframes", c.snapshot_keyframes, ctx);
+  yaml_get(n, "final_global_ba", c.final_global_ba, ctx);
   if (const auto b = n["ba"]) {
-    check_known_keys(b, {"first_iterations", "second_iterations", "max_local_keyframes"}, ctx);
+    check_known_keys(b, {"first_iterations", "second_iterations", "max_local_keyframes", "global_iterations"}, ctx);
     yaml_get(b, "first_iterations", c.ba.first_iterations, ctx);
     yaml_get(b, "second_iterations", c.ba.second_iterations, ctx);
     yaml_get(b, "max_local_keyframes", c.ba.max_local_keyframes, ctx);
+    yaml_get(b, "global_iterations", c.ba.global_iterations, ctx);
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
+#include "s3m/slam/loop_closer.hpp"  // global_bundle_adjustment
 
 namespace s3m::slam {
 
@@ -122,6 +123,15 @@ TrackResult System::track(const RgbdFrame& frame) {
   r.T_ref_c = out.T_ref_c;
   if (out.keyframe) {
     if (config_.threaded) {
+      // A keyframe the tracker needs although local mapping is max_pending behind: wait for one
+      // answer first, so at most max_pending + 1 requests are ever in flight (the queues hold
+      // max_pending + 2, so neither side can block the other for good; a relocalisation query
+      // (query_map) is synchronous, so it adds at most one more request and no snapshot).
+      if (n_sent_ - n_received_ > config_.tracker.max_pending_keyframes)
+        if (auto s = snapshots_.pop()) {
+          tracker_.set_snapshot(std::move(*s));
+          ++n_received_;
+        }
       requests_.push(MapperJob{std::move(*out.keyframe), {}, nullptr});
       ++n_sent_;
     } else {
@@ -142,6 +152,15 @@ void System::finish() {
   requests_.close();
   if (mapping_thread_.joinable()) mapping_thread_.join();
   drain_snapshots();
+  // One BA over the whole map. Local BA only ever optimises a covisibility window with its border
+  // frozen, so error that entered while a keyframe sat at a window's edge is never redistributed;
+  // one joint solve at the end (what ORB-SLAM2 runs after a loop closure) does that. Every frame
+  // pose follows its reference keyframe in camera_trajectory(), so all frames get the refinement.
+  if (config_.mapper.final_global_ba && map_.n_keyframes() >= 2) {
+    BaConfig ba = config_.mapper.ba;
+    ba.first_iterations = ba.second_iterations = ba.global_iterations;
+    n_global_ba_outliers_ = global_bundle_adjustment(map_, camera_, ba);
+  }
 }
 
 std::vector<StampedPose> System::camera_trajectory() const {

@@ -62,8 +62,10 @@ class System {
 
   TrackResult track(const RgbdFrame& frame);
   // Threaded mode: waits until local mapping has processed every keyframe and stops its thread.
-  // Idempotent; track() must not be called afterwards.
+  // Then (mapper.final_global_ba) one bundle adjustment over the whole map. Idempotent; track()
+  // must not be called afterwards.
   void finish();
+  int n_global_ba_outliers() const { return n_global_ba_outliers_; }  // after finish()
 
   // Every tracked frame (from the first keyframe on), each expressed relative to its reference
   // keyframe's final pose — so BA and loop corrections reach every frame. Call after finish().
@@ -118,6 +120,7 @@ class System {
   std::thread mapping_thread_;
   int n_sent_ = 0, n_received_ = 0;
   bool finished_ = false;
+  int n_global_ba_outliers_ = 0;
 };
 
 // The paper's calibration equation: robot-to-world from camera-to-world and the robot-to-camera

@@ -139,7 +139,7 @@ bool Tracker::initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out)
 }
 
 bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, int pending) const {
-  if (!snapshot_ || pending >= config_.max_pending_keyframes) return false;
+  if (!snapshot_) return false;
   const int since = frame_index - last_keyframe_frame_;
   if (since < config_.min_frames_between_keyframes) return false;
   // Close keypoints with depth: tracked vs. could become new points.
@@ -159,6 +159,13 @@ bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, in
   const bool c1b = pending == 0;
   const bool c1c = n_inliers < 0.25 * ref || need_close;
   const bool c2 = (n_inliers < ratio * ref || need_close) && n_inliers > 15;
+  // Local mapping is behind: skip ordinary keyframes (tracking stays real-time), but not when
+  // tracking is failing (under a quarter of the reference keyframe's points tracked) — without a
+  // new keyframe the map would stop growing exactly where the camera goes and tracking would be
+  // lost. The caller then waits for a queue slot (System::track). need_close alone does not count:
+  // it holds on many ordinary RGB-D frames and would make tracking wait for mapping all the time.
+  const bool failing = n_inliers < 0.25 * ref;
+  if (pending >= config_.max_pending_keyframes) return failing && c2;
   return (c1a || c1b || c1c) && c2;
 }
 

@@ -31,7 +31,7 @@ struct TrackerConfig {
   double keyframe_ref_ratio = 0.75;  // new keyframe when tracked < ratio * reference's points
   int close_tracked_min = 100;       // ... or fewer close points tracked than this
   int close_untracked_min = 70;      //     while this many close keypoints could become points
-  int max_pending_keyframes = 3;     // no new keyframe while this many wait for local mapping
+  int max_pending_keyframes = 3;     // no ordinary keyframe while this many wait for local mapping
   int min_init_depth_points = 100;   // keypoints with depth needed to start the map
   void validate() const;
 };
