@@ -25,6 +25,7 @@ row() {
   code=$?
   err="$(grep -v '^\s*$' stderr.txt | head -n 3 | tr '\n' ' ' | sed 's/ *$//; s/|/\\|/g')"
   local shown="${*/#$S3M/s3m}"
+  shown="${shown//$REPO\//}"
   printf '| %s | `%s` | %s | %s |\n' "$name" "$shown" "$code" "$err"
   if [ "$code" != 1 ] && { [ "$code" -lt 100 ] || [ "$code" -ge 128 ]; }; then bad=1; printf '| ^ NOT CLEAN | | | |\n'; fi
 }
@@ -75,7 +76,7 @@ fi
 PY=/usr/bin/python3
 "$S3M" sim --frames 8 --trajectory handheld --out seq >/dev/null 2>&1 || { echo "robustness.sh: s3m sim failed" >&2; exit 2; }
 "$S3M" sim --frames 2 --trajectory handheld --width 320 --height 240 --out small >/dev/null 2>&1
-RUN=("$S3M" run --config "$REPO/config/sim.yaml" --deterministic --no-report --segmenter oracle)
+RUN=("$S3M" run --config "$REPO/config/sim.yaml" --deterministic --no-report)  # the preset's oracle segmenter
 # mk NAME: a fresh copy of the sequence; prints its path. nth LIST N: the N-th (0-based) image path.
 mk() { rm -rf "$1"; cp -r seq "$1"; echo "$1"; }
 nth() { grep -v '^#' "$1" | sed -n "$(( $2 + 1 ))p" | awk '{print $2}'; }
@@ -127,8 +128,11 @@ else
   how="ulimit -f 64"; "${RUN[@]}" seq --out tmpfs/run >/dev/null 2>&1; cp -r tmpfs/run run_before
   row "disk full during the map write ($how)" bash -c "trap '' XFSZ; ulimit -f 64; exec \"\$0\" \"\$@\"" "${RUN[@]}" seq --out tmpfs/run
 fi
-if diff -r run_before tmpfs/run >/dev/null && ! ls -a tmpfs/run | grep -q '\.tmp'; then
-  echo "<!-- run disk-full case ($how): the earlier run's files are unchanged and no temporary file is left -->"
+# The failed run may replace small files whole (frames.txt now says integrated = 1); metrics.json
+# (written last) and the trajectory must be the earlier run's, and nothing half-written may remain.
+if cmp -s run_before/metrics.json tmpfs/run/metrics.json && cmp -s run_before/trajectory_camera.txt tmpfs/run/trajectory_camera.txt \
+   && ! ls -a tmpfs/run | grep -q '\.tmp' && { [ ! -e tmpfs/run/map.ot ] || cmp -s run_before/map.ot tmpfs/run/map.ot; }; then
+  echo "<!-- run disk-full case ($how): the earlier run's metrics.json and trajectory are unchanged, no map.ot or temporary file was left half-written -->"
 else
   echo "<!-- run disk-full case ($how): earlier outputs changed or a temporary file was left -->"; bad=1
 fi
