@@ -22,8 +22,12 @@ packages=(
   python3 python3-numpy python3-matplotlib python3-torch python3-onnx
 )
 if [ "$with_ros" = 1 ]; then
-  packages+=(ros-core-dev libroscpp-dev librosbag-dev libsensor-msgs-dev libcv-bridge-dev
-             libtf2-ros-dev libnav-msgs-dev libgeometry-msgs-dev)
+  # ROS1 as packaged by Debian 12: the node's libraries and messages, rosbag (C++ API), and
+  # rosmaster/roslaunch for roscore, the launch file and the node test. octomap_msgs is not packaged.
+  packages+=(ros-core-dev libroscpp-dev librosbag-dev librosbag-storage-dev libsensor-msgs-dev
+             libcv-bridge-dev libtf2-ros-dev libtf2-geometry-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
+             libvisualization-msgs-dev libstd-srvs-dev libmessage-filters-dev python3-rosmaster
+             python3-roslaunch python3-rosbag)
 fi
 
 missing=()

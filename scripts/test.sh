@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # s3m test suite. Needs only the repository (no ../shared data).
-#  1. Release build (build/, incremental): every unit and integration test with ctest.
+#  1. Release build (build/, incremental): every unit and integration test with ctest; with ROS
+#     installed also the ROS1 node and rosbag tests (-DS3M_WITH_ROS=ON, ctest label "ros").
 #  2. Sanitizer build (build-asan/: ASan + UBSan, -O1 -g, no benchmarks): the unit tests again
 #     (ctest -L unit, which includes the fuzz-corpus replay); any sanitizer report or leak fails.
 # Usage: scripts/test.sh [--quick] [extra ctest args]
@@ -13,7 +14,14 @@ for a in "$@"; do
   if [ "$a" = --quick ]; then quick=1; else args+=("$a"); fi
 done
 
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+# ccache keys on paths below the repository relative to it, so another clone of it (CI's) reuses the cache.
+# (NOHASHDIR: the -g sanitizer build would otherwise key on the build directory's absolute path.)
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}" CCACHE_NOHASHDIR=1
+# The ROS1 front end and its tests (label "ros") are built whenever ROS is installed
+# (scripts/setup.sh --with-ros); the ASan stage below stays ROS-free.
+ros_flag=OFF
+dpkg-query -W -f='${Status}' libroscpp-dev 2>/dev/null | grep -q "install ok installed" && ros_flag=ON
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DS3M_WITH_ROS=$ros_flag >/dev/null
 cmake --build build -j "$(nproc)"
 ctest --test-dir build --output-on-failure -j "$(nproc)" "${args[@]}"
 [ "$quick" = 1 ] && exit 0

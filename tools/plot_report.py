@@ -148,10 +148,13 @@ def height_sign(h, ids):
 
 def plot_class_iou(metrics, report_dir):
     bars = {}
-    for section, label in (("segmentation", "single frame"), ("map", "fused map")):
+    for section, label in (("segmentation", "single frame"), ("map", "fused map (3-D voxels)")):
         per_class = metrics.get(section, {}).get("per_class_iou", {})
         if per_class:
             bars[label] = per_class
+    rep = metrics.get("map", {}).get("reprojected", {}).get("per_class_iou", {})
+    if rep:
+        bars["fused map seen from the frames"] = {n: v["map"] for n, v in rep.items()}
     if not bars:
         return
     names = sorted({n for v in bars.values() for n in v})
@@ -163,9 +166,10 @@ def plot_class_iou(metrics, report_dir):
     ax.set_xticks(np.arange(len(names)))
     ax.set_xticklabels(names, rotation=45, ha="right")
     ax.set_ylabel("IoU")
-    ax.set_ylim(0, 1)
+    ax.set_ylim(0, 1.18)  # headroom for the legend row above the bars
+    ax.set_yticks(np.linspace(0, 1, 6))
     ax.grid(axis="y", alpha=0.3)
-    ax.legend()
+    ax.legend(loc="upper center", ncol=len(bars), fontsize="small", frameon=False)
     ax.set_title("Per-class IoU")
     fig.tight_layout()
     fig.savefig(os.path.join(report_dir, "class_iou.png"), dpi=110)
@@ -187,9 +191,13 @@ def summary_rows(metrics):
         rows += [("ATE RMSE [m]", traj["ate_rmse_m"]), ("RPE trans RMSE [m]", traj.get("rpe_trans_rmse_m")),
                  ("RPE rot RMSE [deg]", traj.get("rpe_rot_rmse_deg"))]
     if "miou" in metrics.get("segmentation", {}):
-        rows.append(("segmentation mIoU (single frame)", metrics["segmentation"]["miou"]))
+        rows.append(("segmentation mIoU (single frame, all pixels)", metrics["segmentation"]["miou"]))
+    rep = metrics.get("map", {}).get("reprojected", {})
+    if "miou" in rep:
+        rows.append(("image mIoU, single frames (pixels the map covers)", rep["frame_miou"]))
+        rows.append(("image mIoU, fused map projected into the same frames", rep["miou"]))
     if "miou" in metrics.get("map", {}):
-        rows.append(("map mIoU (fused)", metrics["map"]["miou"]))
+        rows.append(("3-D map mIoU vs ground-truth voxels", metrics["map"]["miou"]))
     return [(k, v) for k, v in rows if v is not None]
 
 

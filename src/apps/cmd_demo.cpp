@@ -94,10 +94,15 @@ void run_demo(const DemoArgs& a) {
   if (m["trajectory"].contains("ate_rmse_m"))
     std::printf("  ATE RMSE %.2f cm, RPE %.2f cm / %.2f deg per s\n", 100 * m["trajectory"]["ate_rmse_m"].get<double>(),
                 100 * m["trajectory"]["rpe_trans_rmse_m"].get<double>(), m["trajectory"]["rpe_rot_rmse_deg"].get<double>());
-  if (m["segmentation"].contains("miou"))
+  if (m["map"].contains("reprojected")) {
+    const auto& rp = m["map"]["reprojected"];
+    std::printf("  labels in the images, mIoU:  single frames %.3f -> fused map seen from the same cameras %.3f\n",
+                rp["frame_miou"].get<double>(), rp["miou"].get<double>());
+  } else if (m["segmentation"].contains("miou")) {
     std::printf("  segmentation mIoU (single frames) %.3f\n", m["segmentation"]["miou"].get<double>());
+  }
   if (m["map"].contains("miou"))
-    std::printf("  semantic map mIoU (fused)        %.3f   (%zu voxels, map.ot %.2f MB)\n", m["map"]["miou"].get<double>(),
+    std::printf("  3-D map vs ground-truth voxels, mIoU %.3f   (%zu voxels, map.ot %.2f MB)\n", m["map"]["miou"].get<double>(),
                 m["map"].value("voxels", std::size_t{0}), m["map"].value("file_bytes", std::size_t{0}) / 1e6);
   std::cout << "outputs: " << run << "/ (trajectory_camera.txt, trajectory_robot.txt, map.ot, map.ply, metrics.json)\n";
   if (!r.report_html.empty()) std::cout << "report:  " << fs::absolute(r.report_html).string() << "\n";

@@ -1,10 +1,12 @@
-// `s3m run`: the full pipeline on a TUM-layout dataset (real or simulated).
+// `s3m run`: the full pipeline on a TUM-layout dataset (real or simulated) or, in ROS builds, a rosbag.
 #include <iostream>
 
 #include <spdlog/spdlog.h>
 
 #include "commands.hpp"
 #include "interrupt.hpp"
+#include "ros_support.hpp"
+#include "s3m/core/error.hpp"
 #include "s3m/pipeline/progress.hpp"
 #include "s3m/pipeline/run.hpp"
 
@@ -16,6 +18,7 @@ struct RunArgs {
   std::string dataset, config, out, segmenter, model_dir, poses = "slam";
   bool slam_only = false, deterministic = false, no_report = false;
   long max_frames = -1;
+  RosbagArgs bag;
 };
 
 void print_summary(const pipeline::RunResult& r, const std::string& out) {
@@ -37,7 +40,7 @@ void print_summary(const pipeline::RunResult& r, const std::string& out) {
 void register_run(CLI::App& app) {
   auto args = std::make_shared<RunArgs>();
   auto* cmd = app.add_subcommand("run", "Run SLAM + segmentation + semantic mapping on a TUM-layout dataset");
-  cmd->add_option("dataset", args->dataset, "TUM-layout directory (rgb.txt, depth.txt, ...)")->required();
+  cmd->add_option("dataset", args->dataset, "TUM-layout directory (rgb.txt, depth.txt, ...); omit with --rosbag");
   cmd->add_option("--config", args->config, "pipeline preset, e.g. config/tum_fr1.yaml (default: built-in defaults)");
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_option("--segmenter", args->segmenter,
@@ -49,9 +52,13 @@ void register_run(CLI::App& app) {
   cmd->add_flag("--deterministic", args->deterministic, "single thread, identical output run to run");
   cmd->add_option("--max-frames", args->max_frames, "process at most N frames");
   cmd->add_flag("--no-report", args->no_report, "skip the plots and report.html");
+  add_rosbag_options(*cmd, args->bag);
   cmd->callback([args] {
     pipeline::RunOptions o;
+    if (args->bag.bag.empty() == args->dataset.empty())
+      throw Error("run: give either a dataset directory or --rosbag FILE.bag (exactly one)");
     o.dataset_dir = args->dataset;
+    if (!args->bag.bag.empty()) o.open_source = rosbag_source(args->bag);
     o.out_dir = args->out;
     o.config = args->config.empty() ? pipeline::PipelineConfig{} : pipeline::load_pipeline_config(args->config);
     if (args->deterministic) o.config.threads.deterministic = true;

@@ -13,5 +13,6 @@ void register_segeval(CLI::App& app);  // segmentation evaluation
 void register_query(CLI::App& app);    // semantic map queries
 void register_export(CLI::App& app);   // map export (PLY, ColorOcTree, .bt)
 void register_vocab(CLI::App& app);    // bag-of-words vocabulary training
+void register_tum2bag(CLI::App& app);  // TUM directory -> ROS1 bag (ROS builds)
 
 }  // namespace s3m::apps

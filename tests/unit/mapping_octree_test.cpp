@@ -164,6 +164,11 @@ TEST(MappingOctree, RefusesTruncatedCorruptAndForeignFiles) {
     write(bytes.substr(0, cut));
     expect_refused(cut == 40 ? "header" : "truncated");
   }
+  // Cut inside a header line (after "# ...\n#\ni"): said to be truncated, not an "unknown line".
+  const std::size_t id_line = bytes.find("\nid ");
+  ASSERT_NE(id_line, std::string::npos);
+  write(bytes.substr(0, id_line + 2));
+  expect_refused("truncated header");
   std::string flipped = bytes;
   flipped[bytes.size() / 2] ^= 0x5a;
   write(flipped);

@@ -79,8 +79,8 @@ void export_binary_octree(const SemanticOcTree& tree, const std::string& path) {
   });
 }
 
-std::size_t export_ply(const SemanticOcTree& tree, const std::string& path, PlyColor color) {
-  std::vector<io::PlyPoint> points;
+std::vector<OccupiedVoxel> occupied_voxels(const SemanticOcTree& tree, PlyColor color) {
+  std::vector<OccupiedVoxel> out;
   const double res = tree.getResolution();
   for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
     if (!tree.isNodeOccupied(*it)) continue;
@@ -90,15 +90,27 @@ std::size_t export_ply(const SemanticOcTree& tree, const std::string& path, PlyC
     for (int x = 0; x < span; ++x)
       for (int y = 0; y < span; ++y)
         for (int z = 0; z < span; ++z) {  // pruned occupied nodes: one point per finest voxel
-          io::PlyPoint p;
-          p.x = float(centre.x() + (x - (span - 1) / 2.0) * res);
-          p.y = float(centre.y() + (y - (span - 1) / 2.0) * res);
-          p.z = float(centre.z() + (z - (span - 1) / 2.0) * res);
-          p.r = c.r, p.g = c.g, p.b = c.b;
-          p.label = it->labels().top();
-          p.confidence = it->labels().top_prob();
-          points.push_back(p);
+          OccupiedVoxel v;
+          v.centre_w = {float(centre.x() + (x - (span - 1) / 2.0) * res), float(centre.y() + (y - (span - 1) / 2.0) * res),
+                        float(centre.z() + (z - (span - 1) / 2.0) * res)};
+          v.color = c;
+          v.label = it->labels().top();
+          v.confidence = it->labels().top_prob();
+          out.push_back(v);
         }
+  }
+  return out;
+}
+
+std::size_t export_ply(const SemanticOcTree& tree, const std::string& path, PlyColor color) {
+  std::vector<io::PlyPoint> points;
+  for (const OccupiedVoxel& v : occupied_voxels(tree, color)) {
+    io::PlyPoint p;
+    p.x = v.centre_w.x(), p.y = v.centre_w.y(), p.z = v.centre_w.z();
+    p.r = v.color.r, p.g = v.color.g, p.b = v.color.b;
+    p.label = v.label;
+    p.confidence = v.confidence;
+    points.push_back(p);
   }
   io::write_ply(path, points, /*with_semantics=*/true);
   return points.size();

@@ -1,6 +1,9 @@
 #pragma once
 // Exports of a SemanticOcTree for other tools. All writes are atomic.
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "s3m/mapping/semantic_octree.hpp"
 
@@ -14,6 +17,16 @@ void export_color_octree(const SemanticOcTree& tree, const std::string& path);
 void export_binary_octree(const SemanticOcTree& tree, const std::string& path);
 
 enum class PlyColor { kObserved, kClass };
+
+// One occupied finest-resolution voxel (pruned occupied nodes are expanded into their voxels).
+struct OccupiedVoxel {
+  Eigen::Vector3f centre_w;  // world frame [m]
+  Rgb color;                 // observed colour, or the class palette colour (see PlyColor)
+  ClassId label = cls::kUnknown;
+  float confidence = 0.0f;   // probability of label
+};
+// In the tree's leaf order (deterministic). Used by the PLY export and the ROS node's map topics.
+std::vector<OccupiedVoxel> occupied_voxels(const SemanticOcTree& tree, PlyColor color = PlyColor::kObserved);
 
 // One PLY vertex per occupied finest voxel (centre, world frame [m]) with colour, `label`
 // (class id) and `confidence` (its probability). Returns the number of points written.

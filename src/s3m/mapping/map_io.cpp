@@ -143,7 +143,8 @@ void read_ot_header(std::istream& s, std::string& id, std::size_t& size, double&
     if (token == "id") ls >> id;
     else if (token == "size") ls >> size;
     else if (token == "res") have_res = static_cast<bool>(ls >> res);
-    else throw Error("unknown header line '" + line + "'");
+    else if (s.eof()) throw Error("truncated header: the file ends in '" + line + "' before the 'data' line");
+    else throw Error("unknown header line '" + line + "' (expected id, size, res or data)");
   }
   throw Error("truncated header (no 'data' line)");
 }

@@ -38,10 +38,10 @@ json summary(const eval::TrajectoryEvaluation& ev) {
 
 }  // namespace
 
-TrajectoryScore evaluate_trajectory(const Pipeline& p, const io::TumDataset& dataset, const PipelineConfig& config,
+TrajectoryScore evaluate_trajectory(const Pipeline& p, const FrameSource& source, const PipelineConfig& config,
                                     const OutputPaths& paths) {
   TrajectoryScore s;
-  const io::Trajectory& gt = dataset.groundtruth();
+  const io::Trajectory& gt = source.groundtruth();
   if (gt.empty()) return s;
   const io::Trajectory est = p.poses().camera_trajectory();
   const eval::EvalOptions options = eval_options(config);
@@ -61,8 +61,8 @@ TrajectoryScore evaluate_trajectory(const Pipeline& p, const io::TumDataset& dat
   io::write_text_atomic(report_dir + "/plot_data.json", eval::plot_data_json(gt, {est}, {ev}).dump());
 
   // The robot trajectory against the robot ground truth, when the dataset has it (simulator).
-  const fs::path gt_robot = fs::path(dataset.dir()) / "groundtruth_robot.txt";
-  if (fs::exists(gt_robot)) {
+  const fs::path gt_robot = fs::path(source.eval_dir()) / "groundtruth_robot.txt";
+  if (!source.eval_dir().empty() && fs::exists(gt_robot)) {
     try {
       const io::Trajectory est_r = robot_trajectory(est, config.slam.T_c_r);
       s.json["robot"] = summary(eval::evaluate_trajectory(io::read_tum_trajectory(gt_robot.string()), est_r,

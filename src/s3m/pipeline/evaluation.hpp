@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "s3m/eval/align.hpp"
-#include "s3m/io/tum_dataset.hpp"
+#include "s3m/pipeline/frame_source.hpp"
 #include "s3m/mapping/metrics.hpp"
 #include "s3m/pipeline/outputs.hpp"
 #include "s3m/pipeline/pipeline.hpp"
@@ -29,7 +29,7 @@ SE3 align_poses(const std::vector<SE3>& T_w_est, const std::vector<SE3>& T_w_gt)
 
 // ATE/RPE of the camera trajectory (and of the robot trajectory when the dataset has
 // groundtruth_robot.txt). Writes report/plot_data.json for tools/plot_trajectories.py.
-TrajectoryScore evaluate_trajectory(const Pipeline& pipeline, const io::TumDataset& dataset,
+TrajectoryScore evaluate_trajectory(const Pipeline& pipeline, const FrameSource& source,
                                     const PipelineConfig& config, const OutputPaths& paths);
 
 struct MapScore {

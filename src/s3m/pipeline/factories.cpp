@@ -12,15 +12,16 @@
 namespace s3m::pipeline {
 namespace fs = std::filesystem;
 
-std::unique_ptr<PoseSource> make_pose_source(const std::string& kind, const io::TumDataset& dataset,
+std::unique_ptr<PoseSource> make_pose_source(const std::string& kind, const FrameSource& source,
                                              const PinholeCamera& camera, const PipelineConfig& config) {
   if (kind == "slam") return make_slam_poses(camera, config);
   if (kind == "gt") {
-    if (dataset.groundtruth().empty())
-      throw Error("--poses gt: " + dataset.dir() + " has no groundtruth.txt (expected TUM 't tx ty tz qx qy qz qw' lines)");
+    if (source.groundtruth().empty())
+      throw Error("--poses gt: " + source.name() + " has no ground truth (expected groundtruth.txt with TUM "
+                  "'t tx ty tz qx qy qz qw' lines, or a bag's ground-truth topic)");
     GroundTruthPosesConfig g;
     g.max_dt_s = config.eval.gt_max_dt_s;
-    return make_ground_truth_poses(dataset.groundtruth(), g);
+    return make_ground_truth_poses(source.groundtruth(), g);
   }
   throw Error("--poses: unknown value '" + kind + "' (expected slam | gt)");
 }

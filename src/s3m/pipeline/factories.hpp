@@ -4,7 +4,7 @@
 #include <memory>
 #include <string>
 
-#include "s3m/io/tum_dataset.hpp"
+#include "s3m/pipeline/frame_source.hpp"
 #include "s3m/pipeline/map_integrator.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 #include "s3m/pipeline/pose_source.hpp"
@@ -14,7 +14,7 @@
 namespace s3m::pipeline {
 
 // "slam" (the SLAM system of s3m::slam) or "gt" (the dataset's ground truth).
-std::unique_ptr<PoseSource> make_pose_source(const std::string& kind, const io::TumDataset& dataset,
+std::unique_ptr<PoseSource> make_pose_source(const std::string& kind, const FrameSource& source,
                                              const PinholeCamera& camera, const PipelineConfig& config);
 
 // The SLAM system as a PoseSource (slam_pose_source.cpp).

@@ -5,6 +5,7 @@
 #include "s3m/core/classes.hpp"
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/pipeline/evaluation.hpp"
+#include "s3m/pipeline/reprojection.hpp"
 #include "s3m/mapping/metrics.hpp"
 
 namespace s3m::pipeline {
@@ -43,6 +44,38 @@ json segmentation_json(const Pipeline& p) {
           {"per_class_iou", per_class_json(iou)},
           {"frames", p.counters().segmented},
           {"note", "argmax of each segmented frame vs the dataset's label image; unknown (0) not evaluated"}};
+}
+
+json iou_pair_json(const semantics::ConfusionMatrix& map, const semantics::ConfusionMatrix& frame) {
+  const semantics::SegMetrics m = map.metrics(), f = frame.metrics();
+  json per_class = json::object();
+  const ClassList& classes = indoor_classes();
+  for (ClassId c : f.evaluated) per_class[classes.at(c).name] = {{"map", m.iou[c]}, {"frame", f.iou[c]}};
+  return {{"miou", m.miou}, {"frame_miou", f.miou}, {"pixel_accuracy", m.pixel_accuracy},
+          {"frame_pixel_accuracy", f.pixel_accuracy}, {"per_class_iou", per_class}};
+}
+
+// The final map's labels projected into the kept frames (reprojection.hpp), with the final poses.
+json reprojection_json(const Pipeline& p, const FrameSource& source, const PipelineConfig& config) {
+  const MapIntegrator* map = p.map();
+  if (!map || p.eval_frames().empty()) return json::object();
+  std::map<double, SE3> T_w_c_by_t;
+  for (const auto& s : p.poses().camera_trajectory()) T_w_c_by_t.emplace(s.t_s, s.T_w_x);
+  ReprojectionScore score;
+  const ReprojectionOptions opt{config.cloud.min_depth_m, config.cloud.max_depth_m, 2};
+  for (const EvalFrame& e : p.eval_frames()) {
+    const auto pose = T_w_c_by_t.find(e.t_s);
+    if (pose == T_w_c_by_t.end()) continue;  // not in the final trajectory (lost)
+    const RgbdFrame f = source.load(static_cast<std::size_t>(e.index));
+    add_reprojection(map->tree(), source.camera(), {f.depth_m, f.labels, e.argmax, pose->second}, opt, score);
+  }
+  if (score.covered_px == 0) return json::object();
+  json j = iou_pair_json(score.map, score.frame);
+  j["frames"] = score.frames;
+  j["coverage"] = score.coverage();
+  j["note"] = "final map's labels projected into kept segmented frames (final poses, frame depth) vs their "
+              "ground-truth labels; frame_* = the single-frame segmentation on exactly the same pixels";
+  return j;
 }
 
 // T_map_gt: the ground-truth world in the map's frame (pose alignment of the trajectory).
@@ -88,6 +121,7 @@ json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& da
 }  // namespace
 
 std::string find_gt_voxel_map(const std::string& dataset_dir) {
+  if (dataset_dir.empty()) return "";
   for (const char* name : {"gt_voxels.txt", "groundtruth_voxels.txt", "gt_voxel_map.txt"}) {
     const fs::path p = fs::path(dataset_dir) / name;
     if (fs::exists(p)) return p.string();
@@ -95,7 +129,7 @@ std::string find_gt_voxel_map(const std::string& dataset_dir) {
   return "";
 }
 
-json compute_metrics(const Pipeline& p, const io::TumDataset& dataset, const PipelineConfig& config,
+json compute_metrics(const Pipeline& p, const FrameSource& source, const PipelineConfig& config,
                      const RunInfo& info, const OutputPaths& paths) {
   const PipelineCounters& c = p.counters();
   json m;
@@ -118,12 +152,13 @@ json compute_metrics(const Pipeline& p, const io::TumDataset& dataset, const Pip
     if (!f.tracked) lost[f.state] = lost.value(f.state, 0) + 1;
   m["untracked_by_state"] = lost;
   m["timings_ms"] = timings_json(p.timings());
-  const TrajectoryScore traj = evaluate_trajectory(p, dataset, config, paths);
+  const TrajectoryScore traj = evaluate_trajectory(p, source, config, paths);
   m["trajectory"] = traj.json;
   m["segmentation"] = segmentation_json(p);
   // The map lives in the estimate's world (identity for --poses gt).
   const SE3 T_map_gt = traj.T_est_gt.value_or(SE3::Identity());
-  m["map"] = map_json(p, paths, dataset.dir(), T_map_gt);
+  m["map"] = map_json(p, paths, source.eval_dir(), T_map_gt);
+  if (json r = reprojection_json(p, source, config); !r.empty()) m["map"]["reprojected"] = r;
   m["classes"] = classes_json();
   m["outputs"] = {{"trajectory_camera", paths.trajectory_camera},
                   {"trajectory_robot", paths.trajectory_robot},

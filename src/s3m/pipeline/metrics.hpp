@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "s3m/io/tum_dataset.hpp"
+#include "s3m/pipeline/frame_source.hpp"
 #include "s3m/pipeline/outputs.hpp"
 #include "s3m/pipeline/pipeline.hpp"
 
@@ -22,7 +22,7 @@ struct RunInfo {
 // Files a dataset may carry for evaluation (s3m simulator output): ground-truth voxel map.
 std::string find_gt_voxel_map(const std::string& dataset_dir);  // "" when absent
 
-nlohmann::json compute_metrics(const Pipeline& pipeline, const io::TumDataset& dataset,
+nlohmann::json compute_metrics(const Pipeline& pipeline, const FrameSource& source,
                                const PipelineConfig& config, const RunInfo& info, const OutputPaths& paths);
 
 // Side effect: with ground truth, evaluate_trajectory() writes the plot script's inputs

@@ -13,7 +13,8 @@ Pipeline::Pipeline(PipelineConfig config, PinholeCamera camera, std::unique_ptr<
       camera_(camera),
       poses_(std::move(poses)),
       segmenter_(std::move(segmenter)),
-      map_(std::move(map)) {
+      map_(std::move(map)),
+      eval_frames_(config_.eval.reprojection_every_n, std::size_t(std::max(config_.eval.reprojection_max_frames, 1))) {
   require(poses_ != nullptr, "Pipeline: a pose source is required");
   config_.validate();
   camera_.validate();
@@ -99,7 +100,12 @@ void Pipeline::steps3to5_map(Work& w) {
     store_.note_keyframe(w.track.keyframe_id, w.track.T_w_c);
   }
   // 5. record: outcome, counters, segmentation against ground-truth labels when the dataset has them.
-  if (!w.labels.empty() && !f.labels.empty()) confusion_.add(f.labels, w.labels.argmax);
+  if (!w.labels.empty() && !f.labels.empty()) {
+    confusion_.add(f.labels, w.labels.argmax);
+    if (config_.eval.reprojection_max_frames > 0 && eval_frames_.wants(eval_offered_))
+      eval_frames_.keep({f.index, f.t_s, w.labels.argmax.clone()}, eval_offered_);
+    ++eval_offered_;
+  }
   FrameOutcome o{f.index, f.t_s, w.track.T_w_c, w.track.state, w.track.ok, w.track.keyframe,
                  !w.labels.empty(), w.integrate};
   counters_.frames++;
@@ -107,6 +113,7 @@ void Pipeline::steps3to5_map(Work& w) {
   counters_.keyframes += o.keyframe;
   counters_.segmented += o.segmented;
   counters_.integrated += o.integrated;
+  if (listener_) listener_(o, f, w.labels);
   outcomes_.push_back(std::move(o));
   frames_done_.fetch_add(1);
 }

@@ -12,6 +12,7 @@
 // BoundedQueues: process() blocks when the tracking queue is full (back-pressure up to the reader).
 #include <atomic>
 #include <exception>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -26,6 +27,7 @@
 #include "s3m/pipeline/map_integrator.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 #include "s3m/pipeline/pose_source.hpp"
+#include "s3m/pipeline/reprojection.hpp"
 #include "s3m/pipeline/stage_timings.hpp"
 #include "s3m/semantics/seg_metrics.hpp"
 #include "s3m/semantics/segmenter.hpp"
@@ -52,6 +54,11 @@ struct PipelineCounters {
   std::size_t rebuilds = 0;          // map rebuilds from kept clouds
 };
 
+// Called after step 5 of every frame, from the thread that ran it (the caller of process() in
+// deterministic mode, else the mapping thread), with the frame's outcome and its labels (empty when
+// it was not segmented). Live front ends (the ROS node) publish from here; keep it short.
+using FrameListener = std::function<void(const FrameOutcome&, const RgbdFrame&, const semantics::LabelMap&)>;
+
 class Pipeline {
  public:
   // segmenter and map may be null (--slam-only / --segmenter none: no labels; no map at all
@@ -63,6 +70,8 @@ class Pipeline {
   Pipeline& operator=(const Pipeline&) = delete;
 
   void process(RgbdFrame frame);
+  // Set before the first process().
+  void set_frame_listener(FrameListener listener) { listener_ = std::move(listener); }
   // Drains the queues, stops the threads, applies the final keyframe poses to the map. Rethrows the
   // first error a worker thread hit. Idempotent.
   void finish();
@@ -79,6 +88,8 @@ class Pipeline {
   const StageTimings& timings() const { return timings_; }
   const PipelineCounters& counters() const { return counters_; }
   const semantics::ConfusionMatrix& confusion() const { return confusion_; }
+  // Segmented frames with ground truth kept for the map reprojection score (eval.reprojection_*).
+  const std::vector<EvalFrame>& eval_frames() const { return eval_frames_.frames(); }
   bool has_semantics() const { return segmenter_ != nullptr; }
 
  private:
@@ -99,6 +110,7 @@ class Pipeline {
 
   PipelineConfig config_;
   PinholeCamera camera_;
+  FrameListener listener_;
   std::unique_ptr<PoseSource> poses_;
   std::unique_ptr<semantics::Segmenter> segmenter_;
   std::unique_ptr<MapIntegrator> map_;
@@ -107,6 +119,8 @@ class Pipeline {
   StageTimings timings_;
   PipelineCounters counters_;
   semantics::ConfusionMatrix confusion_{cls::kCount};
+  EvalFrameSampler eval_frames_;
+  std::size_t eval_offered_ = 0;
   std::vector<FrameOutcome> outcomes_;
   std::atomic<std::size_t> frames_done_{0};
 

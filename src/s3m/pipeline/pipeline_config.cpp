@@ -89,11 +89,14 @@ void load_segmenter(const YAML::Node& n, SegmenterConfig& c, const std::string& 
 }
 
 void load_eval(const YAML::Node& n, EvalConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"rpe_delta_s", "gt_max_dt_s", "align", "plots"}, ctx);
+  check_known_keys(n, {"rpe_delta_s", "gt_max_dt_s", "align", "plots", "reprojection_every_n", "reprojection_max_frames"},
+                   ctx);
   yaml_get(n, "rpe_delta_s", c.rpe_delta_s, ctx);
   yaml_get(n, "gt_max_dt_s", c.gt_max_dt_s, ctx);
   yaml_get(n, "align", c.align, ctx);
   yaml_get(n, "plots", c.plots, ctx);
+  yaml_get(n, "reprojection_every_n", c.reprojection_every_n, ctx);
+  yaml_get(n, "reprojection_max_frames", c.reprojection_max_frames, ctx);
 }
 
 }  // namespace
@@ -139,6 +142,10 @@ void EvalConfig::validate() const {
           "eval.gt_max_dt_s must be > 0 s (got " + num(gt_max_dt_s) + ")");
   require(align == "se3" || align == "sim3" || align == "none",
           "eval.align must be se3 | sim3 | none (got '" + align + "')");
+  require(reprojection_every_n >= 1, "eval.reprojection_every_n must be >= 1 frame (got " +
+                                         std::to_string(reprojection_every_n) + ")");
+  require(reprojection_max_frames >= 0 && reprojection_max_frames <= 10000,
+          "eval.reprojection_max_frames must be in [0, 10000] frames (got " + std::to_string(reprojection_max_frames) + ")");
 }
 
 void PipelineConfig::validate() const {
@@ -153,7 +160,10 @@ void PipelineConfig::validate() const {
 }
 
 PipelineConfig load_pipeline_config(const std::string& path) {
-  const YAML::Node root = load_yaml_file(path);
+  return pipeline_config_from_yaml(load_yaml_file(path), path);
+}
+
+PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::string& path) {
   PipelineConfig c;
   c.source = path;
   if (!root || root.IsNull()) return c;  // an empty preset means "all defaults"

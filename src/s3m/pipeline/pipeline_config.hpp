@@ -67,6 +67,10 @@ struct EvalConfig {
   double gt_max_dt_s = 0.02;        // max timestamp gap estimate <-> ground truth [s]
   std::string align = "se3";        // trajectory alignment before ATE: se3 | sim3 | none
   bool plots = true;                // write OUT/report/ (PNG plots + report.html) via tools/*.py
+  // Map labels projected back into segmented frames with ground truth (reprojection.hpp): every
+  // n-th such frame is kept (its argmax, 2 bytes/px), at most max_frames (0 = off) [frames].
+  int reprojection_every_n = 10;
+  int reprojection_max_frames = 30;
   void validate() const;
 };
 
@@ -98,5 +102,8 @@ struct PipelineConfig {
 
 // Loads and validates a preset. Errors name the file, the line and what was expected.
 PipelineConfig load_pipeline_config(const std::string& path);
+// The same from an already parsed document (e.g. a preset merged with ROS parameters); `path`
+// names it in messages and anchors relative camera/model paths (its folder; "" = the working dir).
+PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::string& path);
 
 }  // namespace s3m::pipeline

@@ -6,7 +6,6 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
-#include "s3m/io/tum_dataset.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/metrics.hpp"
 #include "s3m/pipeline/outputs.hpp"
@@ -37,27 +36,24 @@ namespace {
 
 // Components the run is made of, built from the options (each factory names what is wrong).
 struct Components {
-  io::TumDataset dataset;
+  std::unique_ptr<FrameSource> source;
   std::unique_ptr<Pipeline> pipeline;
   RunInfo info;
 };
 
 Components build(const RunOptions& o) {
-  io::TumDatasetOptions dopt;
-  dopt.max_dt_s = o.config.dataset.max_dt_s;
-  dopt.camera = o.config.dataset.camera;
-  Components c{io::TumDataset::open(o.dataset_dir, dopt), nullptr, {}};
-  const PinholeCamera& cam = c.dataset.camera();
-  c.info.dataset_dir = o.dataset_dir;
+  Components c{o.open_source ? o.open_source(o.config) : open_tum_source(o.dataset_dir, o.config.dataset), nullptr, {}};
+  const PinholeCamera& cam = c.source->camera();
+  c.info.dataset_dir = c.source->name();
   c.info.config_file = o.config.source;
-  auto poses = make_pose_source(o.poses, c.dataset, cam, o.config);
+  auto poses = make_pose_source(o.poses, *c.source, cam, o.config);
   c.info.poses = poses->name();
   std::unique_ptr<semantics::Segmenter> segmenter;
   std::unique_ptr<MapIntegrator> map;
   if (!o.slam_only) {
     SegmenterSpec spec = parse_segmenter_spec(o.segmenter);
     spec.model_dir = o.model_dir;
-    segmenter = make_segmenter(spec, o.config, c.dataset.has_labels());
+    segmenter = make_segmenter(spec, o.config, c.source->has_labels());
     map = std::make_unique<MapIntegrator>(o.config.map);
   }
   c.info.segmenter = segmenter ? segmenter->name() : (o.slam_only ? "none (--slam-only)" : "none");
@@ -88,10 +84,10 @@ RunResult run_dataset(const RunOptions& o) {
   create_output_dir(o.out_dir);
 
   RunResult r;
-  r.frames_total = c.dataset.size();
+  r.frames_total = c.source->size();
   if (o.max_frames >= 0) r.frames_total = std::min<std::size_t>(r.frames_total, o.max_frames);
-  require(r.frames_total > 0, "run: dataset " + o.dataset_dir + " has no frames");
-  spdlog::info("run: {} frames from {} (poses: {}, segmenter: {})", r.frames_total, o.dataset_dir,
+  require(r.frames_total > 0, "run: dataset " + c.info.dataset_dir + " has no frames");
+  spdlog::info("run: {} frames from {} (poses: {}, segmenter: {})", r.frames_total, c.info.dataset_dir,
                c.info.poses, c.info.segmenter);
 
   ProgressLine progress(r.frames_total, o.progress);
@@ -102,7 +98,7 @@ RunResult run_dataset(const RunOptions& o) {
       r.interrupted = true;
       break;
     }
-    c.pipeline->process(c.dataset.load(submitted));
+    c.pipeline->process(c.source->load(submitted));
     progress.update(c.pipeline->frames_done(), c.pipeline->last_state());
   }
   c.pipeline->finish();
@@ -115,7 +111,7 @@ RunResult run_dataset(const RunOptions& o) {
 
   // Outputs first (trajectory and map are what a user keeps), then the evaluation of them.
   const OutputPaths paths = write_outputs(*c.pipeline, o.config, o.out_dir);
-  r.metrics = compute_metrics(*c.pipeline, c.dataset, o.config, c.info, paths);
+  r.metrics = compute_metrics(*c.pipeline, *c.source, o.config, c.info, paths);
   write_metrics(r.metrics, paths);
   if (o.report && o.config.eval.plots) {
     const ReportResult rep = make_report(o.out_dir);

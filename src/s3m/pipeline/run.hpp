@@ -1,18 +1,24 @@
 #pragma once
-// `s3m run` as a library call: a TUM-layout dataset in, every output file in OUT (trajectories,
+// `s3m run` as a library call: a TUM-layout dataset (or any FrameSource) in, every output file in OUT (trajectories,
 // keyframes, semantic map, metrics, report). Used by the CLI, `s3m demo` and the integration tests.
 #include <atomic>
 #include <cstddef>
+#include <functional>
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "s3m/pipeline/frame_source.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 
 namespace s3m::pipeline {
 
 struct RunOptions {
   std::string dataset_dir;
+  // When set, frames come from this source (e.g. a rosbag, src/ros) instead of dataset_dir. It is
+  // called once with the validated config (camera override, association window).
+  std::function<std::unique_ptr<FrameSource>(const PipelineConfig&)> open_source;
   std::string out_dir;
   PipelineConfig config;
   // Segmenter: "" = the config's segmenter section; "onnx:MODEL_DIR_OR_CARD", "oracle", "none".

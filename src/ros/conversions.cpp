@@ -1,0 +1,149 @@
+#include "conversions.hpp"
+
+#include <cmath>
+
+#include <cv_bridge/cv_bridge.h>
+#include <opencv2/imgproc.hpp>
+#include <sensor_msgs/image_encodings.h>
+
+#include "s3m/core/error.hpp"
+
+namespace s3m::ros1 {
+namespace enc = sensor_msgs::image_encodings;
+
+namespace {
+std::string describe(const sensor_msgs::Image& msg) {
+  return msg.encoding + " " + std::to_string(msg.width) + "x" + std::to_string(msg.height);
+}
+}  // namespace
+
+cv::Mat colour_to_bgr(const sensor_msgs::Image& msg) {
+  const std::string& e = msg.encoding;
+  if (e != enc::RGB8 && e != enc::BGR8 && e != enc::RGBA8 && e != enc::BGRA8 && e != enc::MONO8)
+    throw Error("colour image: encoding " + describe(msg) + " (expected rgb8, bgr8, rgba8, bgra8 or mono8)");
+  return cv_bridge::toCvCopy(msg, enc::BGR8)->image;
+}
+
+cv::Mat depth_to_metres(const sensor_msgs::Image& msg) {
+  const cv_bridge::CvImageConstPtr cv = cv_bridge::toCvCopy(msg);
+  cv::Mat depth_m;
+  if (msg.encoding == enc::TYPE_16UC1 || msg.encoding == enc::MONO16) {
+    cv->image.convertTo(depth_m, CV_32F, 1e-3);  // millimetres; 0 stays "no measurement"
+  } else if (msg.encoding == enc::TYPE_32FC1) {
+    depth_m = cv->image;
+  } else {
+    throw Error("depth image: encoding " + describe(msg) + " (expected 16UC1 in millimetres or 32FC1 in metres)");
+  }
+  return depth_m;
+}
+
+cv::Mat labels_to_ids(const sensor_msgs::Image& msg) {
+  if (msg.encoding != enc::MONO16 && msg.encoding != enc::TYPE_16UC1)
+    throw Error("label image: encoding " + describe(msg) + " (expected mono16 or 16UC1 class ids)");
+  return cv_bridge::toCvCopy(msg)->image;
+}
+
+PinholeCamera camera_from_info(const sensor_msgs::CameraInfo& info, double default_bf) {
+  PinholeCamera c;
+  c.fx = info.K[0];
+  c.fy = info.K[4];
+  c.cx = info.K[2];
+  c.cy = info.K[5];
+  c.width = static_cast<int>(info.width);
+  c.height = static_cast<int>(info.height);
+  c.dist = {0, 0, 0, 0, 0};
+  if (!info.D.empty()) {
+    if (info.distortion_model != "plumb_bob" && info.distortion_model != "rational_polynomial")
+      throw Error("camera_info: distortion model '" + info.distortion_model + "' (expected plumb_bob)");
+    for (std::size_t i = 0; i < 5 && i < info.D.size(); ++i) c.dist[i] = info.D[i];
+  }
+  c.bf = info.P[3] < 0 ? -info.P[3] : default_bf;
+  c.depth_factor = 1000.0;  // unused: depth arrives converted to metres
+  c.validate();
+  return c;
+}
+
+sensor_msgs::CameraInfo info_from_camera(const PinholeCamera& c) {
+  sensor_msgs::CameraInfo info;
+  info.width = c.width;
+  info.height = c.height;
+  info.distortion_model = "plumb_bob";
+  info.D.assign(c.dist.begin(), c.dist.end());
+  info.K = {c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1};
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  info.P = {c.fx, 0, c.cx, -c.bf, 0, c.fy, c.cy, 0, 0, 0, 1, 0};
+  return info;
+}
+
+sensor_msgs::Image bgr_to_msg(const cv::Mat& bgr) {
+  require(bgr.type() == CV_8UC3, "bgr_to_msg: expected a CV_8UC3 BGR image");
+  cv::Mat rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  return *cv_bridge::CvImage(std_msgs::Header(), enc::RGB8, rgb).toImageMsg();
+}
+
+sensor_msgs::Image depth_to_msg(const cv::Mat& depth_m, const std::string& encoding) {
+  require(depth_m.type() == CV_32FC1, "depth_to_msg: expected a CV_32FC1 depth image in metres");
+  if (encoding == enc::TYPE_32FC1) return *cv_bridge::CvImage(std_msgs::Header(), encoding, depth_m).toImageMsg();
+  if (encoding != enc::TYPE_16UC1) throw Error("depth encoding '" + encoding + "' (expected 32FC1 or 16UC1)");
+  cv::Mat mm(depth_m.size(), CV_16UC1);
+  for (int v = 0; v < depth_m.rows; ++v)
+    for (int u = 0; u < depth_m.cols; ++u) {
+      const float z = depth_m.at<float>(v, u);
+      const long z_mm = std::isfinite(z) ? std::lround(z * 1000.0f) : 0;
+      mm.at<std::uint16_t>(v, u) = z_mm > 0 && z_mm <= 65535 ? static_cast<std::uint16_t>(z_mm) : 0;  // 0 = none
+    }
+  return *cv_bridge::CvImage(std_msgs::Header(), encoding, mm).toImageMsg();
+}
+
+sensor_msgs::Image labels_to_msg(const cv::Mat& ids) {
+  require(ids.type() == CV_16UC1, "labels_to_msg: expected CV_16UC1 class ids");
+  return *cv_bridge::CvImage(std_msgs::Header(), enc::MONO16, ids).toImageMsg();
+}
+
+geometry_msgs::Pose to_pose(const SE3& T) {
+  geometry_msgs::Pose p;
+  const Eigen::Quaterniond q(T.linear());
+  p.position.x = T.translation().x(), p.position.y = T.translation().y(), p.position.z = T.translation().z();
+  p.orientation.x = q.x(), p.orientation.y = q.y(), p.orientation.z = q.z(), p.orientation.w = q.w();
+  return p;
+}
+
+geometry_msgs::Transform to_transform(const SE3& T) {
+  const geometry_msgs::Pose p = to_pose(T);
+  geometry_msgs::Transform t;
+  t.translation.x = p.position.x, t.translation.y = p.position.y, t.translation.z = p.position.z;
+  t.rotation = p.orientation;
+  return t;
+}
+
+namespace {
+SE3 make(double x, double y, double z, double qx, double qy, double qz, double qw) {
+  SE3 T = SE3::Identity();
+  T.linear() = Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix();
+  T.translation() = Eigen::Vector3d(x, y, z);
+  return T;
+}
+}  // namespace
+
+SE3 from_pose(const geometry_msgs::Pose& p) {
+  return make(p.position.x, p.position.y, p.position.z, p.orientation.x, p.orientation.y, p.orientation.z,
+              p.orientation.w);
+}
+
+SE3 from_transform(const geometry_msgs::Transform& t) {
+  return make(t.translation.x, t.translation.y, t.translation.z, t.rotation.x, t.rotation.y, t.rotation.z,
+              t.rotation.w);
+}
+
+ros::Time to_ros_time(double t_s) {
+  require(std::isfinite(t_s) && t_s > 0, "timestamp " + std::to_string(t_s) + " s (ROS times must be > 0)");
+  return ros::Time(t_s);
+}
+
+double to_seconds(const ros::Time& t) {
+  // Round to the microsecond: the stamp came from a TUM "%.6f" time or a driver (ns; us is plenty).
+  return std::round(t.toSec() * 1e6) / 1e6;
+}
+
+}  // namespace s3m::ros1

@@ -1,0 +1,46 @@
+#pragma once
+// Conversions between ROS1 messages and s3m types. Only src/ros includes ROS headers.
+//  - colour: rgb8 / bgr8 / rgba8 / bgra8 / mono8 -> CV_8UC3 BGR (OpenCV order, as RgbdFrame)
+//  - depth: 16UC1 (millimetres, the REP 118 convention) or 32FC1 (metres) -> CV_32FC1 metres
+//  - labels (s3m simulator): mono16 / 16UC1 class ids -> CV_16UC1
+//  - CameraInfo <-> PinholeCamera (K, plumb_bob D, and the virtual stereo term bf in P, see below)
+#include <string>
+
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/Transform.h>
+#include <opencv2/core.hpp>
+#include <ros/time.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include "s3m/core/camera.hpp"
+#include "s3m/core/se3.hpp"
+
+namespace s3m::ros1 {
+
+cv::Mat colour_to_bgr(const sensor_msgs::Image& msg);
+cv::Mat depth_to_metres(const sensor_msgs::Image& msg);
+cv::Mat labels_to_ids(const sensor_msgs::Image& msg);
+
+// RGB-D SLAM's virtual stereo baseline bf = baseline * fx [px m] (ORB-SLAM's Camera.bf) has no
+// field in CameraInfo. s3m stores it as a right stereo camera would: P[3] = -bf (Tx = -fx * B).
+// P[3] >= 0 (a plain monocular CameraInfo): bf falls back to `default_bf`.
+PinholeCamera camera_from_info(const sensor_msgs::CameraInfo& info, double default_bf);
+sensor_msgs::CameraInfo info_from_camera(const PinholeCamera& camera);
+
+// Throws s3m::Error naming the encoding when it is not one of the above.
+sensor_msgs::Image bgr_to_msg(const cv::Mat& bgr);            // rgb8
+sensor_msgs::Image depth_to_msg(const cv::Mat& depth_m, const std::string& encoding);  // 32FC1 | 16UC1
+sensor_msgs::Image labels_to_msg(const cv::Mat& ids);          // mono16
+
+geometry_msgs::Pose to_pose(const SE3& T);
+geometry_msgs::Transform to_transform(const SE3& T);
+SE3 from_pose(const geometry_msgs::Pose& p);
+SE3 from_transform(const geometry_msgs::Transform& t);
+
+// Seconds <-> ros::Time. TUM timestamps have microseconds; ros::Time nanoseconds, so the round trip
+// of a "%.6f" stamp gives back the same double after rounding to the microsecond.
+ros::Time to_ros_time(double t_s);
+double to_seconds(const ros::Time& t);
+
+}  // namespace s3m::ros1

@@ -1,0 +1,33 @@
+#include "s3m/pipeline/frame_source.hpp"
+
+#include "s3m/io/tum_dataset.hpp"
+
+namespace s3m::pipeline {
+namespace {
+
+class TumFrameSource final : public FrameSource {
+ public:
+  explicit TumFrameSource(io::TumDataset dataset) : dataset_(std::move(dataset)) {}
+
+  std::size_t size() const override { return dataset_.size(); }
+  RgbdFrame load(std::size_t index) const override { return dataset_.load(index); }
+  const PinholeCamera& camera() const override { return dataset_.camera(); }
+  const io::Trajectory& groundtruth() const override { return dataset_.groundtruth(); }
+  bool has_labels() const override { return dataset_.has_labels(); }
+  std::string name() const override { return dataset_.dir(); }
+  std::string eval_dir() const override { return dataset_.dir(); }
+
+ private:
+  io::TumDataset dataset_;
+};
+
+}  // namespace
+
+std::unique_ptr<FrameSource> open_tum_source(const std::string& dir, const DatasetConfig& config) {
+  io::TumDatasetOptions options;
+  options.max_dt_s = config.max_dt_s;
+  options.camera = config.camera;
+  return std::make_unique<TumFrameSource>(io::TumDataset::open(dir, options));
+}
+
+}  // namespace s3m::pipeline

@@ -1,0 +1,33 @@
+#pragma once
+// Where run_dataset() reads its frames from. A TUM-layout directory here; a rosbag in ROS builds
+// (src/ros/bag_source.hpp). Everything downstream (pipeline, outputs, metrics) only sees this.
+#include <cstddef>
+#include <memory>
+#include <string>
+
+#include "s3m/core/camera.hpp"
+#include "s3m/core/rgbd_frame.hpp"
+#include "s3m/io/trajectory.hpp"
+#include "s3m/pipeline/pipeline_config.hpp"
+
+namespace s3m::pipeline {
+
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  // Frames in time order. Random access: the run reads 0, 1, 2, ...; evaluations after the run
+  // (reprojection into kept frames) read some again.
+  virtual std::size_t size() const = 0;
+  virtual RgbdFrame load(std::size_t index) const = 0;  // frame.index == index
+  virtual const PinholeCamera& camera() const = 0;
+  virtual const io::Trajectory& groundtruth() const = 0;  // camera ground truth T_w_c; empty when none
+  virtual bool has_labels() const = 0;                     // frames carry ground-truth label images
+  virtual std::string name() const = 0;                    // what was opened, for logs and metrics.json
+  // Folder with the simulator's evaluation files (groundtruth_robot.txt, gt_voxels.txt); "" when none.
+  virtual std::string eval_dir() const = 0;
+};
+
+// A TUM-layout directory (io::TumDataset) with the association window and camera of `config`.
+std::unique_ptr<FrameSource> open_tum_source(const std::string& dir, const DatasetConfig& config);
+
+}  // namespace s3m::pipeline
