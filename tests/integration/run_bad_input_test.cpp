@@ -135,6 +135,20 @@ TEST(RunBadInput, CorruptAndTruncatedPngs) {
   run_error(seq2, {list_entry(seq2 / "depth.txt", 4)});
 }
 
+// A run that fails on frame 6 writes nothing: the earlier run's outputs in the same OUT stay.
+TEST(RunBadInput, AFailedRunLeavesTheEarlierRunsOutputsIntact) {
+  const fs::path seq = short_sequence("rerun");
+  const pipeline::RunOptions o = options_for(seq, "rerun");
+  pipeline::run_dataset(o);
+  const std::string map_before = read_bytes(o.out_dir + "/map.ot");
+  const std::string metrics_before = read_bytes(o.out_dir + "/metrics.json");
+  std::ofstream(seq / list_entry(seq / "rgb.txt", 6), std::ios::binary) << "garbage";
+  run_error(o, {list_entry(seq / "rgb.txt", 6), "decode"});
+  EXPECT_TRUE(read_bytes(o.out_dir + "/map.ot") == map_before);
+  EXPECT_EQ(read_bytes(o.out_dir + "/metrics.json"), metrics_before);
+  EXPECT_NE(mapping::load_semantic_map(o.out_dir + "/map.ot"), nullptr);
+}
+
 TEST(RunBadInput, EightBitDepthAndWrongImageSize) {
   const fs::path seq = short_sequence("depth8");
   const fs::path depth = seq / list_entry(seq / "depth.txt", 1);
