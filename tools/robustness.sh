@@ -4,8 +4,12 @@
 # ("s3m: error: ...") or a command-line usage error (CLI11, exit 100..127); never succeed, crash
 # (exit >= 128) or report an unexpected error (exit 2). The script exits 1 otherwise.
 # Usage: tools/robustness.sh [path/to/s3m]   (default build/src/apps/s3m)
+# The `s3m run` cases render an 8-frame simulator sequence first (a few seconds) and edit copies of it.
+# The out-of-disk case for `s3m run` uses a real 256 KiB tmpfs when mounting works (root), else the
+# file-size limit.
 set -uo pipefail
 cd "$(dirname "$0")/.."
+REPO="$(pwd)"
 S3M="$(realpath "${1:-build/src/apps/s3m}")"
 [ -x "$S3M" ] || { echo "robustness.sh: no s3m binary at $S3M (build it first)" >&2; exit 2; }
 W="$(mktemp -d /tmp/s3m_robust_XXXXXX)"
@@ -21,6 +25,7 @@ row() {
   code=$?
   err="$(grep -v '^\s*$' stderr.txt | head -n 3 | tr '\n' ' ' | sed 's/ *$//; s/|/\\|/g')"
   local shown="${*/#$S3M/s3m}"
+  shown="${shown//$REPO\//}"
   printf '| %s | `%s` | %s | %s |\n' "$name" "$shown" "$code" "$err"
   if [ "$code" != 1 ] && { [ "$code" -lt 100 ] || [ "$code" -ge 128 ]; }; then bad=1; printf '| ^ NOT CLEAN | | | |\n'; fi
 }
@@ -65,5 +70,70 @@ if [ "$before" = "$after" ] && /usr/bin/python3 -c "import json,sys; json.load(o
   echo "<!-- disk-full case: previous outdir/metrics.json unchanged and still valid JSON -->"
 else
   echo "<!-- disk-full case: previous metrics.json was changed or is unreadable -->"; bad=1
+fi
+
+# ---- s3m run ------------------------------------------------------------------------------
+PY=/usr/bin/python3
+"$S3M" sim --frames 8 --trajectory handheld --out seq >/dev/null 2>&1 || { echo "robustness.sh: s3m sim failed" >&2; exit 2; }
+"$S3M" sim --frames 2 --trajectory handheld --width 320 --height 240 --out small >/dev/null 2>&1
+RUN=("$S3M" run --config "$REPO/config/sim.yaml" --deterministic --no-report)  # the preset's oracle segmenter
+# mk NAME: a fresh copy of the sequence; prints its path. nth LIST N: the N-th (0-based) image path.
+mk() { rm -rf "$1"; cp -r seq "$1"; echo "$1"; }
+nth() { grep -v '^#' "$1" | sed -n "$(( $2 + 1 ))p" | awk '{print $2}'; }
+d=$(mk no_rgb_list); rm $d/rgb.txt $d/associations.txt
+d=$(mk missing_png); rm $d/$(nth $d/rgb.txt 3)
+d=$(mk corrupt_png); echo "this is not a PNG" > $d/$(nth $d/rgb.txt 2)
+d=$(mk truncated_png); f=$d/$(nth $d/depth.txt 4); head -c $(( $(stat -c %s $f) / 2 )) $f > t.png && mv t.png $f
+d=$(mk depth8); $PY -c "from PIL import Image; Image.new('L', (640, 480), 100).save('$d/$(nth $d/depth.txt 1)')"
+d=$(mk wrong_size); cp small/$(nth small/rgb.txt 0) $d/$(nth $d/rgb.txt 5)
+d=$(mk shifted); rm $d/associations.txt; awk '/^#/ {print; next} {printf "%.6f %s\n", $1 + 5, $2}' seq/depth.txt > $d/depth.txt
+d=$(mk empty); rm $d/associations.txt; printf '# color images\n# timestamp filename\n' > $d/rgb.txt
+d=$(mk nan_gt); awk '/^#/ {print; next} {n++; if (n == 3) $2 = "nan"; print}' seq/groundtruth.txt > $d/groundtruth.txt
+d=$(mk huge_gt); awk '/^#/ {print; next} {n++; if (n == 3) $2 = "1e300"; print}' seq/groundtruth.txt > $d/groundtruth.txt
+d=$(mk fx0); sed -i 's/^fx: .*/fx: 0/' $d/camera.yaml
+d=$(mk fy_neg); sed -i 's/^fy: .*/fy: -525/' $d/camera.yaml
+d=$(mk width_huge); sed -i 's/^width: .*/width: 1e300/' $d/camera.yaml
+d=$(mk depth_factor0); sed -i 's/^depth_factor: .*/depth_factor: 0/' $d/camera.yaml
+mkdir -p card && cp "$REPO/tests/data/semantics/tiny_rgb.onnx" "$REPO/tests/data/semantics/tiny_rgb.yaml" card/
+printf 'wall\nfloor\nchair\n' > card/tiny_rgb.classes.txt
+echo "not a folder" > out_is_a_file
+
+echo
+echo "| case | command | exit | message |"
+echo "|---|---|---|---|"
+row "dataset folder missing" "${RUN[@]}" nope --out out
+row "rgb.txt missing" "${RUN[@]}" no_rgb_list --out out
+row "image file missing" "${RUN[@]}" missing_png --out out
+row "corrupt PNG (text)" "${RUN[@]}" corrupt_png --out out
+row "truncated depth PNG (first half)" "${RUN[@]}" truncated_png --out out
+row "8-bit depth PNG" "${RUN[@]}" depth8 --out out
+row "colour image of the wrong size (320x240)" "${RUN[@]}" wrong_size --out out
+row "depth timestamps 5 s off, no associations.txt" "${RUN[@]}" shifted --out out
+row "empty sequence (rgb.txt comments only)" "${RUN[@]}" empty --out out
+row "NaN in groundtruth.txt" "${RUN[@]}" nan_gt --out out
+row "1e300 m in groundtruth.txt" "${RUN[@]}" huge_gt --out out
+row "fx = 0 in camera.yaml" "${RUN[@]}" fx0 --out out
+row "fy < 0 in camera.yaml" "${RUN[@]}" fy_neg --out out
+row "width = 1e300 in camera.yaml" "${RUN[@]}" width_huge --out out
+row "depth_factor = 0 in camera.yaml" "${RUN[@]}" depth_factor0 --out out
+row "model card with 3 classes, model with 4 outputs" "${RUN[@]}" seq --out out --segmenter onnx:card/tiny_rgb.yaml
+row "--out is an existing file" "${RUN[@]}" seq --out out_is_a_file
+# Out of disk: a good run first, then the same run into the same folder on a full file system.
+if mkdir -p tmpfs && mount -t tmpfs -o size=256k tmpfs tmpfs 2>/dev/null; then
+  how="256 KiB tmpfs"; trap 'umount "$W/tmpfs" 2>/dev/null; rm -rf "$W"' EXIT
+  "${RUN[@]}" seq --out tmpfs/run --slam-only >/dev/null 2>&1  # small outputs fit
+  cp -r tmpfs/run run_before
+  row "disk full during the map write ($how)" "${RUN[@]}" seq --out tmpfs/run
+else
+  how="ulimit -f 64"; "${RUN[@]}" seq --out tmpfs/run >/dev/null 2>&1; cp -r tmpfs/run run_before
+  row "disk full during the map write ($how)" bash -c "trap '' XFSZ; ulimit -f 64; exec \"\$0\" \"\$@\"" "${RUN[@]}" seq --out tmpfs/run
+fi
+# The failed run may replace small files whole (frames.txt now says integrated = 1); metrics.json
+# (written last) and the trajectory must be the earlier run's, and nothing half-written may remain.
+if cmp -s run_before/metrics.json tmpfs/run/metrics.json && cmp -s run_before/trajectory_camera.txt tmpfs/run/trajectory_camera.txt \
+   && ! ls -a tmpfs/run | grep -q '\.tmp' && { [ ! -e tmpfs/run/map.ot ] || cmp -s run_before/map.ot tmpfs/run/map.ot; }; then
+  echo "<!-- run disk-full case ($how): the earlier run's metrics.json and trajectory are unchanged, no map.ot or temporary file was left half-written -->"
+else
+  echo "<!-- run disk-full case ($how): earlier outputs changed or a temporary file was left -->"; bad=1
 fi
 exit $bad

@@ -105,3 +105,21 @@ TEST(PipelineConfig, EveryShippedPresetLoads) {
 
 }  // namespace
 }  // namespace s3m::pipeline
+
+namespace s3m::pipeline {
+namespace {
+
+// Found by fuzzing (tests/fuzz/regress/pipeline_config/section_given_as_scalar.yaml): a nested
+// section given as a value escaped as yaml-cpp's "operator[] call on a scalar".
+TEST(PipelineConfig, NestedSectionGivenAsAValueIsAParseError) {
+  const std::string a = error_of("map:\n  resolution_m: 0.05\n  insert: nan\n");
+  EXPECT_NE(a.find("bad.yaml:3: a value ('nan') where a section is expected"), std::string::npos) << a;
+  EXPECT_NE(a.find("min_range_m"), std::string::npos) << a;  // lists the keys the section takes
+  const std::string b = error_of("slam:\n  tracker: [1, 2]\n");
+  EXPECT_NE(b.find("bad.yaml:2: a list where a section is expected"), std::string::npos) << b;
+  const std::string c = error_of("segmenter:\n  oracle: true\n");
+  EXPECT_NE(c.find("a value ('true') where a section is expected"), std::string::npos) << c;
+}
+
+}  // namespace
+}  // namespace s3m::pipeline

@@ -44,6 +44,50 @@ TEST(KeyframeStore, CulledKeyframesFollowTheirNearestNeighbour) {
   EXPECT_TRUE(near(s.keyframes().at(4), at(4, 0.4)));
 }
 
+mapping::LabeledCloud cloud_of(int points) {
+  mapping::LabeledCloud c;
+  for (int i = 0; i < points; ++i) c.push_back(Eigen::Vector3f(0.01f * i, 0, 1), 1, 2, 3);
+  return c;
+}
+
+std::vector<int> kept_frames(const KeyframeStore& s) {
+  std::vector<int> out;
+  for (const auto& c : s.clouds()) out.push_back(c.frame_index);
+  return out;
+}
+
+TEST(KeyframeStore, BudgetDropsTheOldestRedundantViewAndKeepsKeyframes) {
+  const std::size_t one = cloud_bytes(cloud_of(100)) + sizeof(KeptCloud);
+  KeyframeStore s(4 * one + one / 2);  // room for four clouds
+  s.note_keyframe(0, at(0));
+  s.note_keyframe(3, at(5));
+  s.note_keyframe(4, at(10));
+  s.add(0, at(0), 0, cloud_of(100));    // keyframe cloud, cell x in [0, 0.5) m
+  s.add(0, at(0.1), 1, cloud_of(100));  // riders in the same cell
+  s.add(0, at(0.2), 2, cloud_of(100));
+  s.add(3, at(5), 3, cloud_of(100));    // two other places
+  EXPECT_EQ(s.dropped(), 0u);
+  s.add(4, at(10), 4, cloud_of(100));
+  // Over budget: the crowded cell loses its oldest rider (frame 1), not its keyframe cloud.
+  EXPECT_EQ(kept_frames(s), (std::vector<int>{0, 2, 3, 4}));
+  EXPECT_LE(s.bytes(), s.budget_bytes());
+  // Revisiting the first place again and again: the newest view stays, older riders go, the keyframe
+  // cloud and the other places survive.
+  for (int f = 5; f < 9; ++f) s.add(0, at(0.05 * f), f, cloud_of(100));
+  EXPECT_EQ(kept_frames(s), (std::vector<int>{0, 3, 4, 8}));
+  EXPECT_EQ(s.dropped(), 5u);
+  EXPECT_EQ(s.bytes(), 4 * one);
+}
+
+TEST(KeyframeStore, NoBudgetKeepsEveryCloud) {
+  KeyframeStore s;
+  s.note_keyframe(0, at(0));
+  for (int f = 0; f < 50; ++f) s.add(0, at(0.01 * f), f, cloud_of(10));
+  EXPECT_EQ(s.size(), 50u);
+  EXPECT_EQ(s.dropped(), 0u);
+  EXPECT_EQ(s.bytes(), 50 * (cloud_bytes(cloud_of(10)) + sizeof(KeptCloud)));
+}
+
 TEST(KeyframeStore, RefusesAnUnknownAnchor) {
   KeyframeStore s;
   EXPECT_THROW(s.add(7, at(0), 0, {}), Error);

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "s3m/core/atomic_file.hpp"
 #include "s3m/core/error.hpp"
 
 namespace s3m {
@@ -27,19 +28,20 @@ int ClassList::find(const std::string& name) const {
 }
 
 const ClassList& indoor_classes() {
-  // Colours loosely follow the ADE20K/SUN RGB-D palettes so maps look familiar.
+  // Colours loosely follow the ADE20K/SUN RGB-D palettes so maps look familiar, except where those
+  // are near-identical (table/shelf, bed/cabinet, wall/ceiling): every pair differs by >= 60 in RGB.
   static const ClassList list({{0, "unknown", 0, 0, 0},
                                {1, "wall", 120, 120, 120},
                                {2, "floor", 80, 50, 50},
-                               {3, "ceiling", 120, 120, 80},
+                               {3, "ceiling", 180, 180, 120},
                                {4, "door", 8, 255, 51},
                                {5, "window", 230, 230, 230},
                                {6, "table", 255, 6, 82},
                                {7, "chair", 204, 70, 3},
                                {8, "sofa", 11, 102, 255},
                                {9, "bed", 204, 5, 255},
-                               {10, "cabinet", 224, 5, 255},
-                               {11, "shelf", 255, 7, 71},
+                               {10, "cabinet", 0, 120, 120},
+                               {11, "shelf", 140, 90, 220},
                                {12, "tv_monitor", 0, 255, 194},
                                {13, "plant", 4, 200, 3},
                                {14, "person", 150, 5, 61},
@@ -48,12 +50,11 @@ const ClassList& indoor_classes() {
 }
 
 void write_class_list(const std::string& path, const ClassList& classes) {
-  std::ofstream out(path);
-  require(out.good(), "cannot write class list '" + path + "'");
-  out << "# s3m class list: id name r g b\n";
-  for (const auto& c : classes.all())
-    out << c.id << ' ' << c.name << ' ' << int(c.r) << ' ' << int(c.g) << ' ' << int(c.b) << '\n';
-  require(out.good(), "error while writing class list '" + path + "'");
+  write_file_atomic(path, [&](std::ostream& out) {
+    out << "# s3m class list: id name r g b\n";
+    for (const auto& c : classes.all())
+      out << c.id << ' ' << c.name << ' ' << int(c.r) << ' ' << int(c.g) << ' ' << int(c.b) << '\n';
+  });
 }
 
 ClassList read_class_list(const std::string& path) {

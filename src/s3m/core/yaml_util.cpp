@@ -15,6 +15,15 @@ YAML::Node load_yaml_file(const std::string& path) {
 }
 
 void check_known_keys(const YAML::Node& node, const std::vector<std::string>& known, const std::string& ctx) {
+  std::string list;
+  for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+  // A section given as a value ('insert: nan', 'fusion: [1]'): without this, the yaml_get() calls
+  // that follow would index a scalar and yaml-cpp would throw its own exception (found by fuzzing).
+  if (node.IsScalar() || node.IsSequence())
+    throw ParseError(ctx, node.Mark().line + 1,
+                     node.IsScalar() ? "a value ('" + node.Scalar() + "') where a section is expected"
+                                     : "a list where a section is expected",
+                     "a map of keys 'name: value' (one of: " + list + ")");
   if (!node.IsMap()) return;
   for (const auto& kv : node) {
     // YAML allows sequences and maps as keys ('? [a, b]: 1'); no s3m config uses them.
@@ -22,8 +31,6 @@ void check_known_keys(const YAML::Node& node, const std::vector<std::string>& kn
       throw ParseError(ctx, kv.first.Mark().line + 1, "a key that is not a plain name", "keys like 'name: value'");
     const auto key = kv.first.Scalar();
     if (std::find(known.begin(), known.end(), key) == known.end()) {
-      std::string list;
-      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
       throw ParseError(ctx, kv.first.Mark().line + 1, "unknown key '" + key + "'", "one of: " + list);
     }
   }

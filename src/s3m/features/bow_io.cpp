@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "s3m/core/atomic_file.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
 
@@ -122,20 +123,9 @@ class VocabularyIo {
 void Vocabulary::save(const std::string& path) const {
   require(!empty(), "Vocabulary::save: the vocabulary is empty");
   const std::string bytes = VocabularyIo::serialise(*this);
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error("Vocabulary::save: cannot open '" + tmp + "' for writing");
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    out.flush();
-    if (!out) throw Error("Vocabulary::save: write to '" + tmp + "' failed (disk full?)");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error("Vocabulary::save: cannot rename '" + tmp + "' to '" + path + "'");
-  }
+  // Temporary file with a unique name in the same folder, fsync, rename: concurrent saves and a
+  // crash mid-write never leave a torn vocabulary (the old file stays until the rename).
+  write_text_atomic(path, bytes);
 }
 
 Vocabulary Vocabulary::load(const std::string& path) {

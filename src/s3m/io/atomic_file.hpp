@@ -1,17 +1,10 @@
 #pragma once
-// Crash-safe file output: readers never see a half-written file. The content goes to a temporary
-// file in the same directory, is flushed and fsync'ed, then renamed over the target (atomic on POSIX).
-#include <functional>
-#include <ostream>
-#include <string>
-#include <vector>
+// Crash-safe file output for the io writers: the helpers live in core (s3m/core/atomic_file.hpp) so
+// that modules without io (core's class lists, features' vocabularies) write atomically too.
+#include "s3m/core/atomic_file.hpp"
 
 namespace s3m::io {
-
-// writer fills the stream (opened in binary mode). Throws s3m::Error naming path on any failure
-// (missing directory, disk full, writer exception); the temporary file is removed on failure.
-void write_file_atomic(const std::string& path, const std::function<void(std::ostream&)>& writer);
-void write_text_atomic(const std::string& path, const std::string& content);
-void write_bytes_atomic(const std::string& path, const std::vector<unsigned char>& bytes);
-
+using s3m::write_bytes_atomic;
+using s3m::write_file_atomic;
+using s3m::write_text_atomic;
 }  // namespace s3m::io

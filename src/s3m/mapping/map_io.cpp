@@ -1,5 +1,6 @@
 #include "s3m/mapping/map_io.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -102,9 +103,17 @@ std::istream& SemanticOcTree::readData(std::istream& s) {
   setOccupancyParams(o);
   const auto len = get<std::uint64_t>(s, "node data length");
   if (len > (std::uint64_t(1) << 40)) throw Error("corrupt node data length");
-  std::string blob(len, '\0');
-  s.read(blob.data(), std::streamsize(len));
-  if (!s) throw Error("truncated node data (expected " + std::to_string(len) + " bytes)");
+  // Read in chunks: memory follows the bytes actually present, not the length field (a corrupt
+  // length used to allocate it up front, e.g. 124 GB; found by fuzzing).
+  std::string blob;
+  char chunk[1 << 16];
+  for (std::uint64_t left = len; left > 0;) {
+    const auto n = static_cast<std::streamsize>(std::min<std::uint64_t>(left, sizeof chunk));
+    s.read(chunk, n);
+    if (s.gcount() != n) throw Error("truncated node data (expected " + std::to_string(len) + " bytes)");
+    blob.append(chunk, static_cast<std::size_t>(n));
+    left -= static_cast<std::uint64_t>(n);
+  }
   const auto sum = get<std::uint64_t>(s, "checksum");
   if (sum != fnv1a(blob)) throw Error("checksum mismatch: node data is corrupt");
   s.read(magic, 8);

@@ -55,7 +55,9 @@ TrajectoryScore evaluate_trajectory(const Pipeline& p, const FrameSource& source
   s.json = summary(ev);
   s.T_est_gt = align_poses(ev.poses.T_w_est, ev.poses.T_w_gt);
   const std::string report_dir = paths.out_dir + "/report";
-  fs::create_directories(report_dir);
+  std::error_code ec;
+  fs::create_directories(report_dir, ec);
+  if (ec) throw Error("outputs: cannot create '" + report_dir + "': " + ec.message());
   io::write_text_atomic(report_dir + "/plot_data.json", eval::plot_data_json(gt, {est}, {ev}).dump());
 
   // The robot trajectory against the robot ground truth, when the dataset has it (simulator).

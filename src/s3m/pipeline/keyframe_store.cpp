@@ -1,6 +1,8 @@
 #include "s3m/pipeline/keyframe_store.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 
 #include "s3m/core/error.hpp"
 
@@ -10,6 +12,40 @@ void KeyframeStore::add(KeyframeId anchor, const SE3& T_w_c, int frame_index, ma
   const auto it = keyframes_.find(anchor);
   require(it != keyframes_.end(), "KeyframeStore::add: keyframe " + std::to_string(anchor) + " was not noted");
   clouds_.push_back({anchor, it->second.inverse() * T_w_c, frame_index, std::move(cloud)});
+  bytes_ += cloud_bytes(clouds_.back().cloud) + sizeof(KeptCloud);
+  while (budget_bytes_ > 0 && bytes_ > budget_bytes_ && clouds_.size() > 1) drop_most_redundant();
+}
+
+namespace {
+
+// Viewpoint cell of a camera pose: position in 0.5 m cells, optical axis (camera z) in cells of
+// 0.5 per unit-vector component (~30 deg). Poses in one cell see nearly the same surfaces.
+std::array<int, 6> viewpoint_cell(const SE3& T_w_c) {
+  const Vec3 p = T_w_c.translation() / 0.5, d = T_w_c.linear().col(2) / 0.5;
+  return {int(std::floor(p.x())), int(std::floor(p.y())), int(std::floor(p.z())),
+          int(std::lround(d.x())), int(std::lround(d.y())), int(std::lround(d.z()))};
+}
+
+bool is_keyframe_cloud(const KeptCloud& c) {
+  return c.T_kf_c.translation().norm() < 1e-9 && c.T_kf_c.linear().isIdentity(1e-9);
+}
+
+}  // namespace
+
+void KeyframeStore::drop_most_redundant() {
+  // Cells by current pose (corrections move clouds between cells); the newest cloud is exempt.
+  std::map<std::array<int, 6>, std::vector<std::size_t>> cells;
+  for (std::size_t i = 0; i + 1 < clouds_.size(); ++i) cells[viewpoint_cell(T_w_c(clouds_[i]))].push_back(i);
+  const auto crowded = std::max_element(cells.begin(), cells.end(), [](const auto& a, const auto& b) {
+    return a.second.size() < b.second.size();  // first (lowest cell) among equals: deterministic
+  });
+  const std::vector<std::size_t>& in_cell = crowded->second;
+  const auto rider = std::find_if(in_cell.begin(), in_cell.end(),
+                                  [&](std::size_t i) { return !is_keyframe_cloud(clouds_[i]); });
+  const std::size_t victim = rider != in_cell.end() ? *rider : in_cell.front();  // oldest first
+  bytes_ -= cloud_bytes(clouds_[victim].cloud) + sizeof(KeptCloud);
+  clouds_.erase(clouds_.begin() + static_cast<std::ptrdiff_t>(victim));
+  ++dropped_;
 }
 
 double KeyframeStore::update_poses(const std::map<KeyframeId, SE3>& T_w_kf) {
@@ -35,12 +71,6 @@ double KeyframeStore::update_poses(const std::map<KeyframeId, SE3>& T_w_kf) {
   for (const auto& [id, T] : T_w_kf) updated.try_emplace(id, T);  // keyframes not noted yet
   keyframes_ = std::move(updated);
   return max_shift_m;
-}
-
-std::size_t KeyframeStore::bytes() const {
-  std::size_t b = 0;
-  for (const auto& c : clouds_) b += cloud_bytes(c.cloud) + sizeof(KeptCloud);
-  return b;
 }
 
 }  // namespace s3m::pipeline

@@ -3,6 +3,13 @@
 // are anchored to, so that the map can be rebuilt whenever SLAM moves keyframes (loop closure,
 // bundle adjustment) — as RTAB-Map does. A cloud's pose is T_w_c = T_w_kf * T_kf_c: keyframe clouds
 // have T_kf_c = identity; clouds of other frames (integrate: all_frames) ride on the last keyframe.
+//
+// Memory budget: a long run over the same area would keep one cloud per integrated frame forever
+// (~0.1-0.2 MB each at 5 cm). With a budget, once the kept clouds exceed it the most redundant cloud
+// is dropped: the oldest cloud of the most crowded viewpoint cell (camera position in 0.5 m cells,
+// viewing direction in ~30 deg cells), keyframe clouds only when a cell has nothing else. Dropped
+// clouds stay in the live map; a later rebuild re-inserts only the kept ones, i.e. revisits of a
+// place contribute their newest views. The map itself is bounded by the area, not by time.
 #include <cstdint>
 #include <map>
 #include <vector>
@@ -23,10 +30,14 @@ struct KeptCloud {
 
 class KeyframeStore {
  public:
+  // budget_bytes = 0: unlimited (every cloud is kept).
+  explicit KeyframeStore(std::size_t budget_bytes = 0) : budget_bytes_(budget_bytes) {}
+
   // Records a keyframe and its pose as SLAM created it (every keyframe, so that corrections of
   // culled keyframes can be inferred from their neighbours).
   void note_keyframe(KeyframeId id, const SE3& T_w_kf) { keyframes_.insert_or_assign(id, T_w_kf); }
-  // Keeps a cloud observed at T_w_c, anchored to the noted keyframe `anchor`.
+  // Keeps a cloud observed at T_w_c, anchored to the noted keyframe `anchor`; then drops redundant
+  // clouds while over budget (never the one just added).
   void add(KeyframeId anchor, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud);
 
   // Moves anchors to new keyframe poses. Anchors not in the map (keyframes SLAM has culled since)
@@ -35,14 +46,21 @@ class KeyframeStore {
   double update_poses(const std::map<KeyframeId, SE3>& T_w_kf);
 
   std::size_t size() const { return clouds_.size(); }
-  std::size_t bytes() const;
+  std::size_t bytes() const { return bytes_; }
+  std::size_t budget_bytes() const { return budget_bytes_; }
+  std::size_t dropped() const { return dropped_; }  // clouds dropped to stay within the budget
   const std::vector<KeptCloud>& clouds() const { return clouds_; }
   SE3 T_w_c(const KeptCloud& c) const { return keyframes_.at(c.anchor) * c.T_kf_c; }
   const std::map<KeyframeId, SE3>& keyframes() const { return keyframes_; }
 
  private:
+  void drop_most_redundant();
+
   std::map<KeyframeId, SE3> keyframes_;  // current T_w_kf of every keyframe noted
   std::vector<KeptCloud> clouds_;      // insertion order (the order a rebuild re-inserts them)
+  std::size_t budget_bytes_ = 0;
+  std::size_t bytes_ = 0;
+  std::size_t dropped_ = 0;
 };
 
 }  // namespace s3m::pipeline

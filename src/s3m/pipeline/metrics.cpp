@@ -86,6 +86,7 @@ json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& da
   json j = map->describe();
   j["kept_clouds"] = p.kept_clouds().size();
   j["kept_clouds_mb"] = p.kept_clouds().bytes() / 1e6;
+  j["kept_clouds_dropped"] = p.kept_clouds().dropped();  // over cloud.kept_clouds_budget_mb
   j["inserted_points"] = c.inserted_points;
   j["rebuilds"] = c.rebuilds;
   // Raw cloud = every in-range depth pixel of the integrated frames, with colour and k labels.
@@ -180,6 +181,7 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   m["outputs"] = {{"trajectory_camera", paths.trajectory_camera},
                   {"trajectory_robot", paths.trajectory_robot},
                   {"keyframes", paths.keyframes},
+                  {"frames", paths.frames},
                   {"map_ot", paths.map_ot},
                   {"map_ply", paths.map_ply}};
   return m;

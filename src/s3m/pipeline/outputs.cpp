@@ -1,8 +1,12 @@
 #include "s3m/pipeline/outputs.hpp"
 
+#include <cstdio>
 #include <filesystem>
 
 #include <spdlog/spdlog.h>
+
+#include "s3m/core/error.hpp"
+#include "s3m/io/atomic_file.hpp"
 
 namespace s3m::pipeline {
 
@@ -13,19 +17,34 @@ io::Trajectory robot_trajectory(const io::Trajectory& camera, const SE3& T_c_r) 
   return out;
 }
 
+std::string frames_table(const std::vector<FrameOutcome>& frames) {
+  std::string out = "# index t_s state tracked keyframe integrated\n";
+  char line[160];
+  for (const FrameOutcome& f : frames) {
+    std::snprintf(line, sizeof line, "%d %.6f %s %d %d %d\n", f.index, f.t_s, f.state.c_str(), int(f.tracked),
+                  int(f.keyframe), int(f.integrated));
+    out += line;
+  }
+  return out;
+}
+
 OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config, const std::string& out_dir) {
-  std::filesystem::create_directories(out_dir);
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw Error("outputs: cannot create '" + out_dir + "': " + ec.message());
   OutputPaths p;
   p.out_dir = out_dir;
   p.trajectory_camera = out_dir + "/trajectory_camera.txt";
   p.trajectory_robot = out_dir + "/trajectory_robot.txt";
   p.keyframes = out_dir + "/keyframes.txt";
   p.metrics = out_dir + "/metrics.json";
+  p.frames = out_dir + "/frames.txt";
   const io::Trajectory cam = pipeline.poses().camera_trajectory();
   if (cam.empty()) spdlog::warn("outputs: no frame was tracked; trajectory files are empty");
   io::write_tum_trajectory(p.trajectory_camera, cam);
   io::write_tum_trajectory(p.trajectory_robot, robot_trajectory(cam, config.slam.T_c_r));
   io::write_tum_trajectory(p.keyframes, pipeline.poses().keyframe_trajectory());
+  io::write_text_atomic(p.frames, frames_table(pipeline.frames()));
   if (const MapIntegrator* map = pipeline.map()) {
     p.map_ot = out_dir + "/map.ot";
     p.map_ply = out_dir + "/map.ply";

@@ -1,6 +1,6 @@
 #pragma once
-// Writing a run's products into OUT: trajectories (camera, robot), keyframes, the semantic map
-// (.ot with full semantics, .ply). Every file is written atomically (temp file + rename), so an
+// Writing a run's products into OUT: trajectories (camera, robot), keyframes, the per-frame tracking
+// states (frames.txt), the semantic map (.ot with full semantics, .ply). Every file is written atomically (temp file + rename), so an
 // interrupted or failing run never leaves a half-written file behind.
 #include <string>
 
@@ -12,12 +12,18 @@ namespace s3m::pipeline {
 struct OutputPaths {
   std::string out_dir;
   std::string trajectory_camera, trajectory_robot, keyframes;  // TUM format
+  std::string frames;                                          // one line per frame: its tracking state
   std::string map_ot, map_ply;                                 // empty when there is no map
   std::string metrics;
 };
 
 // T_w_r = T_w_c * T_c_r for every pose (the paper's camera-to-robot calibration).
 io::Trajectory robot_trajectory(const io::Trajectory& camera, const SE3& T_c_r);
+
+// frames.txt: "index t_s state tracked keyframe integrated" for every frame that went through the
+// pipeline, so LOST frames (whose poses in trajectory_camera.txt are only the motion prediction)
+// are visible to the user; tracked/keyframe/integrated are 0 or 1.
+std::string frames_table(const std::vector<FrameOutcome>& frames);
 
 OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config, const std::string& out_dir);
 

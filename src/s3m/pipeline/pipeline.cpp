@@ -18,6 +18,7 @@ Pipeline::Pipeline(PipelineConfig config, PinholeCamera camera, std::unique_ptr<
   require(poses_ != nullptr, "Pipeline: a pose source is required");
   config_.validate();
   camera_.validate();
+  store_ = KeyframeStore(static_cast<std::size_t>(config_.cloud.kept_clouds_budget_mb * 1e6));
   poses_->set_correction_listener([this](const std::map<KeyframeId, SE3>& T_w_kf) {
     std::lock_guard lock(corrections_mutex_);
     for (const auto& [id, T] : T_w_kf) pending_corrections_.insert_or_assign(id, T);

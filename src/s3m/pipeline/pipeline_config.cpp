@@ -56,11 +56,12 @@ void load_dataset(const YAML::Node& n, DatasetConfig& c, const std::string& ctx)
 }
 
 void load_cloud(const YAML::Node& n, CloudConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"min_depth_m", "max_depth_m", "pixel_stride", "keyframe_voxel_m"}, ctx);
+  check_known_keys(n, {"min_depth_m", "max_depth_m", "pixel_stride", "keyframe_voxel_m", "kept_clouds_budget_mb"}, ctx);
   yaml_get(n, "min_depth_m", c.min_depth_m, ctx);
   yaml_get(n, "max_depth_m", c.max_depth_m, ctx);
   yaml_get(n, "pixel_stride", c.pixel_stride, ctx);
   yaml_get(n, "keyframe_voxel_m", c.keyframe_voxel_m, ctx);
+  yaml_get(n, "kept_clouds_budget_mb", c.kept_clouds_budget_mb, ctx);
 }
 
 void load_threads(const YAML::Node& n, ThreadingConfig& c, const std::string& ctx) {
@@ -137,6 +138,8 @@ void CloudConfig::validate() const {
           "cloud.pixel_stride must be in 1..32 px (got " + std::to_string(pixel_stride) + ")");
   require(std::isfinite(keyframe_voxel_m) && keyframe_voxel_m >= 0 && keyframe_voxel_m <= 1.0,
           "cloud.keyframe_voxel_m must be in [0, 1] m (got " + num(keyframe_voxel_m) + ")");
+  require(std::isfinite(kept_clouds_budget_mb) && kept_clouds_budget_mb >= 0 && kept_clouds_budget_mb <= 1e6,
+          "cloud.kept_clouds_budget_mb must be in [0, 1e6] MB, 0 = unlimited (got " + num(kept_clouds_budget_mb) + ")");
 }
 
 void ThreadingConfig::validate() const {

@@ -41,6 +41,9 @@ struct CloudConfig {
   // Keyframe clouds kept for re-integration after loop closure are voxel-downsampled to this size;
   // 0 = the map resolution. What is kept is exactly what was inserted, so a rebuild is exact. [m]
   double keyframe_voxel_m = 0.0;
+  // Memory budget of the kept clouds: beyond it the most redundant ones are dropped (see
+  // keyframe_store.hpp); 0 = keep every cloud (memory grows with the number of integrated frames). [MB]
+  double kept_clouds_budget_mb = 256.0;
   void validate() const;
 };
 

@@ -35,7 +35,12 @@ ReportResult make_report(const std::string& out_dir) {
   // Debian's interpreter has numpy/matplotlib; a pyenv/venv python3 on PATH usually does not.
   const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   const std::string log = out_dir + "/report/plot_report.log";
-  fs::create_directories(out_dir + "/report");
+  std::error_code ec;
+  fs::create_directories(out_dir + "/report", ec);
+  if (ec) {
+    r.error += "cannot create " + out_dir + "/report: " + ec.message();
+    return r;
+  }
   const std::string cmd = python + " " + shell_quote(script) + " " + shell_quote(out_dir) + " > " +
                           shell_quote(log) + " 2>&1";
   const int status = std::system(cmd.c_str());

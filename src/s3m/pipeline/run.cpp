@@ -61,6 +61,15 @@ Components build(const RunOptions& o) {
   return c;
 }
 
+// Before any frame is processed, so a bad --out costs nothing (filesystem_error is no s3m::Error).
+void create_output_dir(const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw Error("run: cannot create the output directory '" + dir + "': " +
+                (ec ? ec.message() : "a file of that name exists") + " (expected a writable folder for --out)");
+}
+
 bool stop_requested(const RunOptions& o, std::size_t done) {
   if (o.stop && o.stop->load()) return true;
   return o.stop_after_frames >= 0 && static_cast<long>(done) >= o.stop_after_frames;
@@ -72,7 +81,7 @@ RunResult run_dataset(const RunOptions& o) {
   require(!o.out_dir.empty(), "run: an output directory is required (--out)");
   o.config.validate();
   Components c = build(o);
-  fs::create_directories(o.out_dir);
+  create_output_dir(o.out_dir);
 
   RunResult r;
   r.frames_total = c.source->size();

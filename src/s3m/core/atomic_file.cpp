@@ -1,4 +1,4 @@
-#include "s3m/io/atomic_file.hpp"
+#include "s3m/core/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -13,7 +13,7 @@
 
 #include "s3m/core/error.hpp"
 
-namespace s3m::io {
+namespace s3m {
 namespace {
 
 std::string temp_name_for(const std::filesystem::path& target) {
@@ -72,4 +72,4 @@ void write_bytes_atomic(const std::string& path, const std::vector<unsigned char
   });
 }
 
-}  // namespace s3m::io
+}  // namespace s3m
