@@ -37,16 +37,21 @@ class ScratchCleanup : public ::testing::Environment {
 // 2 s of hand-held motion through the office at 30 Hz (fixed seed).
 inline constexpr int kFrames = 60;
 
+inline sim::SimConfig sequence_config() {
+  sim::SimConfig c;
+  c.scene = "office";
+  c.seed = 7;
+  c.trajectory.type = "handheld";
+  c.trajectory.frames = kFrames;
+  return c;
+}
+
 // The sequence, rendered once and cached in the temp folder for every test process: the simulator is
 // deterministic, so a complete cached copy is identical to a fresh one. Rendered into a private
 // folder and renamed into place, so parallel test processes never see a half-written sequence.
 inline const std::string& sequence_dir() {
   static const std::string dir = [] {
-    sim::SimConfig c;
-    c.scene = "office";
-    c.seed = 7;
-    c.trajectory.type = "handheld";
-    c.trajectory.frames = kFrames;
+    const sim::SimConfig c = sequence_config();
     const fs::path d = fs::temp_directory_path() / ("s3m_it_sequence_office_handheld_seed7_" + std::to_string(kFrames));
     if (!fs::exists(d / "gt_voxels.txt")) {
       const fs::path tmp = d.string() + ".tmp" + std::to_string(::getpid());

@@ -42,17 +42,10 @@ struct Scenario {
   std::set<int> dropped;        // frames that never reach the pipeline
 };
 
-constexpr int kLength = 60;  // frames: 2 s of hand-held motion at 30 Hz
+constexpr int kLength = kFrames;  // the fixture's 2 s hand-held office flight, rendered in memory
 
 const sim::Simulation& simulation() {
-  static const sim::Simulation sim = [] {
-    sim::SimConfig c;
-    c.scene = "office";
-    c.seed = 7;
-    c.trajectory.type = "handheld";
-    c.trajectory.frames = kLength;
-    return sim::Simulation(c);
-  }();
+  static const sim::Simulation sim(sequence_config());
   return sim;
 }
 
