@@ -105,4 +105,5 @@ TEST(EvalFrameSampler, KeepsAnEvenlySpreadBoundedSubset) {
   EXPECT_EQ(kept, (std::vector<int>{0, 4, 8}));
   EXPECT_FALSE(sampler.wants(10));
   EXPECT_TRUE(sampler.wants(12));
+  EXPECT_FALSE(EvalFrameSampler(1, 0).wants(0));  // eval.reprojection_max_frames: 0 turns it off
 }

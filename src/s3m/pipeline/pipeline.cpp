@@ -14,7 +14,7 @@ Pipeline::Pipeline(PipelineConfig config, PinholeCamera camera, std::unique_ptr<
       poses_(std::move(poses)),
       segmenter_(std::move(segmenter)),
       map_(std::move(map)),
-      eval_frames_(config_.eval.reprojection_every_n, std::size_t(std::max(config_.eval.reprojection_max_frames, 1))) {
+      eval_frames_(config_.eval.reprojection_every_n, std::size_t(std::max(config_.eval.reprojection_max_frames, 0))) {
   require(poses_ != nullptr, "Pipeline: a pose source is required");
   config_.validate();
   camera_.validate();
@@ -106,7 +106,7 @@ void Pipeline::steps3to5_map(Work& w) {
   // 5. record: outcome, counters, segmentation against ground-truth labels when the dataset has them.
   if (!w.labels.empty() && !f.labels.empty()) {
     confusion_.add(f.labels, w.labels.argmax);
-    if (config_.eval.reprojection_max_frames > 0 && eval_frames_.wants(eval_offered_))
+    if (eval_frames_.wants(eval_offered_))
       eval_frames_.keep({f.index, f.t_s, w.labels.argmax.clone()}, eval_offered_);
     ++eval_offered_;
   }

@@ -8,9 +8,11 @@
 namespace s3m::pipeline {
 
 EvalFrameSampler::EvalFrameSampler(int every_n, std::size_t max_frames)
-    : every_n_(static_cast<std::size_t>(std::max(every_n, 1))), max_frames_(std::max<std::size_t>(max_frames, 1)) {}
+    : every_n_(static_cast<std::size_t>(std::max(every_n, 1))), max_frames_(max_frames) {}
 
-bool EvalFrameSampler::wants(std::size_t offered_count) const { return offered_count % every_n_ == 0; }
+bool EvalFrameSampler::wants(std::size_t offered_count) const {
+  return max_frames_ > 0 && offered_count % every_n_ == 0;
+}
 
 void EvalFrameSampler::keep(EvalFrame f, std::size_t offered_count) {
   frames_.push_back(std::move(f));

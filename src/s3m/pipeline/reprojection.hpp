@@ -29,7 +29,7 @@ struct EvalFrame {
 
 // Keeps every n-th offered frame and at most max_frames of them: when full it drops every other
 // kept frame and doubles n, so the kept frames stay evenly spread over a run of any length and the
-// memory is bounded (max_frames * 2 bytes * pixels). Deterministic.
+// memory is bounded (max_frames * 2 bytes * pixels). Deterministic. max_frames 0 keeps nothing.
 class EvalFrameSampler {
  public:
   EvalFrameSampler(int every_n, std::size_t max_frames);
