@@ -1,0 +1,187 @@
+#!/usr/bin/env python3
+"""Where does a trajectory disagree with its ground truth, and which of the two do the images favour?
+
+Two diagnostics behind the 7-Scenes analysis in docs/RESULTS.md ("Why the kitchen ATE stalls"):
+
+  motion   Relative motions over `--step` frames, per camera axis: least-squares slope est/gt and
+           RMS ratio of the rotation vector (x = tilt, y = pan, z = roll about the optical axis) and
+           of the translation in the first camera's frame. A focal-length error scales pan/tilt but
+           not roll; a scale error scales all translations.
+  images   For frame pairs (i, i + step): photometric error of colour image i warped into j, and the
+           depth error of depth image j moved into i (projective association, as KinectFusion),
+           for relative poses T(lam) = T_gt * exp(lam * log(T_gt^-1 * T_est)), lam in --lams:
+           lam 0 is the ground truth, lam 1 the estimate. Depth is registered to the colour image
+           with depth_px = c + s (colour_px - c) + (f_d b / z, dy) (bench_depth_registration's fit),
+           colour focal f_d / s.
+
+Usage:
+  slam_motion_diagnostics.py motion GT.txt EST.txt [--step 10]
+  slam_motion_diagnostics.py images DATASET_DIR EST.txt [--step 10] [--every 40] [--lams 0,0.5,1]
+                             [--scale 1.1075 --baseline 0.0225 --dy 1.5] [--gt FILE]
+Run with /usr/bin/python3 (numpy, scipy, PIL). Times are poses matched by timestamp (1 ms).
+"""
+import argparse
+import os
+
+import numpy as np
+from PIL import Image
+from scipy.linalg import expm, logm
+from scipy.spatial.transform import Rotation
+
+
+def read_tum(path):
+    poses = {}
+    for line in open(path):
+        line = line.split("#")[0].strip()
+        if not line:
+            continue
+        v = [float(x) for x in line.split()]
+        T = np.eye(4)
+        T[:3, :3] = Rotation.from_quat(v[4:8]).as_matrix()
+        T[:3, 3] = v[1:4]
+        poses[round(v[0], 3)] = T
+    return poses
+
+
+def relative(T, a, b):
+    return np.linalg.inv(T[a]) @ T[b]
+
+
+def motion(args):
+    gt, est = read_tum(args.gt), read_tum(args.est)
+    keys = sorted(set(gt) & set(est))
+    pairs = list(zip(keys[:-args.step], keys[args.step:]))
+    out = {}
+    for name, f in (("rotation", lambda T: Rotation.from_matrix(T[:3, :3]).as_rotvec()), ("translation", lambda T: T[:3, 3])):
+        G = np.array([f(relative(gt, a, b)) for a, b in pairs])
+        E = np.array([f(relative(est, a, b)) for a, b in pairs])
+        slope = (G * E).sum(0) / (G ** 2).sum(0)
+        ratio = np.sqrt((E ** 2).mean(0) / (G ** 2).mean(0))
+        out[name] = (slope, ratio)
+        print(f"{name:11s} over {args.step} frames, camera axes x y z: slope est/gt {np.round(slope, 3)}  "
+              f"rms ratio {np.round(ratio, 3)}  rms gt {np.round(np.sqrt((G ** 2).mean(0)), 4)}")
+    return out
+
+
+def read_list(path):
+    return [l.split()[1] for l in open(path) if l.strip() and not l.startswith("#")]
+
+
+def read_intrinsics(path):
+    vals = {}
+    for line in open(path):
+        line = line.split("#")[0]
+        if ":" in line:
+            k, v = line.split(":", 1)
+            try:
+                vals[k.strip()] = float(v)
+            except ValueError:
+                pass
+    return vals
+
+
+class Pair:
+    def __init__(self, d, cam, scale, baseline, dy):
+        self.d, self.cam = d, cam
+        self.rgb, self.depth = read_list(os.path.join(d, "rgb.txt")), read_list(os.path.join(d, "depth.txt"))
+        self.fd, self.cx, self.cy = cam["fx"], cam["cx"], cam["cy"]
+        self.fc, self.b, self.dy = cam["fx"] / scale, baseline, dy
+
+    def gray(self, i):
+        return np.asarray(Image.open(os.path.join(self.d, self.rgb[i])).convert("L"), dtype=np.float64)
+
+    def raw_depth(self, i):
+        return np.asarray(Image.open(os.path.join(self.d, self.depth[i])), dtype=np.float64) / self.cam["depth_factor"]
+
+    def registered_depth(self, i):
+        D = self.raw_depth(i)
+        v, u = np.mgrid[0:D.shape[0], 0:D.shape[1]].astype(np.float64)
+        m = D > 0
+        z = D[m]
+        uc = np.round(self.cx + self.fc * ((u[m] - self.cx) / self.fd - self.b / z)).astype(int)
+        vc = np.round(self.cy + self.fc * ((v[m] - self.cy - self.dy) / self.fd)).astype(int)
+        R = np.full(D.shape, np.inf)
+        ok = (uc >= 0) & (uc < D.shape[1]) & (vc >= 0) & (vc < D.shape[0])
+        np.minimum.at(R, (vc[ok], uc[ok]), z[ok])  # z-buffer: the nearest surface wins
+        R[~np.isfinite(R)] = 0
+        return R
+
+
+def bilinear(I, x, y):
+    x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
+    ax, ay = x - x0, y - y0
+    return (I[y0, x0] * (1 - ax) * (1 - ay) + I[y0, x0 + 1] * ax * (1 - ay) + I[y0 + 1, x0] * (1 - ax) * ay
+            + I[y0 + 1, x0 + 1] * ax * ay)
+
+
+def warp(T_j_i, Z, f, cx, cy, step=2):
+    v, u = np.mgrid[2:Z.shape[0] - 2:step, 2:Z.shape[1] - 2:step]
+    z = Z[v, u]
+    m = z > 0
+    X = np.stack([(u[m] - cx) * z[m] / f, (v[m] - cy) * z[m] / f, z[m], np.ones(m.sum())])
+    Y = T_j_i @ X
+    x, y = Y[0] / Y[2] * f + cx, Y[1] / Y[2] * f + cy
+    ok = (x >= 1) & (x < Z.shape[1] - 2) & (y >= 1) & (y < Z.shape[0] - 2) & (Y[2] > 0)
+    return u[m][ok], v[m][ok], x[ok], y[ok], Y[2][ok]
+
+
+def photometric(P, i, j, T_i_j):
+    Gi, Gj = P.gray(i), P.gray(j)
+    u, v, x, y, _ = warp(np.linalg.inv(T_i_j), P.registered_depth(i), P.fc, P.cx, P.cy)
+    return np.mean(np.minimum(np.abs(Gi[v, u] - bilinear(Gj, x, y)), 50))  # grey levels, capped
+
+
+def depth_error(P, i, j, T_i_j):
+    Di, Dj = P.raw_depth(i), P.raw_depth(j)
+    _, _, x, y, z = warp(T_i_j, Dj, P.fd, P.cx, P.cy, step=4)
+    xi, yi = np.round(x).astype(int), np.round(y).astype(int)
+    d = Di[yi, xi]
+    return np.median(np.abs(d[d > 0] - z[d > 0]))
+
+
+def images(args):
+    gt = read_tum(args.gt or os.path.join(args.dataset, "groundtruth.txt"))
+    est = read_tum(args.est)
+    P = Pair(args.dataset, read_intrinsics(os.path.join(args.dataset, "camera.yaml")), args.scale, args.baseline, args.dy)
+    stamps = [round(float(l.split()[0]), 3) for l in open(os.path.join(args.dataset, "rgb.txt"))
+              if l.strip() and not l.startswith("#")]
+    lams = [float(x) for x in args.lams.split(",")]
+    frames = [i for i in range(0, len(stamps) - args.step, args.every)
+              if stamps[i] in gt and stamps[i + args.step] in gt and stamps[i] in est and stamps[i + args.step] in est]
+    print(f"{len(frames)} pairs, step {args.step}; colour focal {P.fc:.1f} px (depth {P.fd:.1f} px / {args.scale})")
+    for lam in lams:
+        ph, de = [], []
+        for i in frames:
+            a, b = stamps[i], stamps[i + args.step]
+            Tg, Te = relative(gt, a, b), relative(est, a, b)
+            T = Tg @ np.real(expm(lam * logm(np.linalg.inv(Tg) @ Te)))
+            ph.append(photometric(P, i, i + args.step, T))
+            de.append(depth_error(P, i, i + args.step, T))
+        label = "ground truth" if lam == 0 else "estimate" if lam == 1 else "blend"
+        print(f"lam {lam:4.2f} ({label:12s}): photometric {np.mean(ph):6.2f} grey levels  depth median {np.mean(de) * 1000:6.2f} mm",
+              flush=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    m = sub.add_parser("motion")
+    m.add_argument("gt")
+    m.add_argument("est")
+    m.add_argument("--step", type=int, default=10)
+    i = sub.add_parser("images")
+    i.add_argument("dataset")
+    i.add_argument("est")
+    i.add_argument("--gt")
+    i.add_argument("--step", type=int, default=10)
+    i.add_argument("--every", type=int, default=40)
+    i.add_argument("--lams", default="0,0.5,1")
+    i.add_argument("--scale", type=float, default=1.1075)
+    i.add_argument("--baseline", type=float, default=0.0225)
+    i.add_argument("--dy", type=float, default=1.5)
+    args = ap.parse_args()
+    motion(args) if args.cmd == "motion" else images(args)
+
+
+if __name__ == "__main__":
+    main()
