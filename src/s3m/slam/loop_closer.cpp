@@ -1,11 +1,9 @@
 #include "s3m/slam/loop_closer.hpp"
 
-#include <algorithm>
-#include <set>
 
 #include "s3m/core/error.hpp"
 #include "s3m/features/orb_matcher.hpp"
-#include "s3m/slam/point_fusion.hpp"
+#include "s3m/slam/group_search.hpp"
 
 namespace s3m::slam {
 
@@ -80,41 +78,13 @@ std::optional<SE3> LoopCloser::ransac_with_bow(const Map& map, KfId cur_id, KfId
 
 std::vector<std::pair<int, PointId>> LoopCloser::search_loop_group(const Map& map, KfId cur_id, KfId loop_kf,
                                                                    const SE3& T_w_cur) const {
-  const KeyFrame& cur = map.keyframe(cur_id);
-  const features::FrameFeatures& F = *cur.features;
-  std::vector<KfId> group = map.keyframe(loop_kf).best_covisible(config_.loop_group_size);
-  group.push_back(loop_kf);
-  std::set<PointId> seen;
-  std::vector<PointId> ids;
-  std::vector<features::ProjectionQuery> queries;
-  for (KfId g : group) {
-    for (PointId pid : map.keyframe(g).points) {
-      if (pid == kNoId || !map.has_point(pid) || !seen.insert(pid).second) continue;
-      const MapPoint& p = map.point(pid);
-      if (p.bad || p.observations.count(cur_id)) continue;
-      Visibility vis;
-      if (!predict_visibility(p.p_w, p.normal_w, p.min_dist_m, p.max_dist_m, T_w_cur, camera_, F.pyramid, vis)) continue;
-      features::ProjectionQuery q;
-      q.u = vis.uv.x();
-      q.v = vis.uv.y();
-      q.min_level = std::max(0, vis.level - 1);
-      q.max_level = vis.level;
-      q.radius_px = config_.search_radius_factor * F.pyramid.scale[size_t(vis.level)];
-      q.descriptor = p.descriptor.data();
-      queries.push_back(q);
-      ids.push_back(pid);
-    }
-  }
-  features::ProjectionMatchParams params;
-  params.max_distance = features::kMatchStrict;
-  params.ratio = 0.9;
-  std::vector<char> taken(size_t(F.size()), 0);
-  const std::vector<int> hit = features::match_by_projection(F, queries, params, taken);
-  std::vector<std::pair<int, PointId>> matches;
-  for (size_t q = 0; q < hit.size(); ++q) {
-    if (hit[q] >= 0) matches.emplace_back(hit[q], ids[q]);
-  }
-  return matches;
+  GroupSearchParams p;
+  p.group_size = config_.loop_group_size;
+  p.radius_factor = config_.search_radius_factor;
+  p.levels_above = 0;
+  p.max_distance = features::kMatchStrict;
+  p.skip_observed_by = cur_id;  // already linked to the current keyframe: not loop evidence
+  return match_covisible_group(*map.keyframe(cur_id).features, map, loop_kf, T_w_cur, camera_, p);
 }
 
 std::optional<LoopCloser::Verified> LoopCloser::verify(const Map& map, KfId cur_id,

@@ -1,11 +1,10 @@
 #include "s3m/slam/reloc.hpp"
 
 #include <algorithm>
-#include <set>
 
 #include "s3m/core/error.hpp"
 #include "s3m/features/orb_matcher.hpp"
-#include "s3m/slam/point_fusion.hpp"
+#include "s3m/slam/group_search.hpp"
 #include "s3m/slam/pose_optimizer.hpp"
 
 namespace s3m::slam {
@@ -32,41 +31,14 @@ PinholeCamera undistorted(PinholeCamera c) {
 std::vector<std::pair<int, PointId>> guided_matches(const features::FrameFeatures& f, const Map& map, KfId kf,
                                                     const SE3& T_w_c, const PinholeCamera& camera,
                                                     const RelocConfig& config, double radius_factor) {
-  std::vector<KfId> group = map.keyframe(kf).best_covisible(config.local_keyframes);
-  group.push_back(kf);
-  std::set<PointId> seen;
-  std::vector<PointId> ids;
-  std::vector<features::ProjectionQuery> queries;
-  for (KfId g : group) {
-    for (PointId pid : map.keyframe(g).points) {
-      if (pid == kNoId || !map.has_point(pid) || !seen.insert(pid).second) continue;
-      const MapPoint& p = map.point(pid);
-      Visibility vis;
-      if (p.bad || !predict_visibility(p.p_w, p.normal_w, p.min_dist_m, p.max_dist_m, T_w_c, camera, f.pyramid, vis))
-        continue;
-      features::ProjectionQuery q;
-      q.u = vis.uv.x();
-      q.v = vis.uv.y();
-      q.min_level = std::max(0, vis.level - 1);
-      q.max_level = vis.level + 1;
-      q.radius_px = radius_factor * f.pyramid.scale[size_t(vis.level)];
-      q.descriptor = p.descriptor.data();
-      queries.push_back(q);
-      ids.push_back(pid);
-    }
-  }
   // The pose is a RANSAC estimate, so the window is wide and the descriptor bound loose (ORB-SLAM
   // uses its TH_HIGH here); the final PnP rejects what does not fit.
-  features::ProjectionMatchParams params;
-  params.max_distance = features::kMatchLoose;
-  params.ratio = 0.9;
-  std::vector<char> taken(size_t(f.size()), 0);
-  const auto hit = features::match_by_projection(f, queries, params, taken);
-  std::vector<std::pair<int, PointId>> out;
-  for (size_t q = 0; q < hit.size(); ++q) {
-    if (hit[q] >= 0) out.emplace_back(hit[q], ids[q]);
-  }
-  return out;
+  GroupSearchParams p;
+  p.group_size = config.local_keyframes;
+  p.radius_factor = radius_factor;
+  p.levels_above = 1;
+  p.max_distance = features::kMatchLoose;
+  return match_covisible_group(f, map, kf, T_w_c, camera, p);
 }
 
 // Pose-only optimisation with the stereo-like RGB-D residual (u, v, u_right): the depth term pins
