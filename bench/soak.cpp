@@ -4,12 +4,15 @@
 // (the area is fixed) must stop growing once the area has been seen.
 //
 //   build/bench/bench_soak [--frames 5000] [--lap 300] [--trajectory figure8] [--scene office]
-//                          [--every 50] [--config config/sim.yaml] [--csv soak.csv]
+//                          [--every 50] [--config config/sim.yaml] [--csv soak.csv] [--threaded]
 //
 // Frames are rendered on the fly (nothing on disk); frame i is lap frame i % lap with index and
 // timestamp continuing, so every lap re-flies exactly the same path. Deterministic mode (one
 // thread) so that the map and SLAM can be inspected between frames. The CSV has one row per sample:
 // frame, rss_mb, cpu_s, kept_clouds, kept_mb, slam_keyframes, map_leaves, map_mb, tracked, state.
+// --threaded runs the pipeline's threaded mode (the stages on their own threads, as `s3m run`):
+// the stages' structures belong to other threads then, so a sample has only frame, rss_mb and
+// cpu_s (the other columns empty) and the summary's structure sizes are read after finish().
 // Prints a JSON summary on stdout. Not a ctest test: it takes minutes.
 #include <sys/resource.h>
 
@@ -36,13 +39,21 @@ struct Options {
   int lap = 300;
   int every = 50;
   std::string trajectory = "figure8", scene = "office", config, csv = "soak.csv";
+  bool threaded = false;
 };
 
 Options parse(int argc, char** argv) {
   Options o;
   o.config = pipeline::repo_path("config/sim.yaml");
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string k = argv[i], v = argv[i + 1];
+  for (int i = 1; i < argc; i += 2) {
+    const std::string k = argv[i];
+    if (k == "--threaded") {
+      o.threaded = true;
+      --i;
+      continue;
+    }
+    if (i + 1 >= argc) throw Error("bench_soak: " + k + " needs a value");
+    const std::string v = argv[i + 1];
     if (k == "--frames") o.frames = std::stol(v);
     else if (k == "--lap") o.lap = std::stoi(v);
     else if (k == "--every") o.every = std::stoi(v);
@@ -83,7 +94,7 @@ int run(const Options& o) {
   sc.trajectory.frames = o.lap;
   const sim::Simulation sim(sc);
   pipeline::PipelineConfig config = pipeline::load_pipeline_config(o.config);
-  config.threads.deterministic = true;
+  config.threads.deterministic = !o.threaded;
   auto poses = pipeline::make_slam_poses(sim.camera(), config);
   auto seg = std::make_unique<semantics::OracleSegmenter>(config.segmenter.oracle, config.segmenter.top_k);
   auto map = std::make_unique<pipeline::MapIntegrator>(config.map);
@@ -99,6 +110,12 @@ int run(const Options& o) {
     f.t_s = sc.trajectory.start_time_s + static_cast<double>(i) * dt_s;
     p.process(std::move(f));
     if ((i + 1) % o.every != 0 && i + 1 != o.frames) continue;
+    if (o.threaded) {
+      csv << i + 1 << ',' << rss_mb() << ',' << cpu_s() << ",,,,,,,\n";
+      csv.flush();
+      std::fprintf(stderr, "\rsoak: %ld/%ld frames, rss %.0f MB", i + 1, o.frames, rss_mb());
+      continue;
+    }
     const auto& tree = p.map()->tree();
     csv << i + 1 << ',' << rss_mb() << ',' << cpu_s() << ',' << p.kept_clouds().size() << ','
         << p.kept_clouds().bytes() / 1e6 << ',' << p.poses().keyframe_poses().size() << ','
@@ -109,7 +126,7 @@ int run(const Options& o) {
   }
   p.finish();
   std::fprintf(stderr, "\n");
-  nlohmann::json s = {{"frames", o.frames}, {"lap", o.lap}, {"trajectory", o.trajectory}, {"scene", o.scene},
+  nlohmann::json s = {{"frames", o.frames}, {"threaded", o.threaded}, {"lap", o.lap}, {"trajectory", o.trajectory}, {"scene", o.scene},
                       {"tracked", p.counters().tracked}, {"keyframes_created", p.counters().keyframes},
                       {"integrated", p.counters().integrated}, {"rebuilds", p.counters().rebuilds},
                       {"kept_clouds", p.kept_clouds().size()}, {"kept_mb", p.kept_clouds().bytes() / 1e6},
