@@ -33,40 +33,20 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
+using rostest::wait_for;
 constexpr int kFrames = 50;
 
-// What the test hears from the node.
+// The map and query topics the test hears from the node (poses: rostest::PoseRecorder).
 struct Heard {
   std::mutex m;
-  std::map<double, SE3> poses;  // stamp [s] -> T_map_c
   visualization_msgs::MarkerArray markers;
   sensor_msgs::PointCloud2 cloud;
   std::string query;
 };
 
-template <typename Pred>
-bool wait_for(Pred pred, std::chrono::milliseconds timeout) {
-  const auto until = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < until) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(10ms);
-  }
-  return pred();
-}
-
 TEST(RosNode, TracksASimulatedFlightAndPublishesALabelledMap) {
-  const fs::path dir = fs::temp_directory_path() / ("s3m_ros_node_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const int port = rostest::free_port();
-  rostest::use_private_ros_env(port, dir);
-  rostest::Child master({S3M_ROSMASTER, "--core", "-p", std::to_string(port)}, dir / "master.log");
-  int argc = 1;
-  char name[] = "s3m_node_test";
-  char* argv[] = {name, nullptr};
-  ros::init(argc, argv, "s3m_node_test", ros::init_options::NoSigintHandler | ros::init_options::AnonymousName);
-  ASSERT_TRUE(wait_for([] { return ros::master::check(); }, 30s)) << rostest::read_file(dir / "master.log");
-
+  rostest::RosSession session("s3m_ros_node", S3M_ROSMASTER);
+  const fs::path& dir = session.dir();
   const std::string preset = std::string(S3M_SOURCE_DIR) + "/config/sim.yaml";
   rostest::Child node({S3M_NODE_BINARY, "__name:=s3m_node", "_config:=" + preset, "_use_labels:=true",
                        "_output_dir:=" + (dir / "out").string(), "_map_every_n_frames:=10",
@@ -75,16 +55,11 @@ TEST(RosNode, TracksASimulatedFlightAndPublishesALabelledMap) {
                       dir / "node.log");
   const auto node_log = [&] { return rostest::read_file(dir / "node.log"); };
 
-  ros::NodeHandle nh;
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
+  ros::NodeHandle& nh = session.nh();
   tf2_ros::Buffer tf_buffer;
   tf2_ros::TransformListener tf_listener(tf_buffer);
   Heard heard;
-  auto pose_sub = nh.subscribe<geometry_msgs::PoseStamped>("/s3m_node/camera/pose", 100, [&](const geometry_msgs::PoseStamped::ConstPtr& m) {
-    std::lock_guard l(heard.m);
-    heard.poses[ros1::to_seconds(m->header.stamp)] = ros1::from_pose(m->pose);
-  });
+  rostest::PoseRecorder<geometry_msgs::PoseStamped> poses(nh, "/s3m_node/camera/pose");
   auto marker_sub = nh.subscribe<visualization_msgs::MarkerArray>("/s3m_node/map/markers", 2, [&](const visualization_msgs::MarkerArray::ConstPtr& m) {
     std::lock_guard l(heard.m);
     heard.markers = *m;
@@ -97,46 +72,26 @@ TEST(RosNode, TracksASimulatedFlightAndPublishesALabelledMap) {
     std::lock_guard l(heard.m);
     heard.query = m->data;
   });
-  auto rgb = nh.advertise<sensor_msgs::Image>("/cam/rgb", 5), depth = nh.advertise<sensor_msgs::Image>("/cam/depth", 5),
-       labels = nh.advertise<sensor_msgs::Image>("/cam/labels", 5);
-  auto info = nh.advertise<sensor_msgs::CameraInfo>("/cam/info", 5);
+  rostest::FramePublisher cam(nh, "/cam", /*labels=*/true);
   auto query = nh.advertise<std_msgs::String>("/s3m_node/query", 1);
-  ASSERT_TRUE(wait_for([&] {
-    return rgb.getNumSubscribers() && depth.getNumSubscribers() && labels.getNumSubscribers() &&
-           info.getNumSubscribers() && pose_sub.getNumPublishers() && query.getNumSubscribers();
-  }, 60s)) << node_log();
+  ASSERT_TRUE(wait_for([&] { return cam.connected(1) && poses.connected() && query.getNumSubscribers(); }, 60s))
+      << node_log();
 
   // Lock-step: publish frame i, wait for its pose (bounded), so a slow machine drops nothing.
-  sim::SimConfig sc;
-  sc.scene = "office";
-  sc.seed = 7;
-  sc.trajectory.type = "handheld";
-  sc.trajectory.frames = kFrames;
-  const sim::Simulation sim(sc);
+  const sim::Simulation sim = rostest::office_flight(kFrames);
   io::Trajectory gt;
+  std::map<double, ros::Time> sent;  // pose key (us) -> the exact stamp (ns), for TF lookups
   for (int i = 0; i < kFrames; ++i) {
     const RgbdFrame f = sim.frame(i);
     gt.push_back({f.t_s, sim.trajectory().samples[i].T_w_c});
-    std_msgs::Header h;
-    h.stamp = ros1::to_ros_time(f.t_s);
-    h.frame_id = "camera_rgb_optical_frame";
-    sensor_msgs::Image c = ros1::bgr_to_msg(f.rgb), d = ros1::depth_to_msg(f.depth_m, "16UC1"),
-                       l = ros1::labels_to_msg(f.labels);
-    sensor_msgs::CameraInfo ci = ros1::info_from_camera(sim.camera());
-    c.header = d.header = l.header = ci.header = h;
-    rgb.publish(c), depth.publish(d), labels.publish(l), info.publish(ci);
-    wait_for([&] {
-      std::lock_guard lk(heard.m);
-      return heard.poses.count(ros1::to_seconds(h.stamp)) > 0;
-    }, 20s);
+    sent[rostest::stamp_key(f.t_s)] = ros1::to_ros_time(f.t_s);
+    cam.publish(f, sim.camera());
+    wait_for([&] { return poses.has(rostest::stamp_key(f.t_s)); }, 20s);
   }
 
   // Poses against the ground truth.
   io::Trajectory est;
-  {
-    std::lock_guard l(heard.m);
-    for (const auto& [t, T] : heard.poses) est.push_back({t, T});
-  }
+  for (const auto& [t, T] : poses.poses()) est.push_back({t, T});
   EXPECT_GE(est.size(), static_cast<std::size_t>(kFrames - 2)) << node_log();
   ASSERT_GE(est.size(), 10u) << node_log();
   const eval::TrajectoryEvaluation ev = eval::evaluate_trajectory(gt, est, {}, "s3m_node");
@@ -146,16 +101,17 @@ TEST(RosNode, TracksASimulatedFlightAndPublishesALabelledMap) {
   // TF map -> odom -> base_link -> camera (static, from the preset's T_c_r) composes to the
   // published camera pose: the chain and the calibration are consistent.
   {
-    const double t_last = est.back().t_s;
+    // At the exact stamp: the microsecond key, when rounded up, would ask TF to extrapolate.
+    const ros::Time t_last = sent.at(est.back().t_s);
     geometry_msgs::TransformStamped T;
-    ASSERT_NO_THROW(T = tf_buffer.lookupTransform("map", "camera_rgb_optical_frame", ros1::to_ros_time(t_last),
+    ASSERT_NO_THROW(T = tf_buffer.lookupTransform("map", "camera_rgb_optical_frame", t_last,
                                                   ros::Duration(5.0)));
     const SE3 T_map_c_tf = ros1::from_transform(T.transform), T_map_c = est.back().T_w_x;
     EXPECT_LT((T_map_c_tf.translation() - T_map_c.translation()).norm(), 1e-6);
     EXPECT_LT((T_map_c_tf.linear() - T_map_c.linear()).norm(), 1e-6);
     // `map` is the robot body frame at the first tracked frame: base_link starts at the origin.
     const geometry_msgs::TransformStamped T0 =
-        tf_buffer.lookupTransform("map", "base_link", ros1::to_ros_time(est.front().t_s), ros::Duration(1.0));
+        tf_buffer.lookupTransform("map", "base_link", sent.at(est.front().t_s), ros::Duration(1.0));
     EXPECT_LT(ros1::from_transform(T0.transform).translation().norm(), 1e-9);
   }
 
@@ -205,13 +161,9 @@ TEST(RosNode, TracksASimulatedFlightAndPublishesALabelledMap) {
   EXPECT_GT(tree->getNumLeafNodes(), 500u);
 
   // Shut down: the node finishes (final map rebuild, save) on SIGINT within the grace period.
-  spinner.stop();
   const int status = node.stop(60s);
   EXPECT_FALSE(node.killed()) << "s3m_node did not stop on SIGINT\n" << node_log();
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << node_log();
-  master.stop(10s);
-  ros::shutdown();
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #pragma once
 // Helpers of the ROS tests: child processes that are always reaped (no strays even when a test
-// fails), a free loopback port, and a private ROS environment (master URI, log and home folders).
+// fails), a free loopback port, and a private ROS environment (master URI, log and home folders);
+// for the live node tests also a private ROS session (master + this process as a node), the
+// simulated camera's publishers and recorders of the node's pose topics.
 #include <netinet/in.h>
 #include <signal.h>
 #include <sys/socket.h>
@@ -10,10 +12,22 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include "conversions.hpp"
+#include "s3m/sim/simulate.hpp"
 
 namespace s3m::rostest {
 
@@ -115,5 +129,154 @@ inline std::string read_file(const fs::path& p) {
   std::fclose(f);
   return s;
 }
+
+template <typename Pred>
+bool wait_for(Pred pred, std::chrono::milliseconds timeout) {
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < until) {
+    if (pred()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return pred();
+}
+
+// A private ROS session: a rosmaster on a free loopback port, ROS's files under a fresh temp dir,
+// this process initialised as an anonymous ROS node with a spinner thread. roscpp cannot be
+// initialised twice in one process: one session per test process (a suite's SetUpTestSuite).
+class RosSession {
+ public:
+  RosSession(const std::string& tag, const std::string& rosmaster)
+      : dir_(fs::temp_directory_path() / (tag + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    const int port = free_port();
+    use_private_ros_env(port, dir_);
+    master_ = std::make_unique<Child>(std::vector<std::string>{rosmaster, "--core", "-p", std::to_string(port)},
+                                      dir_ / "master.log");
+    std::string name = tag;
+    int argc = 1;
+    char* argv[] = {name.data(), nullptr};
+    ros::init(argc, argv, tag, ros::init_options::NoSigintHandler | ros::init_options::AnonymousName);
+    if (!wait_for([] { return ros::master::check(); }, std::chrono::seconds(30)))
+      throw std::runtime_error("rosmaster did not come up:\n" + read_file(dir_ / "master.log"));
+    nh_ = std::make_unique<ros::NodeHandle>();
+    spinner_ = std::make_unique<ros::AsyncSpinner>(1);
+    spinner_->start();
+  }
+  ~RosSession() {
+    spinner_.reset();
+    nh_.reset();
+    ros::shutdown();
+    master_->stop(std::chrono::seconds(10));
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  RosSession(const RosSession&) = delete;
+  RosSession& operator=(const RosSession&) = delete;
+
+  const fs::path& dir() const { return dir_; }
+  ros::NodeHandle& nh() { return *nh_; }
+
+ private:
+  fs::path dir_;
+  std::unique_ptr<Child> master_;
+  std::unique_ptr<ros::NodeHandle> nh_;
+  std::unique_ptr<ros::AsyncSpinner> spinner_;
+};
+
+// The simulated flight of the node tests: the office scene, hand-held, seed 7, 640x480 at 30 fps.
+inline sim::Simulation office_flight(int frames) {
+  sim::SimConfig sc;
+  sc.scene = "office";
+  sc.seed = 7;
+  sc.trajectory.type = "handheld";
+  sc.trajectory.frames = frames;
+  return sim::Simulation(sc);
+}
+
+// A frame's stamp as the node sends it back (seconds through ros::Time): the key of PoseRecorder.
+inline double stamp_key(double t_s) { return ros1::to_seconds(ros1::to_ros_time(t_s)); }
+
+// The node's inputs from simulated frames, under `ns`: ns/rgb (rgb8), ns/depth (16UC1 mm), ns/info
+// (CameraInfo) and, with labels, ns/labels (mono16).
+class FramePublisher {
+ public:
+  FramePublisher(ros::NodeHandle& nh, const std::string& ns, bool labels)
+      : rgb_(nh.advertise<sensor_msgs::Image>(ns + "/rgb", 5)),
+        depth_(nh.advertise<sensor_msgs::Image>(ns + "/depth", 5)),
+        info_(nh.advertise<sensor_msgs::CameraInfo>(ns + "/info", 5)) {
+    if (labels) labels_ = nh.advertise<sensor_msgs::Image>(ns + "/labels", 5);
+  }
+  // Every input topic has at least n subscribers (n nodes have connected).
+  bool connected(unsigned n) const {
+    return rgb_.getNumSubscribers() >= n && depth_.getNumSubscribers() >= n && info_.getNumSubscribers() >= n &&
+           (!labels_ || labels_.getNumSubscribers() >= n);
+  }
+  // Colour, camera_info and labels stamped f.t_s; depth stamped f.t_s + depth_offset_s (a driver
+  // that does not stamp both images with the same time).
+  void publish(const RgbdFrame& f, const PinholeCamera& camera, double depth_offset_s = 0.0) {
+    std_msgs::Header h;
+    h.stamp = ros1::to_ros_time(f.t_s);
+    h.frame_id = frame_id;
+    sensor_msgs::Image c = ros1::bgr_to_msg(f.rgb), d = ros1::depth_to_msg(f.depth_m, "16UC1");
+    sensor_msgs::CameraInfo ci = ros1::info_from_camera(camera);
+    c.header = d.header = ci.header = h;
+    d.header.stamp = ros1::to_ros_time(f.t_s + depth_offset_s);
+    rgb_.publish(c), depth_.publish(d), info_.publish(ci);
+    if (labels_) {
+      sensor_msgs::Image l = ros1::labels_to_msg(f.labels);
+      l.header = h;
+      labels_.publish(l);
+    }
+  }
+  std::string frame_id = "camera_rgb_optical_frame";
+
+ private:
+  ros::Publisher rgb_, depth_, info_, labels_;
+};
+
+// Records a geometry_msgs/PoseStamped or nav_msgs/Odometry topic: stamp [s] -> pose, the number of
+// messages (a repeated stamp shows as count() > poses().size()) and the last message's frames.
+template <typename Msg>
+class PoseRecorder {
+ public:
+  PoseRecorder(ros::NodeHandle& nh, const std::string& topic)
+      : sub_(nh.subscribe(topic, 200, &PoseRecorder::on, this)) {}
+  bool connected() const { return sub_.getNumPublishers() > 0; }
+  std::size_t count() const {
+    std::lock_guard l(m_);
+    return count_;
+  }
+  bool has(double t_s) const {
+    std::lock_guard l(m_);
+    return poses_.count(t_s) > 0;
+  }
+  std::map<double, SE3> poses() const {
+    std::lock_guard l(m_);
+    return poses_;
+  }
+  std::pair<std::string, std::string> frames() const {  // header.frame_id, child_frame_id
+    std::lock_guard l(m_);
+    return frames_;
+  }
+
+ private:
+  static const geometry_msgs::Pose& pose_of(const geometry_msgs::PoseStamped& m) { return m.pose; }
+  static const geometry_msgs::Pose& pose_of(const nav_msgs::Odometry& m) { return m.pose.pose; }
+  static std::string child_of(const geometry_msgs::PoseStamped&) { return ""; }
+  static std::string child_of(const nav_msgs::Odometry& m) { return m.child_frame_id; }
+  void on(const boost::shared_ptr<const Msg>& m) {
+    std::lock_guard l(m_);
+    ++count_;
+    poses_[ros1::to_seconds(m->header.stamp)] = ros1::from_pose(pose_of(*m));
+    frames_ = {m->header.frame_id, child_of(*m)};
+  }
+
+  mutable std::mutex m_;
+  std::map<double, SE3> poses_;
+  std::size_t count_ = 0;
+  std::pair<std::string, std::string> frames_;
+  ros::Subscriber sub_;  // last: unsubscribed (waiting for a running callback) before the rest goes
+};
 
 }  // namespace s3m::rostest
