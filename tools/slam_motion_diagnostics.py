@@ -13,11 +13,17 @@ Two diagnostics behind the 7-Scenes analysis in docs/RESULTS.md ("Why the kitche
            lam 0 is the ground truth, lam 1 the estimate. Depth is registered to the colour image
            with depth_px = c + s (colour_px - c) + (f_d b / z, dy) (bench_depth_registration's fit),
            colour focal f_d / s.
+  icp      Depth-only point-to-plane ICP (projective association, as KinectFusion) between
+           consecutive keyframes of EST's keyframe file, started from EST's relative pose: per-axis
+           slopes against the ground truth of EST's and ICP's relative motions, and the keyframe
+           ATE of the chained estimate, of chained ICP, and of EST's translations with ICP's
+           rotations.
 
 Usage:
   slam_motion_diagnostics.py motion GT.txt EST.txt [--step 10]
   slam_motion_diagnostics.py images DATASET_DIR EST.txt [--step 10] [--every 40] [--lams 0,0.5,1]
                              [--scale 1.1075 --baseline 0.0225 --dy 1.5] [--gt FILE]
+  slam_motion_diagnostics.py icp DATASET_DIR EST.txt KEYFRAMES.txt [--gt FILE]
 Run with /usr/bin/python3 (numpy, scipy, PIL). Times are poses matched by timestamp (1 ms).
 """
 import argparse
@@ -162,6 +168,97 @@ def images(args):
               flush=True)
 
 
+def grid_cloud(D, cam, stride, max_depth=4.0):
+    v, u = np.mgrid[stride // 2:D.shape[0]:stride, stride // 2:D.shape[1]:stride]
+    z = D[v, u].copy()
+    z[z > max_depth] = 0
+    return np.stack([(u - cam["cx"]) * z / cam["fx"], (v - cam["cy"]) * z / cam["fy"], z], -1)
+
+
+def grid_normals(P, max_edge_ratio=0.05):
+    N = np.zeros_like(P)
+    n = np.cross(P[1:-1, 2:] - P[1:-1, :-2], P[2:, 1:-1] - P[:-2, 1:-1])
+    n /= np.maximum(np.linalg.norm(n, axis=-1, keepdims=True), 1e-12)
+    z, c = P[..., 2], P[1:-1, 1:-1, 2]
+    ok = c > 0
+    for nb in (z[1:-1, 2:], z[1:-1, :-2], z[2:, 1:-1], z[:-2, 1:-1]):
+        ok &= (nb > 0) & (np.abs(nb - c) < max_edge_ratio * c)
+    n[~ok] = 0
+    facing = np.sign((n * P[1:-1, 1:-1]).sum(-1, keepdims=True))
+    N[1:-1, 1:-1] = -n * np.where(facing == 0, 1, facing)
+    return N
+
+
+def icp(D_target, D_source, T0, cam, iterations=20):
+    """T (source camera -> target camera) minimising point-to-plane distances, Huber at 2 cm."""
+    Pt = grid_cloud(D_target, cam, 4)
+    Nt = grid_normals(Pt)
+    Ps = grid_cloud(D_source, cam, 8).reshape(-1, 3)
+    Ps = Ps[Ps[:, 2] > 0]
+    T = T0.copy()
+    for _ in range(iterations):
+        q = Ps @ T[:3, :3].T + T[:3, 3]
+        u = np.floor((q[:, 0] / q[:, 2] * cam["fx"] + cam["cx"]) / 4).astype(int)
+        v = np.floor((q[:, 1] / q[:, 2] * cam["fy"] + cam["cy"]) / 4).astype(int)
+        ok = (q[:, 2] > 0.1) & (u >= 0) & (u < Pt.shape[1]) & (v >= 0) & (v < Pt.shape[0])
+        u, v, q = u[ok], v[ok], q[ok]
+        n, p = Nt[v, u], Pt[v, u]
+        has = np.abs(n).sum(1) > 0
+        n, p, q = n[has], p[has], q[has]
+        e = (n * (q - p)).sum(1)
+        near = np.abs(e) < 0.05
+        n, q, e = n[near], q[near], e[near]
+        J = np.concatenate([n, np.cross(q, n)], 1)  # T <- exp(xi) T: d e / d xi = [n, q x n]
+        w = np.where(np.abs(e) > 0.02, 0.02 / np.abs(e), 1.0)
+        xi = -np.linalg.solve((J * w[:, None]).T @ J + 1e-9 * np.eye(6), (J * w[:, None]).T @ e)
+        X = np.zeros((4, 4))
+        X[:3, :3] = [[0, -xi[5], xi[4]], [xi[5], 0, -xi[3]], [-xi[4], xi[3], 0]]
+        X[:3, 3] = xi[:3]
+        T = expm(X) @ T
+        if np.linalg.norm(xi) < 1e-6:
+            break
+    return T
+
+
+def ate_se3(P, Q):
+    X, Y = P - P.mean(0), Q - Q.mean(0)
+    U, _, Vt = np.linalg.svd(Y.T @ X)
+    D = np.diag([1, 1, np.sign(np.linalg.det(U @ Vt))])
+    return np.sqrt(((((U @ D @ Vt) @ X.T).T - Y) ** 2).sum(1).mean())
+
+
+def icp_chain(args):
+    gt = read_tum(args.gt or os.path.join(args.dataset, "groundtruth.txt"))
+    est = read_tum(args.est)
+    kfs = [k for k in sorted(read_tum(args.keyframes)) if k in est and k in gt]
+    cam = read_intrinsics(os.path.join(args.dataset, "camera.yaml"))
+    P = Pair(args.dataset, cam, 1.0, 0.0, 0.0)
+    index = {round(float(l.split()[0]), 3): i for i, l in enumerate(
+        l for l in open(os.path.join(args.dataset, "depth.txt")) if l.strip() and not l.startswith("#"))}
+    chains = {"estimate": [np.eye(4)], "depth ICP": [np.eye(4)], "estimate + ICP rotations": [np.eye(4)]}
+    rot = {"gt": [], "estimate": [], "depth ICP": []}
+    tra = {"gt": [], "estimate": [], "depth ICP": []}
+    for a, b in zip(kfs[:-1], kfs[1:]):
+        Te, Tg = relative(est, a, b), relative(gt, a, b)
+        Td = icp(P.raw_depth(index[a]), P.raw_depth(index[b]), Te, cam)
+        Tm = Te.copy()
+        Tm[:3, :3] = Td[:3, :3]
+        for name, T in (("estimate", Te), ("depth ICP", Td), ("estimate + ICP rotations", Tm)):
+            chains[name].append(chains[name][-1] @ T)
+        for name, T in (("gt", Tg), ("estimate", Te), ("depth ICP", Td)):
+            rot[name].append(Rotation.from_matrix(T[:3, :3]).as_rotvec())
+            tra[name].append(T[:3, 3])
+    G = {k: np.array(v) for k, v in rot.items()}
+    Gt = {k: np.array(v) for k, v in tra.items()}
+    for name in ("estimate", "depth ICP"):
+        sr = (G["gt"] * G[name]).sum(0) / (G["gt"] ** 2).sum(0)
+        st = (Gt["gt"] * Gt[name]).sum(0) / (Gt["gt"] ** 2).sum(0)
+        print(f"{name:10s} keyframe-to-keyframe slope vs gt: rotation {np.round(sr, 3)}  translation {np.round(st, 3)}")
+    Q = np.array([gt[k][:3, 3] for k in kfs])
+    for name, c in chains.items():
+        print(f"chained {name:26s}: keyframe ATE {ate_se3(np.array([T[:3, 3] for T in c]), Q) * 100:.2f} cm")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -179,8 +276,13 @@ def main():
     i.add_argument("--scale", type=float, default=1.1075)
     i.add_argument("--baseline", type=float, default=0.0225)
     i.add_argument("--dy", type=float, default=1.5)
+    c = sub.add_parser("icp")
+    c.add_argument("dataset")
+    c.add_argument("est")
+    c.add_argument("keyframes")
+    c.add_argument("--gt")
     args = ap.parse_args()
-    motion(args) if args.cmd == "motion" else images(args)
+    {"motion": motion, "images": images, "icp": icp_chain}[args.cmd](args)
 
 
 if __name__ == "__main__":
