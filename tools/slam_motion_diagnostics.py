@@ -24,15 +24,59 @@ Usage:
   slam_motion_diagnostics.py images DATASET_DIR EST.txt [--step 10] [--every 40] [--lams 0,0.5,1]
                              [--scale 1.1075 --baseline 0.0225 --dy 1.5] [--gt FILE]
   slam_motion_diagnostics.py icp DATASET_DIR EST.txt KEYFRAMES.txt [--gt FILE]
-Run with /usr/bin/python3 (numpy, scipy, PIL). Times are poses matched by timestamp (1 ms).
+Run with /usr/bin/python3 (numpy and PIL; matplotlib's dependencies). Times are poses matched by timestamp (1 ms).
 """
 import argparse
 import os
 
 import numpy as np
 from PIL import Image
-from scipy.linalg import expm, logm
-from scipy.spatial.transform import Rotation
+
+
+def skew(w):
+    return np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
+
+
+def quat_to_matrix(q):  # q = [qx, qy, qz, qw]
+    x, y, z, w = np.asarray(q) / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def so3_log(R):
+    """Rotation vector [rad] of R (angles below pi)."""
+    a = np.arccos(np.clip((np.trace(R) - 1) / 2, -1, 1))
+    v = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
+    return 0.5 * v if a < 1e-9 else a / (2 * np.sin(a)) * v
+
+
+def so3_exp(w):
+    a = np.linalg.norm(w)
+    K = skew(w)
+    if a < 1e-12:
+        return np.eye(3) + K
+    return np.eye(3) + np.sin(a) / a * K + (1 - np.cos(a)) / a ** 2 * K @ K
+
+
+def _left_jacobian(w):
+    a = np.linalg.norm(w)
+    K = skew(w)
+    if a < 1e-9:
+        return np.eye(3) + 0.5 * K
+    return np.eye(3) + (1 - np.cos(a)) / a ** 2 * K + (a - np.sin(a)) / a ** 3 * K @ K
+
+
+def se3_exp(xi):  # xi = [rho, phi]
+    T = np.eye(4)
+    T[:3, :3] = so3_exp(xi[3:])
+    T[:3, 3] = _left_jacobian(xi[3:]) @ xi[:3]
+    return T
+
+
+def se3_log(T):
+    phi = so3_log(T[:3, :3])
+    return np.concatenate([np.linalg.solve(_left_jacobian(phi), T[:3, 3]), phi])
 
 
 def read_tum(path):
@@ -43,7 +87,7 @@ def read_tum(path):
             continue
         v = [float(x) for x in line.split()]
         T = np.eye(4)
-        T[:3, :3] = Rotation.from_quat(v[4:8]).as_matrix()
+        T[:3, :3] = quat_to_matrix(v[4:8])
         T[:3, 3] = v[1:4]
         poses[round(v[0], 3)] = T
     return poses
@@ -58,7 +102,7 @@ def motion(args):
     keys = sorted(set(gt) & set(est))
     pairs = list(zip(keys[:-args.step], keys[args.step:]))
     out = {}
-    for name, f in (("rotation", lambda T: Rotation.from_matrix(T[:3, :3]).as_rotvec()), ("translation", lambda T: T[:3, 3])):
+    for name, f in (("rotation", lambda T: so3_log(T[:3, :3])), ("translation", lambda T: T[:3, 3])):
         G = np.array([f(relative(gt, a, b)) for a, b in pairs])
         E = np.array([f(relative(est, a, b)) for a, b in pairs])
         slope = (G * E).sum(0) / (G ** 2).sum(0)
@@ -160,7 +204,7 @@ def images(args):
         for i in frames:
             a, b = stamps[i], stamps[i + args.step]
             Tg, Te = relative(gt, a, b), relative(est, a, b)
-            T = Tg @ np.real(expm(lam * logm(np.linalg.inv(Tg) @ Te)))
+            T = Tg @ se3_exp(lam * se3_log(np.linalg.inv(Tg) @ Te))
             ph.append(photometric(P, i, i + args.step, T))
             de.append(depth_error(P, i, i + args.step, T))
         label = "ground truth" if lam == 0 else "estimate" if lam == 1 else "blend"
@@ -211,10 +255,7 @@ def icp(D_target, D_source, T0, cam, iterations=20):
         J = np.concatenate([n, np.cross(q, n)], 1)  # T <- exp(xi) T: d e / d xi = [n, q x n]
         w = np.where(np.abs(e) > 0.02, 0.02 / np.abs(e), 1.0)
         xi = -np.linalg.solve((J * w[:, None]).T @ J + 1e-9 * np.eye(6), (J * w[:, None]).T @ e)
-        X = np.zeros((4, 4))
-        X[:3, :3] = [[0, -xi[5], xi[4]], [xi[5], 0, -xi[3]], [-xi[4], xi[3], 0]]
-        X[:3, 3] = xi[:3]
-        T = expm(X) @ T
+        T = se3_exp(xi) @ T
         if np.linalg.norm(xi) < 1e-6:
             break
     return T
@@ -246,7 +287,7 @@ def icp_chain(args):
         for name, T in (("estimate", Te), ("depth ICP", Td), ("estimate + ICP rotations", Tm)):
             chains[name].append(chains[name][-1] @ T)
         for name, T in (("gt", Tg), ("estimate", Te), ("depth ICP", Td)):
-            rot[name].append(Rotation.from_matrix(T[:3, :3]).as_rotvec())
+            rot[name].append(so3_log(T[:3, :3]))
             tra[name].append(T[:3, 3])
     G = {k: np.array(v) for k, v in rot.items()}
     Gt = {k: np.array(v) for k, v in tra.items()}
