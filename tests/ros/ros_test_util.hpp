@@ -27,6 +27,7 @@
 #include <sensor_msgs/Image.h>
 
 #include "conversions.hpp"
+#include "s3m/io/trajectory.hpp"
 #include "s3m/sim/simulate.hpp"
 
 namespace s3m::rostest {
@@ -197,6 +198,12 @@ inline sim::Simulation office_flight(int frames) {
 // A frame's stamp as the node sends it back (seconds through ros::Time): the key of PoseRecorder.
 inline double stamp_key(double t_s) { return ros1::to_seconds(ros1::to_ros_time(t_s)); }
 
+// How far a driver's depth and label stamps lag the colour stamp [s] (camera_info: none).
+struct StampOffsets {
+  double depth_s = 0.0;
+  double labels_s = 0.0;
+};
+
 // The node's inputs from simulated frames, under `ns`: ns/rgb (rgb8), ns/depth (16UC1 mm), ns/info
 // (CameraInfo) and, with labels, ns/labels (mono16).
 class FramePublisher {
@@ -212,28 +219,58 @@ class FramePublisher {
     return rgb_.getNumSubscribers() >= n && depth_.getNumSubscribers() >= n && info_.getNumSubscribers() >= n &&
            (!labels_ || labels_.getNumSubscribers() >= n);
   }
-  // Colour, camera_info and labels stamped f.t_s; depth stamped f.t_s + depth_offset_s (a driver
-  // that does not stamp both images with the same time).
-  void publish(const RgbdFrame& f, const PinholeCamera& camera, double depth_offset_s = 0.0) {
+  // Colour and camera_info stamped f.t_s, depth and labels that plus `offsets` (a driver that does
+  // not stamp every image with the same time). Returns the labels message sent (empty without).
+  sensor_msgs::Image publish(const RgbdFrame& f, const PinholeCamera& camera, StampOffsets offsets = {}) {
     std_msgs::Header h;
     h.stamp = ros1::to_ros_time(f.t_s);
     h.frame_id = frame_id;
-    sensor_msgs::Image c = ros1::bgr_to_msg(f.rgb), d = ros1::depth_to_msg(f.depth_m, "16UC1");
+    sensor_msgs::Image c = ros1::bgr_to_msg(f.rgb), d = ros1::depth_to_msg(f.depth_m, "16UC1"), l;
     sensor_msgs::CameraInfo ci = ros1::info_from_camera(camera);
     c.header = d.header = ci.header = h;
-    d.header.stamp = ros1::to_ros_time(f.t_s + depth_offset_s);
+    d.header.stamp = ros1::to_ros_time(f.t_s + offsets.depth_s);
     rgb_.publish(c), depth_.publish(d), info_.publish(ci);
     if (labels_) {
-      sensor_msgs::Image l = ros1::labels_to_msg(f.labels);
+      l = ros1::labels_to_msg(f.labels);
       l.header = h;
+      l.header.stamp = ros1::to_ros_time(f.t_s + offsets.labels_s);
       labels_.publish(l);
     }
+    return l;
   }
   std::string frame_id = "camera_rgb_optical_frame";
 
  private:
   ros::Publisher rgb_, depth_, info_, labels_;
 };
+
+// How many frames an ApproximateTime node has answered once frame i (0-based) is published, when
+// the first `offset_frames` frames have offset stamps: it emits a set only once a later message
+// proves it the best one, so an offset frame is answered when the next frame arrives (the first
+// aligned frame flushes the last offset one); an aligned frame (spread 0) is answered at once.
+inline std::size_t approx_answers_due(int i, int offset_frames) {
+  return static_cast<std::size_t>(i < offset_frames ? i : i + 1);
+}
+
+// Publishes `frames` frames of `sim` lock-step: frame i with `offsets` while i < offset_frames,
+// aligned after, then waits (bounded) for answered(i). Once a wait times out the counts the caller
+// checks fail anyway, so later waits are short. `on_sent(i, f, labels_msg)` sees each frame sent.
+// Returns the ground truth keyed by stamp_key, as the node's answers are.
+template <typename Answered, typename OnSent>
+io::Trajectory fly_lockstep(FramePublisher& cam, const sim::Simulation& sim, int frames, int offset_frames,
+                            StampOffsets offsets, Answered answered, OnSent on_sent) {
+  io::Trajectory gt;
+  bool behind = false;
+  for (int i = 0; i < frames; ++i) {
+    const RgbdFrame f = sim.frame(i);
+    gt.push_back({stamp_key(f.t_s), sim.trajectory().samples[i].T_w_c});
+    on_sent(i, f, cam.publish(f, sim.camera(), i < offset_frames ? offsets : StampOffsets{}));
+    const bool ok = wait_for([&] { return answered(i); }, behind ? std::chrono::milliseconds(500)
+                                                                 : std::chrono::milliseconds(20000));
+    behind = behind || !ok;
+  }
+  return gt;
+}
 
 // Records a geometry_msgs/PoseStamped or nav_msgs/Odometry topic: stamp [s] -> pose, the number of
 // messages (a repeated stamp shows as count() > poses().size()) and the last message's frames.
