@@ -14,6 +14,8 @@
 #include "s3m/pipeline/run.hpp"
 #include "s3m/sim/simulate.hpp"
 
+#include "cached_folder.hpp"
+
 namespace s3m::it {
 
 namespace fs = std::filesystem;
@@ -46,22 +48,12 @@ inline sim::SimConfig sequence_config() {
   return c;
 }
 
-// The sequence, rendered once and cached in the temp folder for every test process: the simulator is
-// deterministic, so a complete cached copy is identical to a fresh one. Rendered into a private
-// folder and renamed into place, so parallel test processes never see a half-written sequence.
+// The sequence, rendered once and cached in the temp folder for every test process (the simulator
+// is deterministic; see cached_folder.hpp).
 inline const std::string& sequence_dir() {
-  static const std::string dir = [] {
-    const sim::SimConfig c = sequence_config();
-    const fs::path d = fs::temp_directory_path() / ("s3m_it_sequence_office_handheld_seed7_" + std::to_string(kFrames));
-    if (!fs::exists(d / "gt_voxels.txt")) {
-      const fs::path tmp = d.string() + ".tmp" + std::to_string(::getpid());
-      sim::simulate_sequence(c, tmp.string());
-      std::error_code ec;
-      fs::rename(tmp, d, ec);  // fails harmlessly when another process finished first
-      if (ec) fs::remove_all(tmp, ec);
-    }
-    return d.string();
-  }();
+  static const std::string dir = cached_folder(
+      fs::temp_directory_path() / ("s3m_it_sequence_office_handheld_seed7_" + std::to_string(kFrames)),
+      "gt_voxels.txt", [](const fs::path& tmp) { sim::simulate_sequence(sequence_config(), tmp.string()); });
   return dir;
 }
 

@@ -17,6 +17,8 @@
 #include "s3m/io/tum_dataset.hpp"
 #include "s3m/sim/simulate.hpp"
 
+#include "cached_folder.hpp"
+
 namespace s3m::it {
 
 inline constexpr int kLoopFrames = 300;  // the whole shape: 1.15 turns (fewer frames cut it short)
@@ -55,12 +57,11 @@ inline std::string loop_sequence_dir(Variant variant) {
   const fs::path d = variant == Variant::kClean ? clean
                      : fs::path(clean.string() + (variant == Variant::kGap ? "_gap" : "_outage") +
                                 std::to_string(kBlankFirst));
-  if (fs::exists(d / "gt_voxels.txt")) return d.string();
-  const fs::path tmp = d.string() + ".tmp" + std::to_string(::getpid());
-  std::error_code ec;
-  if (variant == Variant::kClean) {
-    sim::simulate_sequence(loop_config(), tmp.string());
-  } else {
+  return cached_folder(d, "gt_voxels.txt", [variant](const fs::path& tmp) {
+    if (variant == Variant::kClean) {
+      sim::simulate_sequence(loop_config(), tmp.string());
+      return;
+    }
     fs::copy(loop_sequence_dir(Variant::kClean), tmp, fs::copy_options::recursive);
     // associations.txt: "t_rgb rgb/x.png t_depth depth/x.png", one line per frame in order; the
     // dataset reader follows it, so dropping a line drops the frame.
@@ -82,10 +83,7 @@ inline std::string loop_sequence_dir(Variant variant) {
     }
     in.close();
     std::ofstream(tmp / "associations.txt") << kept;
-  }
-  fs::rename(tmp, d, ec);  // fails harmlessly when another process finished first
-  if (ec) fs::remove_all(tmp, ec);
-  return d.string();
+  });
 }
 
 // The clean flight as read back from its files (cheaper than rendering it again for every run).

@@ -1,0 +1,27 @@
+#pragma once
+// A folder the integration tests build once and share across test processes (ctest runs them in
+// parallel): built into a private folder and renamed into place, so no process ever sees it half
+// written. Only for content that is deterministic, so a complete cached copy equals a fresh one.
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <system_error>
+
+#include <unistd.h>
+
+namespace s3m::it {
+
+// Returns dir; when dir/complete_marker is missing, build(tmp) fills a fresh private folder first.
+inline std::string cached_folder(const std::filesystem::path& dir, const std::string& complete_marker,
+                                 const std::function<void(const std::filesystem::path& tmp)>& build) {
+  namespace fs = std::filesystem;
+  if (fs::exists(dir / complete_marker)) return dir.string();
+  const fs::path tmp = dir.string() + ".tmp" + std::to_string(::getpid());
+  build(tmp);
+  std::error_code ec;
+  fs::rename(tmp, dir, ec);  // fails harmlessly when another process finished first
+  if (ec) fs::remove_all(tmp, ec);
+  return dir.string();
+}
+
+}  // namespace s3m::it
