@@ -45,15 +45,14 @@ struct Options {
 Options parse(int argc, char** argv) {
   Options o;
   o.config = pipeline::repo_path("config/sim.yaml");
-  for (int i = 1; i < argc; i += 2) {
+  for (int i = 1; i < argc; ++i) {
     const std::string k = argv[i];
     if (k == "--threaded") {
       o.threaded = true;
-      --i;
       continue;
     }
     if (i + 1 >= argc) throw Error("bench_soak: " + k + " needs a value");
-    const std::string v = argv[i + 1];
+    const std::string v = argv[++i];
     if (k == "--frames") o.frames = std::stol(v);
     else if (k == "--lap") o.lap = std::stoi(v);
     else if (k == "--every") o.every = std::stoi(v);
