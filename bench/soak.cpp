@@ -109,17 +109,15 @@ int run(const Options& o) {
     f.t_s = sc.trajectory.start_time_s + static_cast<double>(i) * dt_s;
     p.process(std::move(f));
     if ((i + 1) % o.every != 0 && i + 1 != o.frames) continue;
-    if (o.threaded) {
-      csv << i + 1 << ',' << rss_mb() << ',' << cpu_s() << ",,,,,,,\n";
-      csv.flush();
-      std::fprintf(stderr, "\rsoak: %ld/%ld frames, rss %.0f MB", i + 1, o.frames, rss_mb());
-      continue;
+    csv << i + 1 << ',' << rss_mb() << ',' << cpu_s() << ',';
+    if (o.threaded) {  // the stages' structures belong to other threads: leave them out
+      csv << ",,,,,,\n";
+    } else {
+      const auto& tree = p.map()->tree();
+      csv << p.kept_clouds().size() << ',' << p.kept_clouds().bytes() / 1e6 << ','
+          << p.poses().keyframe_poses().size() << ',' << tree.getNumLeafNodes() << ','
+          << tree.memoryUsage() / 1e6 << ',' << p.counters().tracked << ',' << p.last_state() << '\n';
     }
-    const auto& tree = p.map()->tree();
-    csv << i + 1 << ',' << rss_mb() << ',' << cpu_s() << ',' << p.kept_clouds().size() << ','
-        << p.kept_clouds().bytes() / 1e6 << ',' << p.poses().keyframe_poses().size() << ','
-        << tree.getNumLeafNodes() << ',' << tree.memoryUsage() / 1e6 << ',' << p.counters().tracked << ','
-        << p.last_state() << '\n';
     csv.flush();
     std::fprintf(stderr, "\rsoak: %ld/%ld frames, rss %.0f MB", i + 1, o.frames, rss_mb());
   }
