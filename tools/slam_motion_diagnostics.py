@@ -175,14 +175,14 @@ def warp(T_j_i, Z, f, cx, cy, step=2):
     return u[m][ok], v[m][ok], x[ok], y[ok], Y[2][ok]
 
 
-def photometric(P, i, j, T_i_j):
-    Gi, Gj = P.gray(i), P.gray(j)
-    u, v, x, y, _ = warp(np.linalg.inv(T_i_j), P.registered_depth(i), P.fc, P.cx, P.cy)
+def photometric(P, Gi, Gj, Ri, T_i_j):
+    """Gi, Gj: grey images i, j; Ri: depth i registered to colour."""
+    u, v, x, y, _ = warp(np.linalg.inv(T_i_j), Ri, P.fc, P.cx, P.cy)
     return np.mean(np.minimum(np.abs(Gi[v, u] - bilinear(Gj, x, y)), 50))  # grey levels, capped
 
 
-def depth_error(P, i, j, T_i_j):
-    Di, Dj = P.raw_depth(i), P.raw_depth(j)
+def depth_error(P, Di, Dj, T_i_j):
+    """Di, Dj: raw depth images i, j."""
     _, _, x, y, z = warp(T_i_j, Dj, P.fd, P.cx, P.cy, step=4)
     xi, yi = np.round(x).astype(int), np.round(y).astype(int)
     d = Di[yi, xi]
@@ -199,17 +199,20 @@ def images(args):
     frames = [i for i in range(0, len(stamps) - args.step, args.every)
               if stamps[i] in gt and stamps[i + args.step] in gt and stamps[i] in est and stamps[i + args.step] in est]
     print(f"{len(frames)} pairs, step {args.step}; colour focal {P.fc:.1f} px (depth {P.fd:.1f} px / {args.scale})")
-    for lam in lams:
-        ph, de = [], []
-        for i in frames:
-            a, b = stamps[i], stamps[i + args.step]
-            Tg, Te = relative(gt, a, b), relative(est, a, b)
+    ph = {lam: [] for lam in lams}
+    de = {lam: [] for lam in lams}
+    for i in frames:  # each pair's images are read (and registered) once for every lam
+        j = i + args.step
+        Gi, Gj, Ri, Di, Dj = P.gray(i), P.gray(j), P.registered_depth(i), P.raw_depth(i), P.raw_depth(j)
+        Tg, Te = relative(gt, stamps[i], stamps[j]), relative(est, stamps[i], stamps[j])
+        for lam in lams:
             T = Tg @ se3_exp(lam * se3_log(np.linalg.inv(Tg) @ Te))
-            ph.append(photometric(P, i, i + args.step, T))
-            de.append(depth_error(P, i, i + args.step, T))
+            ph[lam].append(photometric(P, Gi, Gj, Ri, T))
+            de[lam].append(depth_error(P, Di, Dj, T))
+    for lam in lams:
         label = "ground truth" if lam == 0 else "estimate" if lam == 1 else "blend"
-        print(f"lam {lam:4.2f} ({label:12s}): photometric {np.mean(ph):6.2f} grey levels  depth median {np.mean(de) * 1000:6.2f} mm",
-              flush=True)
+        print(f"lam {lam:4.2f} ({label:12s}): photometric {np.mean(ph[lam]):6.2f} grey levels  "
+              f"depth median {np.mean(de[lam]) * 1000:6.2f} mm")
 
 
 def grid_cloud(D, cam, stride, max_depth=4.0):
