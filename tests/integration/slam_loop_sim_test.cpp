@@ -1,7 +1,8 @@
 // End to end on an `s3m sim` sequence (fixed seed): the `loop` flight comes back over its start,
 // so loop closing must reduce the drift; after an outage (10 blank frames, then a 1 s gap) on the
 // way back, relocalisation must find the camera again, with the blank frames marked LOST. The
-// outage is run in both SLAM threading modes.
+// outage is run single-thread, threaded in lockstep (exact expectations) and threaded free-running
+// (what holds whatever the machine's load).
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -28,10 +29,21 @@ struct LoopRun {
   int loops = 0, relocalisations = 0, corrections_heard = 0;
 };
 
-LoopRun run(bool loop_closing, bool threaded, bool outage) {
+// kLockstep: threaded SLAM, but after each keyframe tracking waits until local mapping and loop
+// closing have processed it (an empty map query is a barrier: it queues behind the keyframe and
+// returns once its snapshot reached the tracker). The mapping-thread code paths run with the
+// single-thread order of events, so the outcome does not depend on the machine's load.
+// kFree: threaded as in production; keyframe timing, and with it the result, depends on load.
+enum class Mode { kSingleThread, kLockstep, kFree };
+
+const char* to_string(Mode m) {
+  return m == Mode::kSingleThread ? "single-thread" : m == Mode::kLockstep ? "threaded lockstep" : "threaded free";
+}
+
+LoopRun run(bool loop_closing, Mode mode, bool outage) {
   const io::TumDataset& data = loop_dataset();
   slam::SlamConfig cfg;
-  cfg.threaded = threaded;
+  cfg.threaded = mode != Mode::kSingleThread;
   cfg.T_c_r = loop_simulation().trajectory().T_c_r;
   slam::System slam(data.camera(), cfg);
   slam::LoopSlamConfig lc;
@@ -46,7 +58,9 @@ LoopRun run(bool loop_closing, bool threaded, bool outage) {
       f.rgb.setTo(0);
       f.depth_m.setTo(0);
     }
-    r.states[f.index] = loops.track(f).state;
+    const slam::TrackResult t = loops.track(f);
+    r.states[f.index] = t.state;
+    if (mode == Mode::kLockstep && t.keyframe) slam.query_map([](const slam::Map&) {});
   }
   slam.finish();
   r.traj = slam.camera_trajectory();
@@ -71,8 +85,8 @@ double ate_rmse(const std::vector<slam::StampedPose>& traj) {
 }
 
 TEST(LoopOnSimulator, LoopClosingReducesAteOnTheLoopFlight) {
-  const LoopRun without = run(false, false, false);
-  const LoopRun with = run(true, false, false);
+  const LoopRun without = run(false, Mode::kSingleThread, false);
+  const LoopRun with = run(true, Mode::kSingleThread, false);
   const double ate_without = ate_rmse(without.traj), ate_with = ate_rmse(with.traj);
   std::printf("sim loop flight: ATE without loop closing %.4f m, with %.4f m (%d loops)\n", ate_without, ate_with,
               with.loops);
@@ -83,40 +97,52 @@ TEST(LoopOnSimulator, LoopClosingReducesAteOnTheLoopFlight) {
   EXPECT_LT(ate_with, 0.85 * ate_without);
 }
 
-void expect_outage_bridged_by_relocalisation(bool threaded) {
-  const LoopRun r = run(true, threaded, true);
-  const char* mode = threaded ? "threaded" : "single-thread";
-  std::printf("%s: frame %d after the outage is %s, %d relocalisations, %d loops, ATE %.4f m\n", mode, kResumeSource,
+void expect_outage_bridged_by_relocalisation(Mode mode) {
+  const LoopRun r = run(true, mode, true);
+  const char* name = to_string(mode);
+  std::printf("%s: frame %d after the outage is %s, %d relocalisations, %d loops, ATE %.4f m\n", name, kResumeSource,
               slam::to_string(r.states.at(kResumeSource)), r.relocalisations, r.loops, ate_rmse(r.traj));
-  // Threaded mode's keyframe timing depends on the machine's load; on a loaded 2-core machine it
-  // can lose the fast middle of the flight (then relocalisation brings it back), so only the
-  // single-thread run must track every frame before the outage.
   for (const auto& [i, s] : r.states) {
     slam::TrackState expected = slam::TrackState::kOk;
-    if (i < kBlankFirst && threaded) continue;
     if (i >= kBlankFirst && i < kBlankFirst + 10) expected = slam::TrackState::kLost;
     if (i == kResumeSource) expected = slam::TrackState::kRelocalised;
-    EXPECT_EQ(s, expected) << mode << " frame " << i;
+    EXPECT_EQ(s, expected) << name << " frame " << i;
   }
-  if (!threaded) {
-    EXPECT_EQ(r.relocalisations, 1) << mode;
-  }
+  EXPECT_EQ(r.relocalisations, 1) << name;
   // The final trajectory keeps the LOST marks and has the relocalised frame at its found pose.
   int lost = 0;
   for (const auto& p : r.traj) {
     lost += p.state == slam::TrackState::kLost;
     if (p.frame_index == kResumeSource) {
-      EXPECT_EQ(p.state, slam::TrackState::kRelocalised) << mode;
+      EXPECT_EQ(p.state, slam::TrackState::kRelocalised) << name;
     }
   }
-  if (!threaded) {
-    EXPECT_EQ(lost, 10) << mode;
-  }
-  EXPECT_LT(ate_rmse(r.traj), threaded ? 2 * kMaxAteWithOutage_m : kMaxAteWithOutage_m) << mode;
+  EXPECT_EQ(lost, 10) << name;
+  EXPECT_LT(ate_rmse(r.traj), kMaxAteWithOutage_m) << name;
 }
 
-TEST(LoopOnSimulator, OutageIsLostThenRelocalisedSingleThread) { expect_outage_bridged_by_relocalisation(false); }
-TEST(LoopOnSimulator, OutageIsLostThenRelocalisedThreaded) { expect_outage_bridged_by_relocalisation(true); }
+TEST(LoopOnSimulator, OutageIsLostThenRelocalisedSingleThread) {
+  expect_outage_bridged_by_relocalisation(Mode::kSingleThread);
+}
+TEST(LoopOnSimulator, OutageIsLostThenRelocalisedThreaded) { expect_outage_bridged_by_relocalisation(Mode::kLockstep); }
+
+TEST(LoopOnSimulator, OutageIsBridgedThreadedFreeRunning) {
+  // Free-running threads, so only what holds under any load: a loaded 2-core machine may lose the
+  // fast middle of the flight before the outage (relocalisation brings it back), and when mapping
+  // lags, the reference keyframe the tracker holds at the resume frame may be one its own search
+  // recovers from (OK) rather than relocalisation (RELOCALISED). Either way the blank frames are
+  // LOST, tracking is back at the resume frame and stays back, and the trajectory has not
+  // diverged. Seen: 3.0-11 cm idle and beside two busy loops, once 27.8 cm under ctest's parallel
+  // load; the accuracy claim (8 cm) is the lockstep test's.
+  const LoopRun r = run(true, Mode::kFree, true);
+  std::printf("threaded free: frame %d after the outage is %s, %d relocalisations, %d loops, ATE %.4f m\n",
+              kResumeSource, slam::to_string(r.states.at(kResumeSource)), r.relocalisations, r.loops,
+              ate_rmse(r.traj));
+  for (int i = kBlankFirst; i < kBlankFirst + 10; ++i) EXPECT_EQ(r.states.at(i), slam::TrackState::kLost) << i;
+  for (const auto& [i, s] : r.states)
+    if (i >= kResumeSource) EXPECT_NE(s, slam::TrackState::kLost) << "frame " << i;
+  EXPECT_LT(ate_rmse(r.traj), 0.4);  // a wrong relocalisation or a corrupted map is off by metres
+}
 
 }  // namespace
 }  // namespace s3m::it
