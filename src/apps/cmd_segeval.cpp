@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
+#include "s3m/io/image_io.hpp"
 #include "s3m/semantics/class_map.hpp"
 #include "s3m/semantics/onnx_segmenter.hpp"
 #include "s3m/semantics/seg_metrics.hpp"
@@ -64,17 +65,6 @@ std::vector<fs::path> list_images(const std::string& path, int every, int max_im
   return out;
 }
 
-cv::Mat read_labels(const fs::path& p) {
-  const cv::Mat img = cv::imread(p.string(), cv::IMREAD_UNCHANGED);
-  if (img.empty()) throw Error(p.string() + ": cannot read label image");
-  if (img.type() != CV_8UC1 && img.type() != CV_16UC1)
-    throw Error(p.string() + ": label image must be single-channel 8 or 16 bit (class ids), got " +
-                std::to_string(img.channels()) + " channels");
-  cv::Mat out;
-  img.convertTo(out, CV_16UC1);
-  return out;
-}
-
 // Runs the card's model on every image; writes <stem>.png (16-bit ids), color/<stem>.png, overlay/<stem>.png.
 std::string run_segmenter(const SegevalOptions& o, const ClassList& classes) {
   auto seg = OnnxSegmenter::from_card(o.card, o.model_dir);
@@ -87,8 +77,7 @@ std::string run_segmenter(const SegevalOptions& o, const ClassList& classes) {
                            fmt::format("{}x{}", seg->output_size().width, seg->output_size().height));
   std::vector<double> ms;
   for (std::size_t i = 0; i < images.size(); ++i) {
-    const cv::Mat bgr = cv::imread(images[i].string(), cv::IMREAD_COLOR);
-    if (bgr.empty()) throw Error(images[i].string() + ": cannot read image");
+    const cv::Mat bgr = io::read_rgb(images[i].string());
     Stopwatch sw;
     const LabelMap m = seg->segment(bgr);
     ms.push_back(sw.elapsed_ms());
@@ -167,7 +156,7 @@ void run_segeval(const SegevalOptions& o) {
   ConfusionMatrix cm(int(classes.size()));
   const auto pairs = pair_files(pred_dir, o.gt_dir);
   for (const auto& [p, g] : pairs) {
-    cv::Mat gt = read_labels(g);
+    cv::Mat gt = io::read_label_png(g.string());
     if (!o.gt_map.empty()) {
       gt = gt_map.apply(gt);
       if (!o.out_dir.empty()) {  // keep the translated ground truth for inspection and figures
@@ -175,7 +164,7 @@ void run_segeval(const SegevalOptions& o) {
         cv::imwrite((fs::path(o.out_dir) / "gt_mapped" / (p.stem().string() + ".png")).string(), gt);
       }
     }
-    cm.add(gt, read_labels(p));
+    cm.add(gt, io::read_label_png(p.string()));
   }
   const SegMetrics m = cm.metrics(exclude);
   std::cout << fmt::format("evaluated {} image pairs\n", pairs.size()) << format_metrics(m, classes);

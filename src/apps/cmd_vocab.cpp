@@ -7,6 +7,7 @@
 #include "s3m/core/timing.hpp"
 #include "s3m/features/bow_training.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
+#include "s3m/io/image_io.hpp"
 
 namespace s3m::apps {
 
@@ -27,7 +28,8 @@ void run_vocab(const VocabOptions& o) {
   const auto files = features::list_training_images(o.images, o.stride);
   std::fprintf(stderr, "vocab: %zu training images, %d ORB features each\n", files.size(), o.features);
   // 2. ORB descriptors per image.
-  const auto descriptors = features::descriptors_from_image_files(files, o.features, [](size_t i, size_t n) {
+  const auto load = [](const std::string& path) { return io::read_rgb(path); };
+  const auto descriptors = features::descriptors_from_image_files(files, o.features, load, [](size_t i, size_t n) {
     if (i % 25 == 0 || i == n) std::fprintf(stderr, "\rvocab: extracted %zu/%zu images", i, n);
   });
   size_t total = 0;

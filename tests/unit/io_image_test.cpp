@@ -46,7 +46,13 @@ TEST(IoImage, DepthErrors) {
   expect_error([&] { read_depth_png(p16, 5000, {640, 480}); }, {"d16.png", "image is 4x3", "640x480"});
   expect_error([&] { read_depth_png((dir / "none.png").string(), 5000); }, {"none.png", "not found"});
   s3m::testing::write_file(dir / "junk.png", "this is not a png");
-  expect_error([&] { read_depth_png((dir / "junk.png").string(), 5000); }, {"junk.png", "cannot read or decode"});
+  expect_error([&] { read_depth_png((dir / "junk.png").string(), 5000); },
+               {"junk.png", "not a PNG, JPEG, TIFF, BMP or PNM file (it starts with bytes 74 68 69 73 20 69 73 20)"});
+  s3m::testing::write_file(dir / "empty.png", "");
+  expect_error([&] { read_depth_png((dir / "empty.png").string(), 5000); }, {"empty.png", "file is empty"});
+  // A real PNG signature with a broken body still goes to the PNG decoder, which reports it.
+  s3m::testing::write_file(dir / "cut.png", std::string("\x89PNG\r\n\x1a\n\0\0", 10));
+  expect_error([&] { read_depth_png((dir / "cut.png").string(), 5000); }, {"cut.png", "cannot read or decode"});
   expect_error([&] { write_depth_png((dir / "x.png").string(), cv::Mat(2, 2, CV_16UC1), 5000); }, {"x.png", "CV_32FC1"});
 }
 

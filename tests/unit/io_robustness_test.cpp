@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "io_test_util.hpp"
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/io/camera_yaml.hpp"
@@ -157,6 +159,33 @@ TEST(IoRobustness, PngClaimingHugeSizeIsRejectedBeforeDecoding) {
   const auto path = write_file(dir / "bomb.png", header);
   expect_error([&] { read_depth_png(path, 1000.0); }, {"bomb.png", "PNG header says 30000x30000 pixels", "1..16384"});
   expect_error([&] { read_label_png(path); }, {"bomb.png", "30000x30000"});
+}
+
+TEST(IoRobustness, FilesOnlyADecoderThatAbortsWouldTakeAreRejectedUnread) {
+  // Found by fuzz_label_png: 135 bytes starting like a PNG but without its full signature, with
+  // "DICM" at offset 128. cv::imread handed them to GDCM's DICOM reader, which failed an assert()
+  // and aborted the process. They, and the same body behind a "P5X" header (not OpenCV's PNM
+  // signature), must be refused with the bytes named and never reach a decoder.
+  const auto dir = fresh_temp_dir();
+  std::string dicm(128, '\xff');
+  dicm.replace(0, 8, std::string("\x89PNG\0\0\x04\0", 8));
+  dicm += "DICM\xbe\xe7\x0d";
+  const auto label = write_file(dir / "labels.png", dicm);
+  expect_error([&] { read_label_png(label); },
+               {"labels.png", "not a PNG, JPEG, TIFF, BMP or PNM file (it starts with bytes 89 50 4e 47 00 00 04 00)",
+                "label PNG"});
+  const auto pnm = write_file(dir / "rgb.ppm", "P5X" + dicm.substr(3));
+  expect_error([&] { read_rgb(pnm); }, {"rgb.ppm", "starts with bytes 50 35 58"});
+  // The formats that are let through still decode, whatever the file is called.
+  const cv::Mat bgr(3, 5, CV_8UC3, cv::Scalar(10, 20, 30));
+  for (const char* ext : {".png", ".jpg", ".tiff", ".bmp", ".ppm"}) {
+    const auto path = (dir / (std::string("c") + ext)).string();
+    ASSERT_TRUE(cv::imwrite(path, bgr)) << ext;
+    const auto renamed = (dir / (std::string("c") + ext + ".img")).string();
+    std::filesystem::rename(path, renamed);
+    const cv::Mat back = read_rgb(renamed, {5, 3});
+    EXPECT_LE(cv::norm(back, bgr, cv::NORM_INF), 2.0) << ext;  // JPEG is lossy
+  }
 }
 
 TEST(IoRobustness, ImplausiblyLargeCoordinatesAreRejected) {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <filesystem>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "s3m/core/error.hpp"
@@ -37,11 +36,12 @@ std::vector<std::string> list_training_images(const std::vector<std::string>& pa
 }
 
 std::vector<cv::Mat> descriptors_from_image_files(const std::vector<std::string>& files, int features_per_image,
+                                                  const ImageLoader& load,
                                                   const std::function<void(size_t, size_t)>& progress) {
   std::vector<cv::Mat> out;
   out.reserve(files.size());
   for (size_t i = 0; i < files.size(); ++i) {
-    const cv::Mat img = cv::imread(files[i], cv::IMREAD_UNCHANGED);
+    const cv::Mat img = load(files[i]);
     if (img.empty()) throw Error("vocabulary training: cannot read image '" + files[i] + "'");
     if (img.depth() != CV_8U) {
       throw Error("vocabulary training: '" + files[i] + "' is not an 8-bit colour/grey image (a depth image?)");

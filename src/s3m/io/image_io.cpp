@@ -1,5 +1,6 @@
 #include "s3m/io/image_io.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -41,8 +42,32 @@ void check_png_header(const std::string& path, const std::string& what) {
                      fmt::format("{} with sides in 1..{} px", what, kMaxSidePx));
 }
 
+// cv::imread picks its decoder from the file's first bytes, not from its name, and Debian's
+// OpenCV includes decoders (DICOM through GDCM, JPEG 2000, OpenEXR, ...) that abort the process on
+// malformed input instead of throwing: fuzzing found a 200-byte "label PNG" whose bytes made GDCM
+// fail an assert(). So only the formats a dataset plausibly stores RGB-D frames and label images in
+// reach the decoder; anything else is reported as what it looks like.
+void check_image_format(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char h[8] = {};
+  in.read(reinterpret_cast<char*>(h), sizeof(h));
+  const std::size_t n = static_cast<std::size_t>(in.gcount());
+  const auto starts = [&](const char* magic, std::size_t len) { return n >= len && std::memcmp(h, magic, len) == 0; };
+  const bool png = starts("\x89PNG\r\n\x1a\n", 8), jpeg = starts("\xff\xd8\xff", 3), bmp = starts("BM", 2);
+  const bool tiff = starts("II*\0", 4) || starts("MM\0*", 4);
+  const bool pnm = n >= 3 && h[0] == 'P' && h[1] >= '1' && h[1] <= '6' && std::isspace(h[2]);  // as OpenCV's PxM check
+  if (png || jpeg || bmp || tiff || pnm) return;
+  std::string head;
+  for (std::size_t i = 0; i < n; ++i) head += fmt::format("{}{:02x}", i ? " " : "", h[i]);
+  throw ParseError(path, 0,
+                   n == 0 ? std::string("file is empty")
+                          : "not a PNG, JPEG, TIFF, BMP or PNM file (it starts with bytes " + head + ")",
+                   what);
+}
+
 cv::Mat read_any(const std::string& path, int flags, const std::string& what) {
   if (!std::filesystem::exists(path)) throw ParseError(path, 0, "image file not found", what);
+  check_image_format(path, what);
   check_png_header(path, what);
   cv::Mat img;
   try {
