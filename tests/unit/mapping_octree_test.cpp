@@ -134,6 +134,41 @@ TEST(MappingOctree, SaveLoadRoundTripIsIdentical) {
   std::remove(path.c_str());
 }
 
+TEST(MappingOctree, OccupancyProbabilitiesNearTheEdgeSurviveSaveAndLoad) {
+  // OctoMap stores these as float log-odds. Whatever validate() accepts must come back from a save
+  // and load still valid, or the saved map could not be loaded (fuzz_semantic_map: a threshold of
+  // 4.8e-312 was accepted, saved as 0 and refused on reload). Values that round to 0 or 1 when
+  // stored are refused up front.
+  for (double p : {1e-12, 1e-6, 0.5, 1 - 1e-6, 1 - 1e-9}) {
+    OccupancyParams o;
+    o.occupancy_thres = p;
+    o.prob_miss = std::min(p, 0.4);
+    o.clamp_min = std::min(p, 0.1);
+    o.clamp_max = std::max(p, 0.971);
+    o.prob_hit = std::max(p, 0.7);
+    SemanticOcTree tree(0.05);
+    tree.setOccupancyParams(o);
+    const std::string path = temp_path("edge.ot");
+    save_semantic_map(tree, path);
+    std::unique_ptr<SemanticOcTree> back;
+    ASSERT_NO_THROW(back = load_semantic_map(path)) << p;
+    // Float log-odds keep ~1e-6 of min(p, 1 - p); near 0 the double 1 - 1 / (1 + e^l) loses more.
+    EXPECT_NEAR(back->occupancyParams().occupancy_thres, p, 1e-4 * std::min(p, 1 - p) + 1e-15) << p;
+    // Stored values store as themselves: a second round trip changes nothing.
+    save_semantic_map(*back, path);
+    EXPECT_EQ(load_semantic_map(path)->occupancyParams().occupancy_thres, back->occupancyParams().occupancy_thres);
+    std::remove(path.c_str());
+  }
+  for (double bad : {4.8e-312, 1e-30, 0.0, -0.1, 1 - 1e-17, 1.0, std::nan("")}) {
+    OccupancyParams o;
+    o.occupancy_thres = bad;
+    EXPECT_THROW(o.validate(), Error) << bad;
+  }
+  OccupancyParams miss;
+  miss.prob_miss = 1e-300;
+  EXPECT_THROW(miss.validate(), Error);
+}
+
 TEST(MappingOctree, EmptyMapRoundTrips) {
   SemanticOcTree tree(0.02);
   const std::string path = temp_path("empty.ot");

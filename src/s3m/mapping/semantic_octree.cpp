@@ -98,11 +98,19 @@ void SemanticOcTree::setFusionConfig(const FusionConfig& cfg) {
 }
 
 void OccupancyParams::validate() const {
-  require(prob_hit > 0.5 && prob_hit < 1.0, "occupancy.prob_hit must be in (0.5, 1)");
-  require(prob_miss > 0.0 && prob_miss < 0.5, "occupancy.prob_miss must be in (0, 0.5)");
-  require(clamp_min > 0.0 && clamp_min < clamp_max && clamp_max < 1.0,
-          "occupancy clamping must satisfy 0 < clamp_min < clamp_max < 1");
-  require(occupancy_thres > 0.0 && occupancy_thres < 1.0, "occupancy.occupancy_thres must be in (0, 1)");
+  // OctoMap keeps these as float log-odds and hands them back as probabilities, so the ranges are
+  // checked on the value as stored: a probability that rounds to exactly 0 or 1 there would be
+  // written into a saved map and refused when the map is loaded again (fuzz_semantic_map: an
+  // occupancy threshold of 4.8e-312 was accepted, saved as 0 and refused on reload). Storing is
+  // idempotent (a stored value stores as itself), so what passes here passes again after loading.
+  const auto stored = [](double p) { return octomap::probability(octomap::logodds(p)); };
+  const double hit = stored(prob_hit), miss = stored(prob_miss), lo = stored(clamp_min), hi = stored(clamp_max);
+  const double thres = stored(occupancy_thres);
+  require(hit > 0.5 && hit < 1.0, "occupancy.prob_hit must be in (0.5, 1) as a float log-odds");
+  require(miss > 0.0 && miss < 0.5, "occupancy.prob_miss must be in (0, 0.5) as a float log-odds");
+  require(lo > 0.0 && lo < hi && hi < 1.0,
+          "occupancy clamping must satisfy 0 < clamp_min < clamp_max < 1 as float log-odds");
+  require(thres > 0.0 && thres < 1.0, "occupancy.occupancy_thres must be in (0, 1) as a float log-odds");
 }
 
 OccupancyParams SemanticOcTree::occupancyParams() const {
