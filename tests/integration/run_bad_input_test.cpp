@@ -127,12 +127,13 @@ TEST(RunBadInput, MissingImageFile) {
 TEST(RunBadInput, CorruptAndTruncatedPngs) {
   const fs::path seq = short_sequence("corrupt_png");
   std::ofstream(seq / list_entry(seq / "rgb.txt", 2), std::ios::binary) << "this is not a PNG at all";
-  run_error(seq, {list_entry(seq / "rgb.txt", 2), "decode"});
+  // Text is refused before any decoder sees it, with its first bytes ("this is ").
+  run_error(seq, {list_entry(seq / "rgb.txt", 2), "not a PNG, JPEG, TIFF, BMP or PNM file", "74 68 69 73 20 69 73 20"});
   const fs::path seq2 = short_sequence("truncated_png");
   const fs::path depth = seq2 / list_entry(seq2 / "depth.txt", 4);
   const std::string bytes = read_bytes(depth.string());
   std::ofstream(depth, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
-  run_error(seq2, {list_entry(seq2 / "depth.txt", 4)});
+  run_error(seq2, {list_entry(seq2 / "depth.txt", 4), "cannot read or decode"});  // a PNG: libpng reports it
 }
 
 // A run that fails on frame 6 writes nothing: the earlier run's outputs in the same OUT stay.
@@ -143,7 +144,7 @@ TEST(RunBadInput, AFailedRunLeavesTheEarlierRunsOutputsIntact) {
   const std::string map_before = read_bytes(o.out_dir + "/map.ot");
   const std::string metrics_before = read_bytes(o.out_dir + "/metrics.json");
   std::ofstream(seq / list_entry(seq / "rgb.txt", 6), std::ios::binary) << "garbage";
-  run_error(o, {list_entry(seq / "rgb.txt", 6), "decode"});
+  run_error(o, {list_entry(seq / "rgb.txt", 6), "not a PNG"});
   EXPECT_TRUE(read_bytes(o.out_dir + "/map.ot") == map_before);
   EXPECT_EQ(read_bytes(o.out_dir + "/metrics.json"), metrics_before);
   EXPECT_NE(mapping::load_semantic_map(o.out_dir + "/map.ot"), nullptr);
