@@ -139,6 +139,30 @@ TEST(SlamSystem, ThreadedModeSurvivesASlowMapper) {
   EXPECT_LT(ate_rmse(r.traj), 0.03);
 }
 
+TEST(SlamTracker, FewCloseTrackedPointsMakeNoKeyframeWhileOneIsPending) {
+  // The close-point rule alone decides here (a threshold no frame meets, no ratio rule): with no
+  // keyframe pending the next frame becomes one; with one pending it must not, because the close
+  // points it lacks are the pending keyframe's, still being created by local mapping (counting
+  // them made threaded mode insert ~50 % more keyframes than single-thread mode).
+  TrackerConfig tc;
+  tc.close_tracked_min = 100000;
+  tc.keyframe_ref_ratio = 1e-6;  // (a one-keyframe map uses 0.4: frame 2 still tracks far more)
+  features::FeatureConfig fc;
+  Map map;
+  LocalMapper mapper(map, room_camera(), MapperConfig{});
+  Tracker tracker(room_camera(), fc, tc);
+  const TrackerOutput first = tracker.process(room_frames(3)[0]);
+  ASSERT_TRUE(first.keyframe.has_value());
+  tracker.set_snapshot(std::make_shared<const LocalMapSnapshot>(mapper.process(*first.keyframe)));
+  Tracker idle = tracker, busy = tracker;
+  const TrackerOutput a = idle.process(room_frames(3)[2], /*pending_keyframes=*/0);
+  const TrackerOutput b = busy.process(room_frames(3)[2], /*pending_keyframes=*/1);
+  ASSERT_EQ(a.state, TrackState::kOk);
+  ASSERT_EQ(b.state, TrackState::kOk);
+  EXPECT_TRUE(a.keyframe.has_value());
+  EXPECT_FALSE(b.keyframe.has_value());
+}
+
 TEST(SlamSystem, RobotPoseIsCameraPoseTimesCalibration) {
   // Hand computation: camera at (1, 2, 3) rotated 90 deg about z; robot 0.1 m along camera x
   // and turned -90 deg about z -> robot at (1, 2.1, 3) with identity rotation.
