@@ -207,7 +207,9 @@ TEST(TrackingFailure, RunMarksLostFramesInFramesTxtAndMetrics) {
   }
   EXPECT_EQ(lines[0].at(2), "OK");
   EXPECT_EQ(lines.back().at(2), "OK");
-  EXPECT_GE(r.metrics["untracked_by_state"].value("LOST", 0), 5);
+  EXPECT_GE(r.metrics["tracking"]["states"].value("LOST", 0), 5);
+  ASSERT_FALSE(r.metrics["tracking"]["lost_frames"].empty());
+  EXPECT_EQ(r.metrics["tracking"]["lost_frames"][0][0].get<int>(), 30);  // the first blank frame
   EXPECT_EQ(r.metrics["outputs"]["frames"].get<std::string>(), o.out_dir + "/frames.txt");
 }
 

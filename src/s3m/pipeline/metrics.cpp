@@ -164,10 +164,6 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   m["corrections"] = c.corrections;
   m["wall_time_s"] = info.wall_time_s;
   m["fps"] = info.wall_time_s > 0 ? c.frames / info.wall_time_s : 0.0;
-  json lost = json::object();
-  for (const auto& f : p.frames())
-    if (!f.tracked) lost[f.state] = lost.value(f.state, 0) + 1;
-  m["untracked_by_state"] = lost;
   m["tracking"] = tracking_json(p.frames());
   m["timings_ms"] = timings_json(p.timings());
   const TrajectoryScore traj = evaluate_trajectory(p, source, config, paths);
