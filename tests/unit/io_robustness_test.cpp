@@ -161,31 +161,49 @@ TEST(IoRobustness, PngClaimingHugeSizeIsRejectedBeforeDecoding) {
   expect_error([&] { read_label_png(path); }, {"bomb.png", "30000x30000"});
 }
 
-TEST(IoRobustness, FilesOnlyADecoderThatAbortsWouldTakeAreRejectedUnread) {
-  // Found by fuzz_label_png: 135 bytes starting like a PNG but without its full signature, with
-  // "DICM" at offset 128. cv::imread handed them to GDCM's DICOM reader, which failed an assert()
-  // and aborted the process. They, and the same body behind a "P5X" header (not OpenCV's PNM
-  // signature), must be refused with the bytes named and never reach a decoder.
+TEST(IoRobustness, OnlyPngAndJpegReachTheDecoder) {
+  // Found by fuzz_label_png. (1) 135 bytes starting like a PNG but without its full signature,
+  // with "DICM" at offset 128: cv::imread handed them to GDCM's DICOM reader, which failed an
+  // assert() and aborted the process. (2) 51 bytes starting "BM": the BMP decoder allocated the
+  // 2.2 GB its header claimed. Both, and TIFF / PNM / BMP files in general, are refused with their
+  // first bytes named before any decoder runs.
   const auto dir = fresh_temp_dir();
   std::string dicm(128, '\xff');
   dicm.replace(0, 8, std::string("\x89PNG\0\0\x04\0", 8));
   dicm += "DICM\xbe\xe7\x0d";
   const auto label = write_file(dir / "labels.png", dicm);
   expect_error([&] { read_label_png(label); },
-               {"labels.png", "not a PNG, JPEG, TIFF, BMP or PNM file (it starts with bytes 89 50 4e 47 00 00 04 00)",
-                "label PNG"});
-  const auto pnm = write_file(dir / "rgb.ppm", "P5X" + dicm.substr(3));
-  expect_error([&] { read_rgb(pnm); }, {"rgb.ppm", "starts with bytes 50 35 58"});
-  // The formats that are let through still decode, whatever the file is called.
+               {"labels.png", "not a PNG or JPEG file (it starts with bytes 89 50 4e 47 00 00 04 00)", "label PNG"});
+  const auto bmp = write_file(dir / "bomb.png", std::string("BMNG\x0d\0z\0\xfc\x0a\x1a\x0a\0\0\x06\x0d", 16));
+  expect_error([&] { read_label_png(bmp); }, {"bomb.png", "starts with bytes 42 4d 4e 47"});
   const cv::Mat bgr(3, 5, CV_8UC3, cv::Scalar(10, 20, 30));
-  for (const char* ext : {".png", ".jpg", ".tiff", ".bmp", ".ppm"}) {
+  for (const char* ext : {".tiff", ".bmp", ".ppm"}) {
+    const auto path = (dir / (std::string("c") + ext)).string();
+    ASSERT_TRUE(cv::imwrite(path, bgr)) << ext;
+    expect_error([&] { read_rgb(path); }, {std::string("c") + ext, "not a PNG or JPEG file"});
+  }
+  // PNG and JPEG decode whatever the file is called.
+  for (const char* ext : {".png", ".jpg"}) {
     const auto path = (dir / (std::string("c") + ext)).string();
     ASSERT_TRUE(cv::imwrite(path, bgr)) << ext;
     const auto renamed = (dir / (std::string("c") + ext + ".img")).string();
     std::filesystem::rename(path, renamed);
-    const cv::Mat back = read_rgb(renamed, {5, 3});
-    EXPECT_LE(cv::norm(back, bgr, cv::NORM_INF), 2.0) << ext;  // JPEG is lossy
+    EXPECT_LE(cv::norm(read_rgb(renamed, {5, 3}), bgr, cv::NORM_INF), 2.0) << ext;  // JPEG is lossy
   }
+}
+
+TEST(IoRobustness, JpegClaimingHugeSizeIsRejectedBeforeDecoding) {
+  // SOI, an APP0 segment to walk past, then SOF0 claiming 40000 (high) x 30000 (wide) pixels.
+  const auto dir = fresh_temp_dir();
+  const std::string app0 = std::string("\xff\xe0\0\x10JFIF\0\x01\x01\0\0\x01\0\x01\0\0", 18);
+  const std::string sof0 = std::string("\xff\xc0\0\x11\x08\x9c\x40\x75\x30\x03", 10) + std::string(9, '\x01');
+  const auto path = write_file(dir / "bomb.jpg", std::string("\xff\xd8", 2) + app0 + sof0);
+  expect_error([&] { read_rgb(path); }, {"bomb.jpg", "JPEG header says 30000x40000 pixels", "1..16384"});
+  // A real JPEG's header is read right: its own size passes and it decodes.
+  const cv::Mat bgr(48, 64, CV_8UC3, cv::Scalar(90, 120, 150));
+  const auto ok = (dir / "ok.jpg").string();
+  ASSERT_TRUE(cv::imwrite(ok, bgr));
+  EXPECT_EQ(read_rgb(ok, {64, 48}).size(), cv::Size(64, 48));
 }
 
 TEST(IoRobustness, ImplausiblyLargeCoordinatesAreRejected) {

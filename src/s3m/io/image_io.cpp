@@ -1,10 +1,7 @@
 #include "s3m/io/image_io.hpp"
 
-#include <cctype>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
@@ -12,6 +9,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/io/atomic_file.hpp"
+#include "s3m/io/image_header.hpp"
 
 namespace s3m::io {
 namespace {
@@ -22,53 +20,9 @@ std::string describe(const cv::Mat& m) {
   return fmt::format("{} {}-channel {}x{}", depth_names[m.depth()], m.channels(), m.cols, m.rows);
 }
 
-// Largest image side accepted, as for cameras (PinholeCamera::validate).
-constexpr std::uint32_t kMaxSidePx = 16384;
-
-// A PNG states its size in the first chunk. Checking it before decoding keeps a 70-byte file that
-// claims 30000x30000 pixels from costing gigabytes of memory and seconds of decoding.
-void check_png_header(const std::string& path, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char h[24] = {};
-  if (!in.read(reinterpret_cast<char*>(h), sizeof(h))) return;  // too short for PNG: let the decoder report it
-  static const unsigned char kSig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (std::memcmp(h, kSig, 8) != 0 || std::memcmp(h + 12, "IHDR", 4) != 0) return;
-  const auto be32 = [&](int i) {
-    return std::uint32_t(h[i]) << 24 | std::uint32_t(h[i + 1]) << 16 | std::uint32_t(h[i + 2]) << 8 | h[i + 3];
-  };
-  const std::uint32_t w = be32(16), hgt = be32(20);
-  if (w == 0 || hgt == 0 || w > kMaxSidePx || hgt > kMaxSidePx)
-    throw ParseError(path, 0, fmt::format("PNG header says {}x{} pixels", w, hgt),
-                     fmt::format("{} with sides in 1..{} px", what, kMaxSidePx));
-}
-
-// cv::imread picks its decoder from the file's first bytes, not from its name, and Debian's
-// OpenCV includes decoders (DICOM through GDCM, JPEG 2000, OpenEXR, ...) that abort the process on
-// malformed input instead of throwing: fuzzing found a 200-byte "label PNG" whose bytes made GDCM
-// fail an assert(). So only the formats a dataset plausibly stores RGB-D frames and label images in
-// reach the decoder; anything else is reported as what it looks like.
-void check_image_format(const std::string& path, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char h[8] = {};
-  in.read(reinterpret_cast<char*>(h), sizeof(h));
-  const std::size_t n = static_cast<std::size_t>(in.gcount());
-  const auto starts = [&](const char* magic, std::size_t len) { return n >= len && std::memcmp(h, magic, len) == 0; };
-  const bool png = starts("\x89PNG\r\n\x1a\n", 8), jpeg = starts("\xff\xd8\xff", 3), bmp = starts("BM", 2);
-  const bool tiff = starts("II*\0", 4) || starts("MM\0*", 4);
-  const bool pnm = n >= 3 && h[0] == 'P' && h[1] >= '1' && h[1] <= '6' && std::isspace(h[2]);  // as OpenCV's PxM check
-  if (png || jpeg || bmp || tiff || pnm) return;
-  std::string head;
-  for (std::size_t i = 0; i < n; ++i) head += fmt::format("{}{:02x}", i ? " " : "", h[i]);
-  throw ParseError(path, 0,
-                   n == 0 ? std::string("file is empty")
-                          : "not a PNG, JPEG, TIFF, BMP or PNM file (it starts with bytes " + head + ")",
-                   what);
-}
-
 cv::Mat read_any(const std::string& path, int flags, const std::string& what) {
   if (!std::filesystem::exists(path)) throw ParseError(path, 0, "image file not found", what);
-  check_image_format(path, what);
-  check_png_header(path, what);
+  check_image_header(path, what);
   cv::Mat img;
   try {
     img = cv::imread(path, flags);

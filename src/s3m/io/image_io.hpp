@@ -18,7 +18,8 @@ void write_depth_png(const std::string& path, const cv::Mat& depth_m, double dep
 cv::Mat read_label_png(const std::string& path, cv::Size expected = {});
 void write_label_png(const std::string& path, const cv::Mat& labels16);  // CV_16UC1 (or CV_8UC1)
 
-// Colour image (PNG, JPEG, ...) -> CV_8UC3 BGR. Grey images are expanded to 3 channels.
+// Colour image (PNG or JPEG, see image_header.hpp) -> CV_8UC3 BGR. Grey images are expanded to
+// 3 channels.
 cv::Mat read_rgb(const std::string& path, cv::Size expected = {});
 void write_rgb_png(const std::string& path, const cv::Mat& bgr8);  // CV_8UC3
 
