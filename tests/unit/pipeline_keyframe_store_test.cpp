@@ -50,6 +50,9 @@ mapping::LabeledCloud cloud_of(int points) {
   return c;
 }
 
+// What a cloud of n points with colour and no labels holds once it fits exactly.
+std::size_t exact_bytes(int points) { return std::size_t(points) * (sizeof(Eigen::Vector3f) + 3); }
+
 std::vector<int> kept_frames(const KeyframeStore& s) {
   std::vector<int> out;
   for (const auto& c : s.clouds()) out.push_back(c.frame_index);
@@ -57,7 +60,7 @@ std::vector<int> kept_frames(const KeyframeStore& s) {
 }
 
 TEST(KeyframeStore, BudgetDropsTheOldestRedundantViewAndKeepsKeyframes) {
-  const std::size_t one = cloud_bytes(cloud_of(100)) + sizeof(KeptCloud);
+  const std::size_t one = exact_bytes(100) + sizeof(KeptCloud);
   KeyframeStore s(4 * one + one / 2);  // room for four clouds
   s.note_keyframe(0, at(0));
   s.note_keyframe(3, at(5));
@@ -85,7 +88,20 @@ TEST(KeyframeStore, NoBudgetKeepsEveryCloud) {
   for (int f = 0; f < 50; ++f) s.add(0, at(0.01 * f), f, cloud_of(10));
   EXPECT_EQ(s.size(), 50u);
   EXPECT_EQ(s.dropped(), 0u);
-  EXPECT_EQ(s.bytes(), 50 * (cloud_bytes(cloud_of(10)) + sizeof(KeptCloud)));
+  EXPECT_EQ(s.bytes(), 50 * (exact_bytes(10) + sizeof(KeptCloud)));
+}
+
+TEST(KeyframeStore, BudgetCountsTheMemoryCloudsHoldAndStoredCloudsHoldNoSpare) {
+  // 100 push_backs leave spare capacity (vector growth); the budget is about memory, so the
+  // count is by capacity, and a stored cloud is shrunk to its 100 points: 1,500 bytes.
+  const mapping::LabeledCloud built = cloud_of(100);
+  ASSERT_GT(built.points_w.capacity(), built.points_w.size());
+  EXPECT_GT(cloud_bytes(built), exact_bytes(100));
+  KeyframeStore s;
+  s.note_keyframe(0, at(0));
+  s.add(0, at(0), 0, cloud_of(100));
+  EXPECT_EQ(cloud_bytes(s.clouds().front().cloud), 1500u);
+  EXPECT_EQ(s.bytes(), 1500 + sizeof(KeptCloud));
 }
 
 TEST(KeyframeStore, RefusesAnUnknownAnchor) {

@@ -12,6 +12,13 @@ void LabeledCloud::reserve(std::size_t n) {
   probs.reserve(std::size_t(k) * n);
 }
 
+void LabeledCloud::shrink_to_fit() {
+  points_w.shrink_to_fit();
+  rgb.shrink_to_fit();
+  labels.shrink_to_fit();
+  probs.shrink_to_fit();
+}
+
 void LabeledCloud::push_back(const Eigen::Vector3f& p_w, std::uint8_t r, std::uint8_t g, std::uint8_t b,
                              const ClassId* point_labels, const float* point_probs) {
   points_w.push_back(p_w);

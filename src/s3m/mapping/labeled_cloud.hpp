@@ -20,6 +20,7 @@ struct LabeledCloud {
 
   std::size_t size() const { return points_w.size(); }
   void reserve(std::size_t n);
+  void shrink_to_fit();  // capacity = size (a cloud built by push_back holds up to 2x its points)
   // Appends a point; labels/probs must hold exactly k entries each (ignored when k == 0).
   void push_back(const Eigen::Vector3f& p_w, std::uint8_t r, std::uint8_t g, std::uint8_t b,
                  const ClassId* point_labels = nullptr, const float* point_probs = nullptr);

@@ -64,8 +64,8 @@ mapping::LabeledCloud transformed(const mapping::LabeledCloud& in, const SE3& T_
 }
 
 std::size_t cloud_bytes(const mapping::LabeledCloud& c) {
-  return c.points_w.size() * sizeof(Eigen::Vector3f) + c.rgb.size() + c.labels.size() * sizeof(ClassId) +
-         c.probs.size() * sizeof(float);
+  return c.points_w.capacity() * sizeof(Eigen::Vector3f) + c.rgb.capacity() + c.labels.capacity() * sizeof(ClassId) +
+         c.probs.capacity() * sizeof(float);
 }
 
 }  // namespace s3m::pipeline

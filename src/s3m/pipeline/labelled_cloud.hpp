@@ -32,7 +32,8 @@ mapping::LabeledCloud voxel_downsample(const mapping::LabeledCloud& cloud, doubl
 // The cloud moved by T_a_b (points and origin), e.g. camera frame -> world with T_w_c.
 mapping::LabeledCloud transformed(const mapping::LabeledCloud& cloud_b, const SE3& T_a_b);
 
-// Memory held by a cloud [bytes], for the "kept clouds" statistic.
+// Memory a cloud's arrays hold [bytes] (their capacity, not their size: what the kept-clouds budget
+// is about; a 5,000-frame soak's kept clouds held 366 MB under a 256 MB budget counted by size).
 std::size_t cloud_bytes(const mapping::LabeledCloud& cloud);
 
 
