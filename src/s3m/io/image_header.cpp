@@ -1,10 +1,10 @@
 #include "s3m/io/image_header.hpp"
 
+#include <fmt/format.h>
+
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-
-#include <fmt/format.h>
 
 #include "s3m/core/error.hpp"
 
@@ -27,7 +27,8 @@ void check_png(std::ifstream& in, const std::string& path, const std::string& wh
   in.seekg(0);
   if (!in.read(reinterpret_cast<char*>(h), sizeof(h)) || std::memcmp(h + 12, "IHDR", 4) != 0) return;
   const auto be32 = [&](int i) {
-    return std::uint32_t(h[i]) << 24 | std::uint32_t(h[i + 1]) << 16 | std::uint32_t(h[i + 2]) << 8 | h[i + 3];
+    return std::uint32_t(h[i]) << 24 | std::uint32_t(h[i + 1]) << 16 | std::uint32_t(h[i + 2]) << 8 |
+           h[i + 3];
   };
   check_sides(path, what, "PNG", be32(16), be32(20));
 }
@@ -38,11 +39,10 @@ void check_png(std::ifstream& in, const std::string& path, const std::string& wh
 void check_jpeg(std::ifstream& in, const std::string& path, const std::string& what) {
   in.seekg(2);  // after SOI
   for (;;) {
+    if (in.get() != 0xff) return;
     int byte = in.get();
-    if (byte != 0xff) return;
-    do byte = in.get();
-    while (byte == 0xff);  // fill bytes
-    if (byte == EOF || byte == 0xd9 || byte == 0xda) return;  // EOI or SOS before any SOF
+    while (byte == 0xff) byte = in.get();                          // fill bytes
+    if (byte == EOF || byte == 0xd9 || byte == 0xda) return;       // EOI or SOS before any SOF
     if (byte == 0x01 || (byte >= 0xd0 && byte <= 0xd7)) continue;  // markers without a length
     unsigned char len[2];
     if (!in.read(reinterpret_cast<char*>(len), 2)) return;
@@ -71,8 +71,10 @@ void check_image_header(const std::string& path, const std::string& what) {
   if (n >= 3 && std::memcmp(h, "\xff\xd8\xff", 3) == 0) return check_jpeg(in, path, what);
   std::string head;
   for (std::size_t i = 0; i < n; ++i) head += fmt::format("{}{:02x}", i ? " " : "", h[i]);
-  throw ParseError(path, 0, n == 0 ? std::string("file is empty") : "not a PNG or JPEG file (it starts with bytes " + head + ")",
-                   what);
+  throw ParseError(
+      path, 0,
+      n == 0 ? std::string("file is empty") : "not a PNG or JPEG file (it starts with bytes " + head + ")",
+      what);
 }
 
 }  // namespace s3m::io
