@@ -138,10 +138,7 @@ bool Tracker::initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out)
   return true;
 }
 
-bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, int pending) const {
-  if (!snapshot_) return false;
-  const int since = frame_index - last_keyframe_frame_;
-  if (since < config_.min_frames_between_keyframes) return false;
+bool Tracker::lacks_close_points(const Frame& cur) const {
   // Close keypoints with depth: tracked vs. could become new points.
   int close_tracked = 0, close_untracked = 0;
   for (int i = 0; i < cur.f->size(); ++i) {
@@ -152,26 +149,30 @@ bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, in
     else
       ++close_untracked;
   }
+  return close_tracked < config_.close_tracked_min && close_untracked > config_.close_untracked_min;
+}
+
+bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, int pending) const {
+  if (!snapshot_) return false;
+  const int since = frame_index - last_keyframe_frame_;
+  if (since < config_.min_frames_between_keyframes) return false;
   // While a keyframe waits for local mapping, its close keypoints are becoming map points the
   // tracker cannot see yet (ORB-SLAM creates them in the tracking thread; here the mapper does),
   // so "few close points tracked" then only means "the snapshot is behind": counting it made
   // threaded mode insert every frame or two after a keyframe another one (43 keyframes instead of
-  // single-thread's 29 on the kitchen at 30 Hz, ATE 3.66 -> 3.44 cm without it; docs/RESULTS.md).
-  // Single-thread mode never has a keyframe pending, so it is unchanged.
-  const bool need_close = pending == 0 && close_tracked < config_.close_tracked_min &&
-                          close_untracked > config_.close_untracked_min;
+  // single-thread's 29 on the kitchen at 30 Hz; ATE mean 3.66 -> 3.46 cm without it,
+  // docs/RESULTS.md). Single-thread mode never has a keyframe pending, so it is unchanged.
+  const bool need_close = pending == 0 && lacks_close_points(cur);
   const double ref = snapshot_->ref_tracked_points;
   const double ratio = snapshot_->n_map_keyframes < 2 ? 0.4 : config_.keyframe_ref_ratio;
+  const bool failing = n_inliers < 0.25 * ref;  // under a quarter of the reference's points tracked
   const bool c1a = since >= config_.max_frames_between_keyframes;
   const bool c1b = pending == 0;
-  const bool c1c = n_inliers < 0.25 * ref || need_close;
+  const bool c1c = failing || need_close;
   const bool c2 = (n_inliers < ratio * ref || need_close) && n_inliers > 15;
   // Local mapping is behind: skip ordinary keyframes (tracking stays real-time), but not when
-  // tracking is failing (under a quarter of the reference keyframe's points tracked) — without a
-  // new keyframe the map would stop growing exactly where the camera goes and tracking would be
-  // lost. The caller then waits for a queue slot (System::track). need_close alone does not count:
-  // it holds on many ordinary RGB-D frames and would make tracking wait for mapping all the time.
-  const bool failing = n_inliers < 0.25 * ref;
+  // tracking is failing — without a new keyframe the map would stop growing exactly where the
+  // camera goes and tracking would be lost. The caller then waits for a queue slot (System::track).
   if (pending >= config_.max_pending_keyframes) return failing && c2;
   return (c1a || c1b || c1c) && c2;
 }

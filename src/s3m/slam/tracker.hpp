@@ -84,6 +84,7 @@ class Tracker {
   bool track_local_map(Frame& cur);
   int match_last_frame(Frame& cur, double radius_px);
   int optimize_and_discard(Frame& cur);  // returns the map-point inliers
+  bool lacks_close_points(const Frame& cur) const;  // few close points tracked, many could be added
   bool need_keyframe(const Frame& cur, int frame_index, int n_inliers, int pending) const;
   KeyFrameRequest make_request(const Frame& cur, const RgbdFrame& frame);
   void prepare_last_frame(Frame cur);
