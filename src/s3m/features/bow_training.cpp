@@ -2,8 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
-
-#include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "s3m/core/error.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
@@ -41,13 +40,10 @@ std::vector<cv::Mat> descriptors_from_image_files(const std::vector<std::string>
   std::vector<cv::Mat> out;
   out.reserve(files.size());
   for (size_t i = 0; i < files.size(); ++i) {
-    const cv::Mat img = load(files[i]);
-    if (img.empty()) throw Error("vocabulary training: cannot read image '" + files[i] + "'");
-    if (img.depth() != CV_8U) {
-      throw Error("vocabulary training: '" + files[i] + "' is not an 8-bit colour/grey image (a depth image?)");
-    }
-    cv::Mat bgr = img;
-    if (img.channels() == 4) cv::cvtColor(img, bgr, cv::COLOR_BGRA2BGR);
+    const cv::Mat bgr = load(files[i]);
+    require(bgr.type() == CV_8UC3, "vocabulary training: the loader gave '" + files[i] + "' as " +
+                                       std::to_string(bgr.channels()) + " channels of depth " +
+                                       std::to_string(bgr.depth()) + ", expected 8-bit BGR");
     out.push_back(extract_orb_descriptors(bgr, features_per_image));
     if (progress) progress(i + 1, files.size());
   }

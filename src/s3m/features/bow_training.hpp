@@ -12,10 +12,10 @@ namespace s3m::features {
 // image of each argument. Throws s3m::Error for a path that doesn't exist or a folder with no images.
 std::vector<std::string> list_training_images(const std::vector<std::string>& paths, int stride = 1);
 
-// Reads each image with `load` (the caller's checked reader, e.g. io::read_rgb: this module
-// does not depend on io) and extracts `features_per_image` ORB descriptors. Throws s3m::Error
-// naming the file when the image is empty or not 8-bit (a depth image?). progress(i, n) after
-// each image.
+// Reads each image with `load` and extracts `features_per_image` ORB descriptors. `load` is the
+// caller's checked reader returning 8-bit BGR (io::read_rgb: it throws naming the file for a
+// missing, undecodable or 16-bit image; this module does not depend on io); anything else it
+// returns is an s3m::Error. progress(i, n) after each image.
 using ImageLoader = std::function<cv::Mat(const std::string& path)>;
 std::vector<cv::Mat> descriptors_from_image_files(const std::vector<std::string>& files, int features_per_image,
                                                   const ImageLoader& load,
