@@ -139,8 +139,11 @@ TEST(LoopOnSimulator, OutageIsBridgedThreadedFreeRunning) {
               kResumeSource, slam::to_string(r.states.at(kResumeSource)), r.relocalisations, r.loops,
               ate_rmse(r.traj));
   for (int i = kBlankFirst; i < kBlankFirst + 10; ++i) EXPECT_EQ(r.states.at(i), slam::TrackState::kLost) << i;
-  for (const auto& [i, s] : r.states)
-    if (i >= kResumeSource) EXPECT_NE(s, slam::TrackState::kLost) << "frame " << i;
+  for (const auto& [i, s] : r.states) {
+    if (i >= kResumeSource) {
+      EXPECT_NE(s, slam::TrackState::kLost) << "frame " << i;
+    }
+  }
   EXPECT_LT(ate_rmse(r.traj), 0.4);  // a wrong relocalisation or a corrupted map is off by metres
 }
 
