@@ -5,6 +5,11 @@
 #include "s3m/core/error.hpp"
 
 namespace s3m::slam {
+namespace {
+// Points from depth a frame hands on besides the close ones: the VO points for the next frame
+// and a pending keyframe's (the mapper's min_new_points default).
+constexpr int kMinNewPoints = 100;
+}  // namespace
 
 void TrackerConfig::validate() const {
   pose.validate();
@@ -40,6 +45,11 @@ void Tracker::set_snapshot(std::shared_ptr<const LocalMapSnapshot> snapshot) {
         T_w_ref_ = k.T_w_c;
         break;
       }
+  // A snapshot answers every request up to its reference keyframe: their points are in it now.
+  if (snapshot)
+    pending_.erase(std::remove_if(pending_.begin(), pending_.end(),
+                                  [&](const PendingKeyFrame& p) { return p.id <= snapshot->reference_kf; }),
+                   pending_.end());
   snapshot_ = std::move(snapshot);
 }
 
@@ -165,16 +175,27 @@ bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, in
   const bool need_close = pending == 0 && lacks_close_points(cur);
   const double ref = snapshot_->ref_tracked_points;
   const double ratio = snapshot_->n_map_keyframes < 2 ? 0.4 : config_.keyframe_ref_ratio;
-  const bool failing = n_inliers < 0.25 * ref;  // under a quarter of the reference's points tracked
-  const bool c1a = since >= config_.max_frames_between_keyframes;
-  const bool c1b = pending == 0;
-  const bool c1c = failing || need_close;
-  const bool c2 = (n_inliers < ratio * ref || need_close) && n_inliers > 15;
-  // Local mapping is behind: skip ordinary keyframes (tracking stays real-time), but not when
-  // tracking is failing — without a new keyframe the map would stop growing exactly where the
-  // camera goes and tracking would be lost. The caller then waits for a queue slot (System::track).
-  if (pending >= config_.max_pending_keyframes) return failing && c2;
-  return (c1a || c1b || c1c) && c2;
+  auto decide = [&](int tracked) {
+    const bool failing = tracked < 0.25 * ref;  // under a quarter of the reference's points tracked
+    const bool c1a = since >= config_.max_frames_between_keyframes;
+    const bool c1b = pending == 0;
+    const bool c1c = failing || need_close;
+    const bool c2 = (tracked < ratio * ref || need_close) && tracked > 15;
+    // Local mapping is behind: skip ordinary keyframes (tracking stays real-time), but not when
+    // tracking is failing — without a new keyframe the map would stop growing exactly where the
+    // camera goes and tracking would be lost. The caller then waits for a queue slot (System::track).
+    if (pending >= config_.max_pending_keyframes) return failing && c2;
+    return (c1a || c1b || c1c) && c2;
+  };
+  // The pending keyframes' points count as tracked: they are map points as soon as local mapping
+  // has them. Counting only the snapshot's, which falls behind the camera while mapping lags, made
+  // tracking ask for a keyframe on every frame (bursts of 5, 27 keyframes instead of 9 on the
+  // room flight with mapping 10 frames behind; SlamSystem.ThreadedModeSurvivesASlowMapper).
+  // More tracked points never turn a "no" into a "yes" once more than 15 are tracked, so they are
+  // only matched when the map's alone would ask for one (~1.3 ms a frame otherwise).
+  const bool want = decide(n_inliers);
+  if (pending_.empty() || (!want && n_inliers > 15)) return want;
+  return decide(n_inliers + count_pending_points(cur));
 }
 
 KeyFrameRequest Tracker::make_request(const Frame& cur, const RgbdFrame& frame) {
@@ -192,8 +213,30 @@ KeyFrameRequest Tracker::make_request(const Frame& cur, const RgbdFrame& frame) 
   visibility_.clear();
   last_keyframe_frame_ = frame.index;
   ref_kf_ = n_requests_++;
+  remember_pending(cur, r);
   T_w_ref_ = r.T_w_c;
   return r;
+}
+
+void Tracker::remember_pending(const Frame& cur, const KeyFrameRequest& request) {
+  // What local mapping's create_points will make of this keyframe (same depth rule), for the
+  // keyframe decision of the frames tracked before its snapshot arrives (ORB-SLAM's tracking thread
+  // creates a keyframe's points itself, so there they are tracked at once). Single-thread mode
+  // answers before the next frame, so these are never used there.
+  PendingKeyFrame p;
+  p.id = ref_kf_;
+  p.f = cur.f;
+  std::vector<std::pair<float, int>> by_depth;
+  for (int i = 0; i < cur.f->size(); ++i)
+    if (cur.f->has_depth(i) && request.points[i] == kNoId) by_depth.emplace_back(cur.f->depth_m[i], i);
+  std::sort(by_depth.begin(), by_depth.end());
+  for (const auto& [z, i] : by_depth) {
+    if (z > config_.close_depth_m && static_cast<int>(p.keypoints.size()) >= kMinNewPoints) break;
+    const auto& kp = cur.f->keypoints[i];
+    p.keypoints.push_back(i);
+    p.p_w.push_back(request.T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z));
+  }
+  pending_.push_back(std::move(p));
 }
 
 void Tracker::prepare_last_frame(Frame cur) {
@@ -208,7 +251,7 @@ void Tracker::prepare_last_frame(Frame cur) {
   const SE3 T_w_c = cur.T_c_w.inverse();
   int n = 0;
   for (const auto& [z, i] : by_depth) {
-    if (z > config_.close_depth_m && n >= 100) break;
+    if (z > config_.close_depth_m && n >= kMinNewPoints) break;
     const auto& kp = cur.f->keypoints[i];
     cur.p_w[i] = T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z);
     cur.matched[i] = 1;

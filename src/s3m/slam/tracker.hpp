@@ -76,17 +76,27 @@ class Tracker {
     std::vector<char> matched; // per keypoint: has a map or VO point
     int n_matched() const;
   };
+  // The points a requested keyframe will give the map once local mapping has processed it (its
+  // keypoints with depth that track no map point), kept until its snapshot arrives.
+  struct PendingKeyFrame {
+    KfId id = kNoId;
+    std::shared_ptr<const features::FrameFeatures> f;
+    std::vector<int> keypoints;
+    std::vector<Vec3> p_w;
+  };
 
   TrackerOutput track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features, int pending);
   bool initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
   bool track_motion_model(Frame& cur);
   bool track_reference_keyframe(Frame& cur);
   bool track_local_map(Frame& cur);
+  int count_pending_points(const Frame& cur) const;  // pending keyframes' points that fit cur's pose
   int match_last_frame(Frame& cur, double radius_px);
   int optimize_and_discard(Frame& cur);  // returns the map-point inliers
   bool lacks_close_points(const Frame& cur) const;  // few close points tracked, many could be added
   bool need_keyframe(const Frame& cur, int frame_index, int n_inliers, int pending) const;
   KeyFrameRequest make_request(const Frame& cur, const RgbdFrame& frame);
+  void remember_pending(const Frame& cur, const KeyFrameRequest& request);
   void prepare_last_frame(Frame cur);
   void note_visible(PointId id, int visible, int found);
 
@@ -104,6 +114,7 @@ class Tracker {
   KfId ref_kf_ = kNoId;
   SE3 T_w_ref_ = SE3::Identity();
   std::unordered_map<PointId, PointVisibility> visibility_;
+  std::vector<PendingKeyFrame> pending_;  // requested keyframes without a snapshot yet, oldest first
 };
 
 }  // namespace s3m::slam
