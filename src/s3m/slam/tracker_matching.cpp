@@ -141,7 +141,7 @@ int Tracker::count_pending_points(const Frame& cur) const {
   // The points of keyframes still being mapped, matched by projection into the final pose and
   // counted when they fit it (chi2, as the pose optimiser's inliers). Only counted, not used for
   // the pose: their positions are depth read at one keyframe, not yet refined by local BA, and
-  // tracking with them made the kitchen at 30 Hz worse (ATE mean 3.45 -> 3.68 cm, 5 runs each).
+  // tracking with them made the kitchen at 30 Hz worse (ATE mean 3.45 -> 3.68 cm over 5 / 6 runs).
   std::vector<char> taken(cur.f->size(), 0);
   for (int i = 0; i < cur.f->size(); ++i) taken[i] = cur.matched[i] && cur.pid[i] != kNoId;
   std::vector<features::ProjectionQuery> queries;
