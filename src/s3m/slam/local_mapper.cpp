@@ -4,6 +4,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
+#include "s3m/slam/depth_points.hpp"
 
 namespace s3m::slam {
 
@@ -59,19 +60,14 @@ KfId LocalMapper::insert_keyframe(const KeyFrameRequest& r) {
 void LocalMapper::create_points(KfId id) {
   const KeyFrame& kf = map_.keyframe(id);
   const auto& F = *kf.features;
-  std::vector<std::pair<float, int>> by_depth;
-  for (int i = 0; i < F.size(); ++i)
-    if (F.has_depth(i) && kf.points[i] == kNoId) by_depth.emplace_back(F.depth_m[i], i);
-  std::sort(by_depth.begin(), by_depth.end());
-  int n = 0;
-  for (const auto& [z, i] : by_depth) {
-    if (z > config_.close_depth_m && n >= config_.min_new_points) break;
+  const auto chosen = depth_point_keypoints(F, [&](int i) { return kf.points[i] == kNoId; },
+                                           config_.close_depth_m, config_.min_new_points);
+  for (const auto& [z, i] : chosen) {
     const auto& kp = F.keypoints[i];
     const Vec3 p_w = kf.T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z);
     recent_points_.emplace_back(map_.add_point(p_w, id, i), id);
-    ++n;
   }
-  stats_.n_new_points = n;
+  stats_.n_new_points = static_cast<int>(chosen.size());
 }
 
 void LocalMapper::cull_recent_points(KfId current) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "s3m/core/error.hpp"
+#include "s3m/slam/depth_points.hpp"
 
 namespace s3m::slam {
 namespace {
@@ -219,19 +220,16 @@ KeyFrameRequest Tracker::make_request(const Frame& cur, const RgbdFrame& frame) 
 }
 
 void Tracker::remember_pending(const Frame& cur, const KeyFrameRequest& request) {
-  // What local mapping's create_points will make of this keyframe (same depth rule), for the
-  // keyframe decision of the frames tracked before its snapshot arrives (ORB-SLAM's tracking thread
-  // creates a keyframe's points itself, so there they are tracked at once). Single-thread mode
-  // answers before the next frame, so these are never used there.
+  // What local mapping's create_points will make of this keyframe (depth_point_keypoints, with the
+  // tracker's close depth and the mapper's default count), for the keyframe decision of the frames
+  // tracked before its snapshot arrives (ORB-SLAM's tracking thread creates a keyframe's points
+  // itself, so there they are tracked at once). Single-thread mode answers before the next frame,
+  // so these are never used there.
   PendingKeyFrame p;
   p.id = ref_kf_;
   p.f = cur.f;
-  std::vector<std::pair<float, int>> by_depth;
-  for (int i = 0; i < cur.f->size(); ++i)
-    if (cur.f->has_depth(i) && request.points[i] == kNoId) by_depth.emplace_back(cur.f->depth_m[i], i);
-  std::sort(by_depth.begin(), by_depth.end());
-  for (const auto& [z, i] : by_depth) {
-    if (z > config_.close_depth_m && static_cast<int>(p.keypoints.size()) >= kMinNewPoints) break;
+  for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return request.points[k] == kNoId; },
+                                                  config_.close_depth_m, kMinNewPoints)) {
     const auto& kp = cur.f->keypoints[i];
     p.keypoints.push_back(i);
     p.p_w.push_back(request.T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z));
@@ -242,20 +240,14 @@ void Tracker::remember_pending(const Frame& cur, const KeyFrameRequest& request)
 void Tracker::prepare_last_frame(Frame cur) {
   // Keep map-point matches; add temporary points from depth for the closest unmatched keypoints
   // (ORB-SLAM's visual-odometry points), so the next frame has enough to match against.
-  std::vector<std::pair<float, int>> by_depth;
-  for (int i = 0; i < cur.f->size(); ++i) {
+  for (int i = 0; i < cur.f->size(); ++i)
     if (cur.matched[i] && cur.pid[i] == kNoId) cur.matched[i] = 0;  // previous VO match: drop
-    if (!cur.matched[i] && cur.f->has_depth(i)) by_depth.emplace_back(cur.f->depth_m[i], i);
-  }
-  std::sort(by_depth.begin(), by_depth.end());
   const SE3 T_w_c = cur.T_c_w.inverse();
-  int n = 0;
-  for (const auto& [z, i] : by_depth) {
-    if (z > config_.close_depth_m && n >= kMinNewPoints) break;
+  for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return !cur.matched[k]; },
+                                                  config_.close_depth_m, kMinNewPoints)) {
     const auto& kp = cur.f->keypoints[i];
     cur.p_w[i] = T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z);
     cur.matched[i] = 1;
-    ++n;
   }
   last_ = std::move(cur);
 }
