@@ -38,6 +38,23 @@ void PoseOptimizerConfig::validate() const {
   require(chi2_mono > 0 && chi2_stereo > 0, "pose optimizer: chi2 thresholds must be > 0");
 }
 
+PoseObservation keypoint_observation(const features::FrameFeatures& f, int i, const Vec3& p_w) {
+  const auto& kp = f.keypoints[std::size_t(i)];
+  PoseObservation o;
+  o.p_w = p_w;
+  o.uv = {kp.pt.x, kp.pt.y};
+  o.u_right = f.u_right[std::size_t(i)];
+  o.inv_sigma2 = f.pyramid.inv_sigma2[std::size_t(kp.octave)];
+  return o;
+}
+
+bool fits_pose(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& camera,
+               const PoseOptimizerConfig& config) {
+  double chi2 = 0;
+  const bool in_front = reprojection_chi2(o, T_c_w, camera, chi2);
+  return in_front && chi2 <= (o.u_right >= 0 ? config.chi2_stereo : config.chi2_mono);
+}
+
 bool reprojection_chi2(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& camera, double& chi2) {
   Eigen::Vector3d e;
   Eigen::Matrix<double, 3, 6> J;
@@ -82,12 +99,7 @@ PoseOptimizerResult optimize_pose(const std::vector<PoseObservation>& obs, const
       if (xi.squaredNorm() < 1e-14) break;
     }
     // 2. Reclassify every observation (outliers may come back).
-    for (int i = 0; i < n; ++i) {
-      double chi2 = 0;
-      const bool in_front = reprojection_chi2(obs[i], res.T_c_w, camera, chi2);
-      const double th = obs[i].u_right >= 0 ? config.chi2_stereo : config.chi2_mono;
-      res.inlier[i] = in_front && chi2 <= th;
-    }
+    for (int i = 0; i < n; ++i) res.inlier[i] = fits_pose(obs[i], res.T_c_w, camera, config);
   }
   res.n_inliers = 0;
   for (char c : res.inlier) res.n_inliers += c;

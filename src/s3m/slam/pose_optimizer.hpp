@@ -11,6 +11,7 @@
 
 #include "s3m/core/camera.hpp"
 #include "s3m/core/se3.hpp"
+#include "s3m/features/frame_features.hpp"
 
 namespace s3m::slam {
 
@@ -20,6 +21,9 @@ struct PoseObservation {
   double u_right = -1;                 // measured virtual right coordinate [px]; < 0: monocular
   double inv_sigma2 = 1;               // 1 / sigma^2 of the keypoint's level [1/px^2]
 };
+
+// Keypoint i of f (its pixel, virtual right coordinate and level weight) observing point p_w.
+PoseObservation keypoint_observation(const features::FrameFeatures& f, int i, const Vec3& p_w);
 
 struct PoseOptimizerConfig {
   int rounds = 4;
@@ -42,5 +46,10 @@ PoseOptimizerResult optimize_pose(const std::vector<PoseObservation>& obs, const
 // Residual (predicted - measured) and its chi2 for one observation at pose T_c_w; returns false
 // when the point is behind the camera.
 bool reprojection_chi2(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& camera, double& chi2);
+
+// The optimiser's inlier test: in front of the camera at T_c_w, chi2 within the 95 % bound of its
+// degrees of freedom (config.chi2_stereo with a virtual right coordinate, else chi2_mono).
+bool fits_pose(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& camera,
+               const PoseOptimizerConfig& config);
 
 }  // namespace s3m::slam

@@ -47,15 +47,7 @@ PoseOptimizerResult refine(const features::FrameFeatures& f, const Map& map,
                            const std::vector<std::pair<int, PointId>>& m, const SE3& T_w_c,
                            const PinholeCamera& camera) {
   std::vector<PoseObservation> obs;
-  for (const auto& [i, pid] : m) {
-    const auto& kp = f.keypoints[size_t(i)];
-    PoseObservation o;
-    o.p_w = map.point(pid).p_w;
-    o.uv = {kp.pt.x, kp.pt.y};
-    o.u_right = f.u_right[size_t(i)];
-    o.inv_sigma2 = f.pyramid.inv_sigma2[size_t(kp.octave)];
-    obs.push_back(o);
-  }
+  for (const auto& [i, pid] : m) obs.push_back(keypoint_observation(f, i, map.point(pid).p_w));
   return optimize_pose(obs, T_w_c.inverse(), camera);
 }
 

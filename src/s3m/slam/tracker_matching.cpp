@@ -167,20 +167,9 @@ int Tracker::count_pending_points(const Frame& cur) const {
     }
   }
   const auto m = features::match_by_projection(*cur.f, queries, {}, taken);
-  const auto& F = *cur.f;
   int n = 0;
-  for (std::size_t q = 0; q < m.size(); ++q) {
-    if (m[q] < 0) continue;
-    const int i = m[q];
-    PoseObservation o;
-    o.p_w = *source[q];
-    o.uv = {F.keypoints[i].pt.x, F.keypoints[i].pt.y};
-    o.u_right = F.u_right[i];
-    o.inv_sigma2 = F.pyramid.inv_sigma2[F.keypoints[i].octave];
-    double chi2 = 0;
-    if (!reprojection_chi2(o, cur.T_c_w, camera_, chi2)) continue;
-    n += chi2 < (o.u_right >= 0 ? config_.pose.chi2_stereo : config_.pose.chi2_mono);
-  }
+  for (std::size_t q = 0; q < m.size(); ++q)
+    n += m[q] >= 0 && fits_pose(keypoint_observation(*cur.f, m[q], *source[q]), cur.T_c_w, camera_, config_.pose);
   return n;
 }
 
@@ -190,12 +179,7 @@ int Tracker::optimize_and_discard(Frame& cur) {
   const auto& F = *cur.f;
   for (int i = 0; i < F.size(); ++i) {
     if (!cur.matched[i]) continue;
-    PoseObservation o;
-    o.p_w = cur.p_w[i];
-    o.uv = {F.keypoints[i].pt.x, F.keypoints[i].pt.y};
-    o.u_right = F.u_right[i];
-    o.inv_sigma2 = F.pyramid.inv_sigma2[F.keypoints[i].octave];
-    obs.push_back(o);
+    obs.push_back(keypoint_observation(F, i, cur.p_w[i]));
     kp_index.push_back(i);
   }
   if (obs.size() < 3) return 0;
