@@ -3,12 +3,16 @@
 // model "depth pixel = c_d + s * (colour pixel - c) + (dx, dy)" it finds the scale s and shift
 // (dx, dy) [px] that minimise the mean truncated distance from every depth edge to the nearest
 // colour (Canny) edge, over frames 0, step, 2*step, ... of a TUM-layout sequence.
-//   bench_depth_registration DATASET_DIR [--frames N] [--step K]
+//   bench_depth_registration DATASET_DIR [--frames N] [--step K] [--time-offset] [--gt-offset GAP]
+//       [--time-offset-frames FIRST LAST]
 // s = f_depth / f_colour when both cameras share the principal point; (dx, dy) then absorbs the
 // depth-colour baseline at the scene's typical depth (f_d * b / z). A second fit uses the baseline
 // model (shift f_d * b / z per edge, z known there). Then, independently of the colour image, it
 // checks which depth focal length and depth scale the ground truth is consistent with: depth
 // pixels of frame i moved by the ground-truth relative pose must land on frame i+15's depth.
+// --time-offset: which depth frame each colour frame is nearest in time to (an unsynchronised
+// Kinect pairs its two streams by index); --gt-offset GAP: which frame index the ground-truth poses
+// belong to, from the depth images alone; --time-offset-frames: the same as --time-offset, per colour frame.
 // Results on 7-Scenes redkitchen: docs/RESULTS.md, SLAM.
 #include <cmath>
 #include <cstdio>
@@ -29,16 +33,18 @@ struct EdgeFrame {
   std::vector<float> edge_z;             // their depth [m]
 };
 
-EdgeFrame edges_of(const RgbdFrame& f) {
+// Colour edges of `rgb`, depth edges of `depth_m` (normally the same frame's; the time-offset
+// measurement pairs a colour image with another frame's depth).
+EdgeFrame edges_of(const cv::Mat& rgb, const cv::Mat& depth_m) {
   EdgeFrame e;
   cv::Mat gray, canny;
-  cv::cvtColor(f.rgb, gray, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(rgb, gray, cv::COLOR_BGR2GRAY);
   cv::GaussianBlur(gray, gray, cv::Size(5, 5), 1.2);
   cv::Canny(gray, canny, 40, 100);
   cv::distanceTransform(255 - canny, e.dist_colour, cv::DIST_L2, 3);
   // A depth edge: the nearer side of a jump of more than 10 % of the depth to a neighbour (the
   // object border, where the colour edge is too).
-  const cv::Mat& d = f.depth_m;
+  const cv::Mat& d = depth_m;
   for (int y = 1; y + 1 < d.rows; ++y)
     for (int x = 1; x + 1 < d.cols; ++x) {
       const float z = d.at<float>(y, x);
@@ -80,6 +86,76 @@ double cost(const std::vector<EdgeFrame>& frames, double s, double dx, double dy
   return n ? sum / n : 1e9;
 }
 
+struct Registration {
+  double s = 1, dx = 0, dy = 0, cost = 1e18;
+};
+
+// Coarse-to-fine grid search over (s, dx, dy).
+Registration fit_registration(const std::vector<EdgeFrame>& frames, double cx, double cy) {
+  Registration r;
+  for (double s = 0.90; s <= 1.25; s += 0.01)
+    for (double dx = -20; dx <= 20; dx += 2)
+      for (double dy = -20; dy <= 20; dy += 2)
+        if (const double c = cost(frames, s, dx, dy, cx, cy); c < r.cost) r = {s, dx, dy, c};
+  const Registration coarse = r;
+  for (double s = coarse.s - 0.01; s <= coarse.s + 0.01; s += 0.001)
+    for (double dx = coarse.dx - 2; dx <= coarse.dx + 2; dx += 0.25)
+      for (double dy = coarse.dy - 2; dy <= coarse.dy + 2; dy += 0.25)
+        if (const double c = cost(frames, s, dx, dy, cx, cy); c < r.cost) r = {s, dx, dy, c};
+  return r;
+}
+
+// Colour-depth time offset from the images alone: a Kinect v1 runs its two cameras unsynchronised,
+// and 7-Scenes pairs them by index. Colour frame i is compared with depth frame i + k for
+// k = -2..2, each pairing with its own registration fit (so a constant shift cannot stand in for
+// the motion); the pairing whose depth edges fall closest to the colour edges is the one nearest in
+// time, and a parabola through the three best costs gives the sub-frame offset. Frames are taken
+// every `step` from 2 to size - 3, so every pairing uses the same colour images.
+void measure_time_offset(const io::TumDataset& ds, int n_frames, int step) {
+  const double cx = ds.camera().cx, cy = ds.camera().cy;
+  std::vector<double> costs;
+  for (int k = -2; k <= 2; ++k) {
+    std::vector<EdgeFrame> frames;
+    for (int j = 0; j < n_frames; ++j) {
+      const std::size_t i = 2 + static_cast<std::size_t>(j * step);
+      if (i + 2 >= ds.size()) break;
+      frames.push_back(edges_of(ds.load(i).rgb, ds.load(i + k).depth_m));
+    }
+    const Registration r = fit_registration(frames, cx, cy);
+    costs.push_back(r.cost);
+    std::printf("time offset: colour i with depth i%+d (%zu frames): scale %.3f  dx %.2f  dy %.2f px  "
+                "mean edge distance %.3f px\n",
+                k, frames.size(), r.s, r.dx, r.dy, r.cost);
+  }
+  std::size_t b = 1;
+  for (std::size_t k = 1; k + 1 < costs.size(); ++k)
+    if (costs[k] < costs[b]) b = k;
+  const double denom = costs[b - 1] - 2 * costs[b] + costs[b + 1];
+  const double frac = denom > 0 ? 0.5 * (costs[b - 1] - costs[b + 1]) / denom : 0.0;
+  std::printf("time offset: colour frame i is nearest in time to depth frame i%+.2f\n",
+              static_cast<double>(b) - 2 + frac);
+}
+
+// Per colour frame i in [first, last]: the mean edge distance to depth frames i-3..i+3 under one
+// registration (the k = 0 fit of measure_time_offset over the whole sequence), so single frames
+// captured at another instant than their index says stand out.
+void time_offset_per_frame(const io::TumDataset& ds, int first, int last, const Registration& r) {
+  const double cx = ds.camera().cx, cy = ds.camera().cy;
+  for (int i = std::max(first, 3); i <= last && static_cast<std::size_t>(i + 3) < ds.size(); ++i) {
+    const RgbdFrame c = ds.load(static_cast<std::size_t>(i));
+    std::printf("colour %d:", i);
+    int best_k = 0;
+    double best = 1e18;
+    for (int k = -3; k <= 3; ++k) {
+      const std::vector<EdgeFrame> f{edges_of(c.rgb, ds.load(static_cast<std::size_t>(i + k)).depth_m)};
+      const double e = cost(f, r.s, r.dx, r.dy, cx, cy);
+      std::printf(" %+d:%.2f", k, e);
+      if (e < best) best = e, best_k = k;
+    }
+    std::printf("  -> depth %d\n", i + best_k);
+  }
+}
+
 // Mean truncated depth residual [m] when depth pixels of frame i, back-projected with focal f [px]
 // and moved by the ground-truth relative pose, are compared with frame j's depth: ground truth
 // made with the depth camera's intrinsics is most consistent at that camera's f.
@@ -112,36 +188,72 @@ double gt_depth_residual(const io::TumDataset& ds, const std::vector<std::pair<R
   return n ? sum / n : 1e9;
 }
 
+// Whether the ground truth's frame indices match the depth images': depth frame i and frame
+// i + gap, moved by the ground-truth poses of frames i + k and i + gap + k, for k = -2..2. The
+// residual is smallest at the k whose poses belong to those depth images (KinectFusion made the
+// ground truth from exactly these depth images).
+void measure_gt_offset(const io::TumDataset& ds, int gap) {
+  for (int k = -2; k <= 2; ++k) {
+    std::vector<std::pair<RgbdFrame, SE3>> frames;
+    for (std::size_t i = 2; i + gap + 2 < ds.size(); i += 2 * gap + 1) {
+      const auto Ti = ds.groundtruth_at(ds.timestamp(i + k)), Tj = ds.groundtruth_at(ds.timestamp(i + gap + k));
+      if (!Ti || !Tj) continue;
+      frames.emplace_back(ds.load(i), *Ti);
+      frames.emplace_back(ds.load(i + gap), *Tj);
+    }
+    double sum = 0;
+    int n = 0;
+    for (std::size_t m = 0; m + 1 < frames.size(); m += 2) {
+      const std::vector<std::pair<RgbdFrame, SE3>> pair{frames[m], frames[m + 1]};
+      sum += gt_depth_residual(ds, pair, 585, 1);
+      ++n;
+    }
+    std::printf("depth frames i, i+%d with ground-truth poses of i%+d, i+%d%+d (%d pairs): mean depth residual %.3f mm\n",
+                gap, k, gap, k, n, n ? 1000 * sum / n : 0.0);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: bench_depth_registration DATASET_DIR [--frames N] [--step K]\n");
+    std::fprintf(stderr, "usage: bench_depth_registration DATASET_DIR [--frames N] [--step K] [--time-offset] [--gt-offset GAP] [--time-offset-frames FIRST LAST]\n");
     return 2;
   }
   int n_frames = 10, step = 50;
-  for (int i = 2; i + 1 < argc; i += 2) {
+  bool time_offset_only = false;
+  int gt_offset_gap = 0, per_first = -1, per_last = -1;
+  for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--frames") n_frames = std::stoi(argv[i + 1]);
-    else if (a == "--step") step = std::stoi(argv[i + 1]);
+    if (a == "--time-offset") time_offset_only = true;
+    else if (a == "--gt-offset" && i + 1 < argc) gt_offset_gap = std::stoi(argv[++i]);
+    else if (a == "--time-offset-frames" && i + 2 < argc) per_first = std::stoi(argv[++i]), per_last = std::stoi(argv[++i]);
+    else if (a == "--frames" && i + 1 < argc) n_frames = std::stoi(argv[++i]);
+    else if (a == "--step" && i + 1 < argc) step = std::stoi(argv[++i]);
   }
   try {
     const auto ds = io::TumDataset::open(argv[1]);
+    if (per_first >= 0) {
+      // The registration measure_time_offset fits at k = 0 (--frames 50 --step 9).
+      time_offset_per_frame(ds, per_first, per_last, Registration{1.104, 9.25, 1.75, 0});
+      return 0;
+    }
+    if (gt_offset_gap > 0) {
+      measure_gt_offset(ds, gt_offset_gap);
+      return 0;
+    }
+    if (time_offset_only) {
+      measure_time_offset(ds, n_frames, step);
+      return 0;
+    }
     const double cx = ds.camera().cx, cy = ds.camera().cy;
     std::vector<EdgeFrame> frames;
-    for (int k = 0; k < n_frames && static_cast<std::size_t>(k * step) < ds.size(); ++k)
-      frames.push_back(edges_of(ds.load(static_cast<std::size_t>(k * step))));
-    // Coarse-to-fine grid search over (s, dx, dy).
-    double best = 1e18, bs = 1, bdx = 0, bdy = 0;
-    for (double s = 0.90; s <= 1.25; s += 0.01)
-      for (double dx = -20; dx <= 20; dx += 2)
-        for (double dy = -20; dy <= 20; dy += 2)
-          if (const double c = cost(frames, s, dx, dy, cx, cy); c < best) best = c, bs = s, bdx = dx, bdy = dy;
-    const double s0 = bs, dx0 = bdx, dy0 = bdy;
-    for (double s = s0 - 0.01; s <= s0 + 0.01; s += 0.001)
-      for (double dx = dx0 - 2; dx <= dx0 + 2; dx += 0.25)
-        for (double dy = dy0 - 2; dy <= dy0 + 2; dy += 0.25)
-          if (const double c = cost(frames, s, dx, dy, cx, cy); c < best) best = c, bs = s, bdx = dx, bdy = dy;
+    for (int k = 0; k < n_frames && static_cast<std::size_t>(k * step) < ds.size(); ++k) {
+      const RgbdFrame f = ds.load(static_cast<std::size_t>(k * step));
+      frames.push_back(edges_of(f.rgb, f.depth_m));
+    }
+    const Registration reg = fit_registration(frames, cx, cy);
+    const double bs = reg.s, bdx = reg.dx, bdy = reg.dy, best = reg.cost;
     std::printf("frames %zu  best: scale %.3f  dx %.2f px  dy %.2f px  mean edge distance %.3f px\n", frames.size(),
                 bs, bdx, bdy, best);
     std::printf("identity (registered) model: mean edge distance %.3f px\n", cost(frames, 1, 0, 0, cx, cy));
