@@ -33,15 +33,21 @@ struct EdgeFrame {
   std::vector<float> edge_z;             // their depth [m]
 };
 
-// Colour edges of `rgb`, depth edges of `depth_m` (normally the same frame's; the time-offset
-// measurement pairs a colour image with another frame's depth).
-EdgeFrame edges_of(const cv::Mat& rgb, const cv::Mat& depth_m) {
-  EdgeFrame e;
-  cv::Mat gray, canny;
+// Distance [px] of every colour pixel to the nearest colour (Canny) edge.
+cv::Mat colour_edge_distance(const cv::Mat& rgb) {
+  cv::Mat gray, canny, dist;
   cv::cvtColor(rgb, gray, cv::COLOR_BGR2GRAY);
   cv::GaussianBlur(gray, gray, cv::Size(5, 5), 1.2);
   cv::Canny(gray, canny, 40, 100);
-  cv::distanceTransform(255 - canny, e.dist_colour, cv::DIST_L2, 3);
+  cv::distanceTransform(255 - canny, dist, cv::DIST_L2, 3);
+  return dist;
+}
+
+// Colour edges of `dist_colour` (colour_edge_distance), depth edges of `depth_m`: normally the same
+// frame's; the time-offset measurements pair a colour image with other frames' depth.
+EdgeFrame edges_of(const cv::Mat& dist_colour, const cv::Mat& depth_m) {
+  EdgeFrame e;
+  e.dist_colour = dist_colour;
   // A depth edge: the nearer side of a jump of more than 10 % of the depth to a neighbour (the
   // object border, where the colour edge is too).
   const cv::Mat& d = depth_m;
@@ -113,14 +119,18 @@ Registration fit_registration(const std::vector<EdgeFrame>& frames, double cx, d
 // every `step` from 2 to size - 3, so every pairing uses the same colour images.
 void measure_time_offset(const io::TumDataset& ds, int n_frames, int step) {
   const double cx = ds.camera().cx, cy = ds.camera().cy;
+  std::vector<std::size_t> index;
+  std::vector<cv::Mat> dist;  // the colour images' edge distances, the same for every pairing
+  for (int j = 0; j < n_frames; ++j) {
+    const std::size_t i = 2 + static_cast<std::size_t>(j * step);
+    if (i + 2 >= ds.size()) break;
+    index.push_back(i);
+    dist.push_back(colour_edge_distance(ds.load(i).rgb));
+  }
   std::vector<double> costs;
   for (int k = -2; k <= 2; ++k) {
     std::vector<EdgeFrame> frames;
-    for (int j = 0; j < n_frames; ++j) {
-      const std::size_t i = 2 + static_cast<std::size_t>(j * step);
-      if (i + 2 >= ds.size()) break;
-      frames.push_back(edges_of(ds.load(i).rgb, ds.load(i + k).depth_m));
-    }
+    for (std::size_t j = 0; j < index.size(); ++j) frames.push_back(edges_of(dist[j], ds.load(index[j] + k).depth_m));
     const Registration r = fit_registration(frames, cx, cy);
     costs.push_back(r.cost);
     std::printf("time offset: colour i with depth i%+d (%zu frames): scale %.3f  dx %.2f  dy %.2f px  "
@@ -142,12 +152,12 @@ void measure_time_offset(const io::TumDataset& ds, int n_frames, int step) {
 void time_offset_per_frame(const io::TumDataset& ds, int first, int last, const Registration& r) {
   const double cx = ds.camera().cx, cy = ds.camera().cy;
   for (int i = std::max(first, 3); i <= last && static_cast<std::size_t>(i + 3) < ds.size(); ++i) {
-    const RgbdFrame c = ds.load(static_cast<std::size_t>(i));
+    const cv::Mat dist = colour_edge_distance(ds.load(static_cast<std::size_t>(i)).rgb);
     std::printf("colour %d:", i);
     int best_k = 0;
     double best = 1e18;
     for (int k = -3; k <= 3; ++k) {
-      const std::vector<EdgeFrame> f{edges_of(c.rgb, ds.load(static_cast<std::size_t>(i + k)).depth_m)};
+      const std::vector<EdgeFrame> f{edges_of(dist, ds.load(static_cast<std::size_t>(i + k)).depth_m)};
       const double e = cost(f, r.s, r.dx, r.dy, cx, cy);
       std::printf(" %+d:%.2f", k, e);
       if (e < best) best = e, best_k = k;
@@ -193,19 +203,25 @@ double gt_depth_residual(const io::TumDataset& ds, const std::vector<std::pair<R
 // residual is smallest at the k whose poses belong to those depth images (KinectFusion made the
 // ground truth from exactly these depth images).
 void measure_gt_offset(const io::TumDataset& ds, int gap) {
+  // Each pair's depth images are read once; only the poses attached to them change with k.
+  struct DepthPair {
+    std::size_t i;
+    RgbdFrame a, b;  // depth only
+  };
+  std::vector<DepthPair> pairs;
+  for (std::size_t i = 2; i + gap + 2 < ds.size(); i += 2 * gap + 1) {
+    DepthPair p{i, {}, {}};
+    p.a.depth_m = ds.load(i).depth_m;
+    p.b.depth_m = ds.load(i + gap).depth_m;
+    pairs.push_back(std::move(p));
+  }
   for (int k = -2; k <= 2; ++k) {
-    std::vector<std::pair<RgbdFrame, SE3>> frames;
-    for (std::size_t i = 2; i + gap + 2 < ds.size(); i += 2 * gap + 1) {
-      const auto Ti = ds.groundtruth_at(ds.timestamp(i + k)), Tj = ds.groundtruth_at(ds.timestamp(i + gap + k));
-      if (!Ti || !Tj) continue;
-      frames.emplace_back(ds.load(i), *Ti);
-      frames.emplace_back(ds.load(i + gap), *Tj);
-    }
     double sum = 0;
     int n = 0;
-    for (std::size_t m = 0; m + 1 < frames.size(); m += 2) {
-      const std::vector<std::pair<RgbdFrame, SE3>> pair{frames[m], frames[m + 1]};
-      sum += gt_depth_residual(ds, pair, 585, 1);
+    for (const auto& p : pairs) {
+      const auto Ti = ds.groundtruth_at(ds.timestamp(p.i + k)), Tj = ds.groundtruth_at(ds.timestamp(p.i + gap + k));
+      if (!Ti || !Tj) continue;
+      sum += gt_depth_residual(ds, {{p.a, *Ti}, {p.b, *Tj}}, 585, 1);
       ++n;
     }
     std::printf("depth frames i, i+%d with ground-truth poses of i%+d, i+%d%+d (%d pairs): mean depth residual %.3f mm\n",
@@ -250,7 +266,7 @@ int main(int argc, char** argv) {
     std::vector<EdgeFrame> frames;
     for (int k = 0; k < n_frames && static_cast<std::size_t>(k * step) < ds.size(); ++k) {
       const RgbdFrame f = ds.load(static_cast<std::size_t>(k * step));
-      frames.push_back(edges_of(f.rgb, f.depth_m));
+      frames.push_back(edges_of(colour_edge_distance(f.rgb), f.depth_m));
     }
     const Registration reg = fit_registration(frames, cx, cy);
     const double bs = reg.s, bdx = reg.dx, bdy = reg.dy, best = reg.cost;
