@@ -65,14 +65,15 @@ def matched(gt_path, est_path):
 
 
 def duplicates(args):
+    repeated = {}
     for stream in ("rgb", "depth"):
         files = [l.split()[1] for l in open(os.path.join(args.dataset, stream + ".txt"))
                  if l.strip() and not l.startswith("#")]
         h = [hashlib.md5(open(os.path.join(args.dataset, f), "rb").read()).hexdigest() for f in files]
         rep = [i for i in range(1, len(h)) if h[i] == h[i - 1]]
         print(f"{stream}: {len(rep)} of {len(h)} frames repeat the previous one: {rep}")
-        args.__dict__[stream] = set(rep)
-    only_c, only_d = sorted(args.rgb - args.depth), sorted(args.depth - args.rgb)
+        repeated[stream] = set(rep)
+    only_c, only_d = sorted(repeated["rgb"] - repeated["depth"]), sorted(repeated["depth"] - repeated["rgb"])
     print(f"repeated in colour only: {only_c}\nrepeated in depth only: {only_d}")
 
 
@@ -108,6 +109,14 @@ def angle_deg(T):
     return float(np.degrees(np.linalg.norm(smd.so3_log(T[:3, :3]))))
 
 
+def translation_mm(T):
+    return float(np.linalg.norm(T[:3, 3]) * 1000)
+
+
+def translation_difference_mm(S, T):
+    return float(np.linalg.norm(S[:3, 3] - T[:3, 3]) * 1000)
+
+
 def windows(args):
     est, gt = smd.read_tum(args.est), smd.read_tum(os.path.join(args.dataset, "groundtruth.txt"))
     cam, P = icp_setup(args.dataset)
@@ -118,8 +127,7 @@ def windows(args):
             continue
         Te, Tg = smd.relative(est, ka, kb), smd.relative(gt, ka, kb)
         Td = smd.icp(P.raw_depth(a), P.raw_depth(a + args.gap), Te, cam)
-        n = lambda T: np.linalg.norm(T[:3, 3]) * 1000  # noqa: E731
-        d = lambda S, T: np.linalg.norm(S[:3, 3] - T[:3, 3]) * 1000  # noqa: E731
+        n, d = translation_mm, translation_difference_mm
         print(f"{a}->{a + args.gap}: translation est {n(Te):6.1f} gt {n(Tg):6.1f} icp {n(Td):6.1f} mm | "
               f"rotation est {angle_deg(Te):.2f} gt {angle_deg(Tg):.2f} icp {angle_deg(Td):.2f} deg | "
               f"|est-gt| {d(Te, Tg):.1f} |icp-gt| {d(Td, Tg):.1f} |icp-est| {d(Td, Te):.1f} mm")
