@@ -13,6 +13,7 @@
 
 #include "conversions.hpp"
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 #include "s3m/io/camera_yaml.hpp"
 
 namespace s3m::ros1 {
@@ -72,6 +73,7 @@ class BagFrameSource final : public pipeline::FrameSource {
  public:
   BagFrameSource(const std::string& path, const BagTopics& topics, const pipeline::DatasetConfig& dataset)
       : path_(path) {
+    require_input_file(path, "a ROS1 bag file (--rosbag)");
     try {
       bag_.open(path, rosbag::bagmode::Read);
     } catch (const rosbag::BagException& e) {

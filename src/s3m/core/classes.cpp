@@ -5,6 +5,7 @@
 
 #include "s3m/core/atomic_file.hpp"
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 
 namespace s3m {
 
@@ -58,8 +59,7 @@ void write_class_list(const std::string& path, const ClassList& classes) {
 }
 
 ClassList read_class_list(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ParseError(path, 0, "cannot open class list", "a readable classes.txt");
+  std::ifstream in = open_input_file(path, "a readable classes.txt");
   std::vector<ClassInfo> classes;
   std::string line;
   int line_no = 0;

@@ -1,12 +1,13 @@
 #include "s3m/core/yaml_util.hpp"
 
 #include <algorithm>
-#include <filesystem>
+
+#include "s3m/core/input_file.hpp"
 
 namespace s3m {
 
 YAML::Node load_yaml_file(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw ParseError(path, 0, "file not found", "a YAML file");
+  require_input_file(path, "a YAML file");
   try {
     return YAML::LoadFile(path);
   } catch (const YAML::Exception& e) {

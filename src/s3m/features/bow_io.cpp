@@ -10,6 +10,7 @@
 
 #include "s3m/core/atomic_file.hpp"
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
 
 namespace s3m::features {
@@ -129,8 +130,7 @@ void Vocabulary::save(const std::string& path) const {
 }
 
 Vocabulary Vocabulary::load(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ParseError(path, 0, "cannot open the vocabulary file", "a readable file");
+  std::ifstream in = open_input_file(path, "an s3m ORB vocabulary file", std::ios::binary);
   std::ostringstream ss;
   ss << in.rdbuf();
   return VocabularyIo::parse(path, ss.str());

@@ -10,6 +10,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 #include "s3m/core/yaml_util.hpp"
 #include "s3m/io/atomic_file.hpp"
 
@@ -19,9 +20,7 @@ namespace {
 // OpenCV FileStorage writes '%YAML:1.0' (not valid YAML 1.2) and may tag matrices '!!opencv-matrix'.
 // Blank the directive to a comment so yaml-cpp parses the rest and line numbers stay true.
 YAML::Node load_opencv_yaml(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw ParseError(path, 0, "file not found", "an ORB-SLAM settings YAML file");
-  std::ifstream in(path);
-  if (!in) throw ParseError(path, 0, "cannot open file for reading");
+  std::ifstream in = open_input_file(path, "an ORB-SLAM settings YAML file");
   std::ostringstream text;
   std::string line;
   while (std::getline(in, line)) {
@@ -157,6 +156,7 @@ PinholeCamera load_camera(const std::string& path_or_preset) {
   if (!std::filesystem::exists(path_or_preset))
     throw ParseError(path_or_preset, 0, "no such camera file or preset",
                      "a camera YAML file or one of the presets tum_fr1, tum_fr2, tum_fr3");
+  require_input_file(path_or_preset, "a camera YAML file");  // before looks_like_orbslam() opens it
   return looks_like_orbslam(path_or_preset) ? read_orbslam_settings(path_or_preset) : read_camera_yaml(path_or_preset);
 }
 

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/io/text_lines.hpp"
 
@@ -29,7 +30,7 @@ void write_gt_voxels(const std::string& path, const GtVoxelMap& map) {
 
 GtVoxelMap read_gt_voxels(const std::string& path) {
   {  // The header is a comment, so LineReader would skip it: check it first.
-    std::ifstream in(path);
+    std::ifstream in = open_input_file(path, "an s3m ground-truth voxel map");
     std::string first;
     if (in && std::getline(in, first) && first.rfind(kHeader, 0) != 0)
       throw ParseError(path, 1, "missing header", std::string("'") + kHeader + "'");

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 
 namespace s3m::io {
 namespace {
@@ -62,7 +63,7 @@ void check_jpeg(std::ifstream& in, const std::string& path, const std::string& w
 }  // namespace
 
 void check_image_header(const std::string& path, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in = open_input_file(path, what, std::ios::binary);
   unsigned char h[8] = {};
   in.read(reinterpret_cast<char*>(h), sizeof(h));
   const auto n = static_cast<std::size_t>(in.gcount());

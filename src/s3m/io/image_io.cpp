@@ -1,7 +1,6 @@
 #include "s3m/io/image_io.hpp"
 
 #include <cmath>
-#include <filesystem>
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
@@ -21,8 +20,7 @@ std::string describe(const cv::Mat& m) {
 }
 
 cv::Mat read_any(const std::string& path, int flags, const std::string& what) {
-  if (!std::filesystem::exists(path)) throw ParseError(path, 0, "image file not found", what);
-  check_image_header(path, what);
+  check_image_header(path, what);  // refuses non-regular files before opening them
   cv::Mat img;
   try {
     img = cv::imread(path, flags);

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 #include "s3m/io/atomic_file.hpp"
 
 namespace s3m::io {
@@ -48,8 +49,7 @@ void write_ply(const std::string& path, const std::vector<PlyPoint>& points, boo
 }
 
 std::vector<PlyPoint> read_ply(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw ParseError(path, 0, "file not found", "a PLY file");
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in = open_input_file(path, "a PLY file", std::ios::binary);
   std::string line, head;
   std::size_t n = 0;
   int line_no = 0;

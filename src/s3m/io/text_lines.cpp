@@ -2,19 +2,16 @@
 
 #include <charconv>
 #include <cmath>
-#include <filesystem>
 
 #include <fmt/format.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 
 namespace s3m::io {
 
 LineReader::LineReader(const std::string& path, const std::string& what) : path_(path) {
-  if (!std::filesystem::exists(path)) throw ParseError(path, 0, "file not found", what);
-  if (std::filesystem::is_directory(path)) throw ParseError(path, 0, "is a directory", what);
-  in_.open(path);
-  if (!in_) throw ParseError(path, 0, "cannot open file for reading", what);
+  in_ = open_input_file(path, what);
 }
 
 bool LineReader::next(std::vector<std::string_view>& tokens) {

@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 #include "s3m/io/association.hpp"
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/io/camera_yaml.hpp"
@@ -25,7 +26,10 @@ struct ListEntry {
 };
 
 void check_image_exists(const std::string& dir, const std::string& rel, const LineReader& reader) {
-  if (!fs::exists(fs::path(dir) / rel)) reader.fail("image file '" + rel + "' not found", "an existing file under " + dir);
+  const fs::path p = fs::path(dir) / rel;
+  if (!fs::exists(p)) reader.fail("image file '" + rel + "' not found", "an existing file under " + dir);
+  if (const std::string problem = input_file_problem(p.string()); !problem.empty())
+    reader.fail("image file '" + rel + "' " + problem, "a PNG or JPEG image file");
 }
 
 // 'timestamp path' lines with strictly increasing timestamps.

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 #include "s3m/io/atomic_file.hpp"
 
 namespace s3m::mapping {
@@ -160,8 +161,7 @@ void read_ot_header(std::istream& s, std::string& id, std::size_t& size, double&
 }  // namespace
 
 std::unique_ptr<SemanticOcTree> load_semantic_map(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open semantic map '" + path + "'");
+  std::ifstream in = open_input_file(path, "an s3m semantic map (.ot)", std::ios::binary);
   try {
     std::string id;
     std::size_t size = 0;

@@ -38,7 +38,7 @@ ResolvedCard resolve_model_card(const std::string& path) {
     throw Error("segmenter: model '" + path + "' is neither a model card (.yaml) nor a folder");
   std::vector<std::string> cards;
   for (const auto& e : fs::directory_iterator(path)) {
-    if (e.path().extension() != ".yaml") continue;
+    if (e.path().extension() != ".yaml" || !e.is_regular_file()) continue;  // a FIFO would block LoadFile
     try {
       if (YAML::LoadFile(e.path().string())["model"]) cards.push_back(e.path().string());
     } catch (const YAML::Exception&) {  // not a card; ignore

@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 #include "s3m/core/yaml_util.hpp"
 
 namespace s3m::semantics {
@@ -30,8 +31,7 @@ ClassId target_id(const ClassList& target, const std::string& name, const std::s
 }  // namespace
 
 std::vector<std::string> read_class_names(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ParseError(path, 0, "cannot open class name list", "a readable text file, one class name per line");
+  std::ifstream in = open_input_file(path, "a readable text file, one class name per line");
   std::vector<std::string> names;
   std::string line;
   int line_no = 0;

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/input_file.hpp"
 
 namespace s3m::semantics {
 namespace {
@@ -89,8 +90,7 @@ OnnxInputInfo parse_value_info(Cursor vi) {
 }  // namespace
 
 OnnxInputInfo read_onnx_input(const std::string& onnx_path) {
-  std::ifstream in(onnx_path, std::ios::binary);
-  if (!in) throw Error(onnx_path + ": cannot open ONNX model (file missing or unreadable)");
+  std::ifstream in = open_input_file(onnx_path, "an ONNX model file", std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.empty()) throw Error(onnx_path + ": ONNX model file is empty");
   Cursor model{reinterpret_cast<const unsigned char*>(bytes.data()),
