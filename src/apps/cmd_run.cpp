@@ -16,7 +16,7 @@ namespace {
 
 struct RunArgs {
   std::string dataset, config, out, segmenter, model_dir, poses = "slam", vocab;
-  bool slam_only = false, deterministic = false, no_report = false, no_loop_closing = false;
+  bool slam_only = false, deterministic = false, no_report = false, no_loop_closing = false, force = false;
   long max_frames = -1;
   RosbagArgs bag;
 };
@@ -60,6 +60,9 @@ void register_run(CLI::App& app) {
   cmd->add_option("--vocab", args->vocab, "bag-of-words vocabulary (default: the preset's, else vocab/orb_k10_l5.bin)");
   cmd->add_option("--max-frames", args->max_frames, "process at most N frames");
   cmd->add_flag("--no-report", args->no_report, "skip the plots and report.html");
+  cmd->add_flag("--force", args->force,
+                "run even when the map's cost estimate (voxel updates per frame, checked before the first "
+                "frame) is over its limit");
   add_rosbag_options(*cmd, args->bag);
   cmd->callback([args] {
     pipeline::RunOptions o;
@@ -78,6 +81,7 @@ void register_run(CLI::App& app) {
     o.slam_only = args->slam_only;
     o.max_frames = args->max_frames;
     o.report = !args->no_report;
+    o.force = args->force;
     o.progress = pipeline::stderr_is_tty();
     o.stop = &install_interrupt_handler();
     print_summary(pipeline::run_dataset(o), args->out);

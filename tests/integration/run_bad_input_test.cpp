@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "pipeline_fixture.hpp"
+#include "unit/fifo_test_util.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/mapping/map_io.hpp"
@@ -271,6 +272,91 @@ TEST(RunBadInput, DiskFullWhileWritingOutputsKeepsThePreviousRunLoadable) {
   EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(), static_cast<std::size_t>(kShort));
   for (const auto& e : fs::directory_iterator(o.out_dir))
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+// A FIFO where a list or an image belongs: refused with its path instead of blocking the run
+// forever (issue 24); the read has a timeout, so a reader that opens the FIFO fails, not hangs.
+TEST(RunBadInput, FifoInsteadOfAListOrAnImage) {
+  const fs::path seq = short_sequence("fifo_list");
+  testing::make_fifo(seq / "associations.txt");
+  testing::error_without_blocking(seq / "associations.txt", [&] {
+    run_error(seq, {"associations.txt", "is a FIFO (named pipe), not a regular file"});
+  });
+  const fs::path seq2 = short_sequence("fifo_png");
+  const std::string png = list_entry(seq2 / "rgb.txt", 3);
+  testing::make_fifo(seq2 / png);
+  testing::error_without_blocking(seq2 / png, [&] {
+    run_error(seq2, {"associations.txt:", "image file '" + png + "' is a FIFO (named pipe), not a regular file"});
+  });
+}
+
+// `s3m run` as a user types it, limited to 4 GB of address space and 120 s so that a regression
+// (a crash, or a run until the machine is exhausted) fails instead of taking the machine down.
+int s3m_run(const std::string& args, const fs::path& log_path, std::string* log) {
+  const std::string cmd = "ulimit -v 4000000; timeout 120 " + std::string(S3M_BINARY) + " run " + args + " > '" +
+                          log_path.string() + "' 2>&1";
+  const int status = std::system(cmd.c_str());
+  *log = read_bytes(log_path.string());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+fs::path edited_preset(const std::string& name, const std::string& pattern, const std::string& replacement) {
+  const fs::path preset = scratch_dir() / (name + ".yaml");
+  fs::copy_file(fs::path(S3M_TEST_DATA_DIR) / ".." / ".." / "config" / "sim.yaml", preset,
+                fs::copy_options::overwrite_existing);
+  edit(preset, pattern, replacement);
+  return preset;
+}
+
+// 2f6b067: exit 139 (segmentation fault inside TBB) for map.insert.num_threads 65537.
+TEST(RunBadInput, HugeThreadCountInAPresetIsRefusedByTheCli) {
+  const fs::path preset = edited_preset("threads_65537", "radius_min_neighbors: 1\\}", "radius_min_neighbors: 1, num_threads: 65537}");
+  const fs::path seq = short_sequence("cli_threads");
+  std::string log;
+  EXPECT_EQ(s3m_run("--config '" + preset.string() + "' --deterministic --no-report '" + seq.string() + "' --out '" +
+                        (scratch_dir() / "out_cli_threads").string() + "'",
+                    scratch_dir() / "cli_threads.log", &log),
+            1)
+      << log;
+  EXPECT_NE(log.find("s3m: error: " + preset.string() + ":"), std::string::npos) << log;
+  EXPECT_NE(log.find("insert.num_threads = 65537 must be 0 (all cores) or 1.."), std::string::npos) << log;
+}
+
+// 2f6b067: a segmentation fault in cv::setNumThreads(65537).
+TEST(RunBadInput, HugeThreadCountInAModelCardIsRefused) {
+  const fs::path dir = scratch_dir() / "model_card_threads";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path data = fs::path(S3M_TEST_DATA_DIR) / "semantics";
+  for (const char* f : {"tiny_rgb.onnx", "tiny_rgb.yaml", "tiny_rgb.classes.txt"}) fs::copy(data / f, dir / f);
+  std::ofstream(dir / "tiny_rgb.yaml", std::ios::app) << "threads: 65537\n";
+  pipeline::RunOptions o = options_for(short_sequence("card_threads"), "card_threads");
+  o.segmenter = "onnx:" + (dir / "tiny_rgb.yaml").string();
+  run_error(o, {"tiny_rgb.yaml", "threads = 65537 out of range", "expected 0 (OpenCV's default) or 1.."});
+}
+
+// 2f6b067: ran until killed (5.9 GB after one frame). Refused before the first frame and before
+// anything is written; --force runs it (not tested: it is what exhausts the machine).
+TEST(RunBadInput, SettingsThatWouldExhaustTheMachineAreRefusedBeforeTheFirstFrame) {
+  pipeline::RunOptions o = options_for(short_sequence("cost"), "cost");
+  o.config.cloud.pixel_stride = 1;
+  o.config.map.resolution_m = 0.005;
+  o.config.cloud.max_depth_m = 100;
+  run_error(o, {"cloud.pixel_stride 1 x 640x480 px with map.resolution_m 0.005 and cloud.max_depth_m 100",
+                "voxel updates per integrated frame", "exceeds the limit of 1e+08", "--force"});
+  EXPECT_FALSE(fs::exists(o.out_dir));
+  // The same through the CLI, from a preset.
+  const fs::path preset = edited_preset("cost", "pixel_stride: 2 ", "pixel_stride: 1 ");
+  edit(preset, "resolution_m: 0.05 ", "resolution_m: 0.005 ");
+  edit(preset, "max_depth_m: 4.0 ", "max_depth_m: 100 ");
+  std::string log;
+  EXPECT_EQ(s3m_run("--config '" + preset.string() + "' --deterministic --no-report '" + o.dataset_dir + "' --out '" +
+                        o.out_dir + "'",
+                    scratch_dir() / "cli_cost.log", &log),
+            1)
+      << log;
+  EXPECT_NE(log.find("about 3.1e+08 voxel updates per integrated frame"), std::string::npos) << log;
+  EXPECT_NE(log.find("or pass --force to run anyway"), std::string::npos) << log;
 }
 
 }  // namespace

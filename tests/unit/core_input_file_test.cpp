@@ -1,12 +1,15 @@
-// The one gate in front of every reader (core/input_file.hpp): issue 24.
+// The one gate in front of every reader (core/input_file.hpp) and the thread-count range
+// (core/thread_count.hpp): issue 24.
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include <gtest/gtest.h>
 
 #include "fifo_test_util.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/input_file.hpp"
+#include "s3m/core/thread_count.hpp"
 
 namespace s3m {
 namespace {
@@ -45,6 +48,21 @@ TEST(InputFile, OpenRefusesAFifoInsteadOfBlocking) {
   std::getline(open_input_file((d / "ok.txt").string(), "text"), line);
   EXPECT_EQ(line, "hello");
   fs::remove_all(d);
+}
+
+TEST(ThreadCount, ZeroOrOneToFourTimesTheHardwareThreads) {
+  const int hw = static_cast<int>(std::thread::hardware_concurrency());
+  EXPECT_EQ(max_thread_count(), hw > 0 ? 4 * hw : 16);
+  EXPECT_TRUE(thread_count_ok(0));
+  EXPECT_TRUE(thread_count_ok(1));
+  EXPECT_TRUE(thread_count_ok(max_thread_count()));
+  EXPECT_FALSE(thread_count_ok(max_thread_count() + 1));
+  EXPECT_FALSE(thread_count_ok(-1));
+  EXPECT_FALSE(thread_count_ok(65537));
+  if (hw > 0) {
+    EXPECT_EQ(thread_count_range("auto"), "0 (auto) or 1.." + std::to_string(4 * hw) + " (4 x the " +
+                                              std::to_string(hw) + " hardware threads)");
+  }
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/thread_count.hpp"
 #include "s3m/core/timing.hpp"
 #include "s3m/core/yaml_util.hpp"
 #include "s3m/mapping/outliers.hpp"
@@ -23,7 +24,8 @@ void InsertConfig::validate() const {
   require(min_points_per_voxel >= 1, "insert.min_points_per_voxel must be >= 1");
   require(sor_neighbors >= 0 && sor_neighbors <= 124, "insert.sor_neighbors must be in [0, 124]");
   require(sor_std_mul > 0.0, "insert.sor_std_mul must be > 0");
-  require(num_threads >= 0, "insert.num_threads must be >= 0");
+  require(thread_count_ok(num_threads), "insert.num_threads = " + std::to_string(num_threads) + " must be " +
+                                            thread_count_range("all cores"));
 }
 
 InsertConfig insert_config_from_yaml(const YAML::Node& node, const std::string& ctx) {
@@ -42,7 +44,6 @@ InsertConfig insert_config_from_yaml(const YAML::Node& node, const std::string& 
   yaml_get(node, "sor_neighbors", c.sor_neighbors, ctx);
   yaml_get(node, "sor_std_mul", c.sor_std_mul, ctx);
   yaml_get(node, "num_threads", c.num_threads, ctx);
-  c.validate();
   return c;
 }
 

@@ -27,11 +27,12 @@ struct InsertConfig {
   // sor_neighbors occupied voxels within 2 voxels; drop voxels above mean + sor_std_mul * std.
   int sor_neighbors = 0;  // 0 disables it
   double sor_std_mul = 2.0;
-  int num_threads = 0;  // 0 = all cores (TBB default); results are identical for any value
+  int num_threads = 0;  // 0 = all cores (TBB default), else 1..max_thread_count(); results are identical for any value
 
   void validate() const;  // throws s3m::Error naming the field
 };
 
+// Not validated here: load_mapping_config() validates the whole map section and names the file.
 InsertConfig insert_config_from_yaml(const YAML::Node& node, const std::string& ctx);
 
 struct InsertStats {

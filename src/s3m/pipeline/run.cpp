@@ -6,6 +6,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
+#include "s3m/pipeline/cost_estimate.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/metrics.hpp"
 #include "s3m/pipeline/outputs.hpp"
@@ -81,6 +82,7 @@ RunResult run_dataset(const RunOptions& o) {
   require(!o.out_dir.empty(), "run: an output directory is required (--out)");
   o.config.validate();
   Components c = build(o);
+  if (!o.slam_only) check_cost(o.config, c.source->camera(), o.force);  // before the first frame
   create_output_dir(o.out_dir);
 
   RunResult r;

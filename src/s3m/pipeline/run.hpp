@@ -31,6 +31,7 @@ struct RunOptions {
   const std::atomic<bool>* stop = nullptr;
   bool progress = false;           // live progress line on stderr
   bool report = true;              // plots + report.html via tools/plot_report.py
+  bool force = false;              // run even when the cost estimate is over its limit (cost_estimate.hpp)
   // Stop after this many frames as if `stop` had been set (tests of the interrupted path); < 0: off.
   long stop_after_frames = -1;
 };

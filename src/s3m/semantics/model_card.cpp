@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/thread_count.hpp"
 #include "s3m/core/yaml_util.hpp"
 
 namespace s3m::semantics {
@@ -62,7 +63,8 @@ void ModelCard::validate() const {
     if (!(s > 0)) fail("input.std entries must be positive", "std > 0");
   if (top_k < 1 || top_k > 32) fail("top_k = " + std::to_string(top_k) + " out of range", "1..32");
   if (label_stride < 1 || label_stride > 16) fail("label_stride = " + std::to_string(label_stride) + " out of range", "1..16");
-  if (threads < 0) fail("threads must be >= 0", "0 (OpenCV default) or a thread count");
+  if (!thread_count_ok(threads))
+    fail("threads = " + std::to_string(threads) + " out of range", thread_count_range("OpenCV's default"));
 }
 
 ModelCard load_model_card(const std::string& card_path, const std::string& model_dir) {

@@ -26,7 +26,8 @@
 //                                       # each result into its s x s block (s = 2: ~4x cheaper; the
 //                                       # network's own grid is 8-32 camera pixels, so no visible loss)
 //   top_k: 3
-//   threads: 0                          # cv::setNumThreads (process-wide!); 0 = leave as is
+//   threads: 0                          # cv::setNumThreads (process-wide!); 0 = leave as is, else
+//                                       # 1..4 x the hardware threads (core/thread_count.hpp)
 #include <array>
 #include <string>
 #include <vector>
