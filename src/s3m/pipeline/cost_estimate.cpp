@@ -22,7 +22,7 @@ namespace s3m::pipeline {
 // i.e. ~3-12 ns and up to ~20 B of RSS per estimated update in a room, and in open space every
 // update can be a new leaf of kMapBytesPerVoxel (74 B: the map's memory_bytes / leaf_nodes at 5 mm).
 // kMaxVoxelUpdates = 1e8 caps one frame at ~1 s and ~2 GB in a room (7.4 GB in open space, a third
-// of this 23 GB machine) and is 150x above every shipped preset (<= 6.7e5); kWarnVoxelUpdates =
+// of this 23 GB machine) and is ~140x above every shipped preset (<= 7.0e5, realsense_d455); kWarnVoxelUpdates =
 // 1e7 flags the 1 cm / 5 mm maps that work but grow by hundreds of MB per few frames.
 CostEstimate estimate_cost(const PipelineConfig& config, const PinholeCamera& camera) {
   const CloudConfig& cloud = config.cloud;
