@@ -20,6 +20,7 @@ packages=(
   libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib python3-torch python3-onnx
+  libjs-three chromium  # the map viewer (three.js r111, copied into reports) and its browser test
 )
 if [ "$with_ros" = 1 ]; then
   # ROS1 as packaged by Debian 12: the node's libraries and messages, rosbag (C++ API), and

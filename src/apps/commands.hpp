@@ -14,5 +14,6 @@ void register_query(CLI::App& app);    // semantic map queries
 void register_export(CLI::App& app);   // map export (PLY, ColorOcTree, .bt)
 void register_vocab(CLI::App& app);    // bag-of-words vocabulary training
 void register_tum2bag(CLI::App& app);  // TUM directory -> ROS1 bag (ROS builds)
+void register_view(CLI::App& app);     // interactive 3-D map viewer (HTML)
 
 }  // namespace s3m::apps

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   s3m::apps::register_segeval(app);
   s3m::apps::register_query(app);
   s3m::apps::register_export(app);
+  s3m::apps::register_view(app);
   s3m::apps::register_vocab(app);
   s3m::apps::register_tum2bag(app);
   try {

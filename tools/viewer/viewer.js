@@ -1,0 +1,538 @@
+// s3m semantic map viewer: the occupied voxels of a SemanticOcTree as instanced cubes (three.js
+// r111, Debian's libjs-three), with a class legend that hides/shows classes, a confidence slider,
+// a ceiling cut, the camera trajectory and keyframe frusta, voxel picking and the object instances
+// of `s3m query`. Data: window.S3M_VIEWER_DATA written by src/s3m/viewer (format in viewer_data.hpp).
+// Works from file:// with no server: everything arrives through <script> tags.
+//
+// Test mode: a URL hash "#selftest" drives the real UI (DOM events on the legend, a MouseEvent on
+// the canvas) once the map is drawn and writes a JSON result into <pre id="s3m-selftest">
+// (tests/browser/viewer_browser_test.cpp reads it with chromium --dump-dom).
+(function () {
+  "use strict";
+
+  // ---- data -------------------------------------------------------------------------------------
+  function decodeBase64(b64) {
+    const bin = atob(b64);
+    const out = new Uint8Array(bin.length);
+    for (let i = 0; i < bin.length; ++i) out[i] = bin.charCodeAt(i);
+    return out;
+  }
+
+  // Typed-array views of the voxel buffer (layout: viewer_data.hpp).
+  function decodeVoxels(data) {
+    const n = data.count, k = data.k;
+    const bytes = decodeBase64(data.voxels_base64);
+    if (bytes.length !== n * (6 + 3 * k + 4)) throw new Error("voxel buffer has " + bytes.length + " bytes, expected " + n * (6 + 3 * k + 4));
+    const u16 = new Uint16Array(bytes.buffer, 0, (6 * n + 2 * k * n) / 2);
+    let o = 6 * n + 2 * k * n;
+    const v = {n: n, k: k, kx: u16.subarray(0, n), ky: u16.subarray(n, 2 * n), kz: u16.subarray(2 * n, 3 * n),
+               label: u16.subarray(3 * n, 3 * n + k * n)};
+    v.prob = bytes.subarray(o, o + k * n); o += k * n;
+    v.rgb = bytes.subarray(o, o + 3 * n); o += 3 * n;
+    v.occ = bytes.subarray(o, o + n);
+    // World centres and heights along "up".
+    const res = data.resolution_m, off = data.key_offset, up = data.up;
+    v.pos = new Float32Array(3 * n);
+    v.height = new Float32Array(n);
+    for (let i = 0; i < n; ++i) {
+      const x = (v.kx[i] - off + 0.5) * res, y = (v.ky[i] - off + 0.5) * res, z = (v.kz[i] - off + 0.5) * res;
+      v.pos[3 * i] = x; v.pos[3 * i + 1] = y; v.pos[3 * i + 2] = z;
+      v.height[i] = x * up[0] + y * up[1] + z * up[2];
+    }
+    return v;
+  }
+
+  function classById(data) {
+    const m = {};
+    data.classes.forEach(function (c) { m[c.id] = c; });
+    return m;
+  }
+
+  // Cube faces in key-axis order +x -x +y -y +z -z: outward normal n and the corners n + (-u-v),
+  // n + (u-v), n + (u+v), n + (-u+v) with u x v = n, so both triangles wind counter-clockwise
+  // seen from outside (three.js culls back faces).
+  function face(n, u, w) {
+    const c = [];
+    [[-1, -1], [1, -1], [1, 1], [-1, 1]].forEach(function (s) {
+      for (let a = 0; a < 3; ++a) c.push(n[a] + s[0] * u[a] + s[1] * w[a]);
+    });
+    return {n: n, corners: c};
+  }
+  const X = [1, 0, 0], Y = [0, 1, 0], Z = [0, 0, 1], NX = [-1, 0, 0], NY = [0, -1, 0], NZ = [0, 0, -1];
+  const FACES = [face(X, Y, Z), face(NX, Z, Y), face(Y, Z, X), face(NY, X, Z), face(Z, X, Y), face(NZ, Y, X)];
+
+  // ---- the viewer ---------------------------------------------------------------------------------
+  function Viewer(root, data) {
+    this.root = root;
+    this.data = data;
+    this.classes = classById(data);
+    this.hidden = {};          // class id -> true when hidden
+    this.minConfidence = 0;    // 0..1
+    this.colorMode = "class";  // "class" | "rgb"
+    this.v = decodeVoxels(data);
+    this.counts = {};
+    for (let i = 0; i < this.v.n; ++i) this.counts[this.v.label[i * this.v.k]] = (this.counts[this.v.label[i * this.v.k]] || 0) + 1;
+    this.buildDom();
+    this.buildScene();
+    this.ceiling = this.maxHeight;
+    this.ready = false;
+    this.updateVoxels();
+    this.ready = true;
+    this.render();
+  }
+
+  Viewer.prototype.el = function (tag, cls, text, parent) {
+    const e = document.createElement(tag);
+    if (cls) e.className = cls;
+    if (text !== undefined) e.textContent = text;
+    (parent || this.root).appendChild(e);
+    return e;
+  };
+
+  Viewer.prototype.buildDom = function () {
+    const self = this;
+    this.root.classList.add("s3m-viewer");
+    this.canvasBox = this.el("div", "s3m-canvas-box");
+    const side = this.el("div", "s3m-side");
+    this.status = this.el("div", "s3m-status", "", side);
+    this.status.id = "s3m-viewer-status";
+    // Colour mode.
+    const mode = this.el("label", "s3m-row", "", side);
+    this.rgbToggle = this.el("input", "", undefined, mode);
+    this.rgbToggle.type = "checkbox";
+    this.rgbToggle.id = "s3m-rgb-toggle";
+    mode.appendChild(document.createTextNode(" observed colour (RGB) instead of class"));
+    this.rgbToggle.addEventListener("change", function () { self.colorMode = self.rgbToggle.checked ? "rgb" : "class"; self.updateVoxels(); });
+    // Confidence slider.
+    const conf = this.el("label", "s3m-row", "", side);
+    this.confLabel = this.el("span", "", "", conf);
+    this.confSlider = this.el("input", "", undefined, conf);
+    Object.assign(this.confSlider, {type: "range", min: 0, max: 100, value: 0, id: "s3m-confidence"});
+    this.confSlider.addEventListener("input", function () { self.minConfidence = self.confSlider.value / 100; self.updateVoxels(); });
+    // Ceiling cut.
+    const cut = this.el("label", "s3m-row", "", side);
+    this.cutLabel = this.el("span", "", "", cut);
+    this.cutSlider = this.el("input", "", undefined, cut);
+    Object.assign(this.cutSlider, {type: "range", min: 0, max: 1000, value: 1000, id: "s3m-ceiling"});
+    this.cutSlider.addEventListener("input", function () {
+      self.ceiling = self.minHeight + (self.maxHeight - self.minHeight) * self.cutSlider.value / 1000 + 1e-6;
+      self.updateVoxels();
+    });
+    // Legend.
+    this.el("div", "s3m-head", "Classes (click to hide / show)", side);
+    this.legend = this.el("div", "s3m-legend", "", side);
+    this.legendInputs = {};
+    Object.keys(this.counts).map(Number).sort(function (a, b) { return self.counts[b] - self.counts[a]; }).forEach(function (id) {
+      const c = self.classes[id] || {name: "class " + id, rgb: [255, 0, 255]};
+      const row = self.el("label", "s3m-legend-row", "", self.legend);
+      const box = self.el("input", "", undefined, row);
+      box.type = "checkbox";
+      box.checked = true;
+      box.dataset.classId = id;
+      const sw = self.el("span", "s3m-swatch", "", row);
+      sw.style.background = "rgb(" + c.rgb.join(",") + ")";
+      self.el("span", "s3m-name", c.name, row);
+      self.el("span", "s3m-count", self.counts[id].toLocaleString("en"), row);
+      box.addEventListener("change", function () { self.hidden[id] = !box.checked; self.updateVoxels(); });
+      self.legendInputs[id] = box;
+    });
+    // Picked voxel.
+    this.el("div", "s3m-head", "Voxel under the mouse click", side);
+    this.info = this.el("div", "s3m-info", "click a voxel", side);
+    this.info.id = "s3m-voxel-info";
+    // Object instances.
+    this.el("div", "s3m-head", "Objects (as `s3m query --class`; click to frame)", side);
+    this.objects = this.el("div", "s3m-objects", "", side);
+    this.buildObjectList();
+  };
+
+  Viewer.prototype.buildObjectList = function () {
+    const self = this, byClass = {};
+    (this.data.instances || []).forEach(function (o, i) { (byClass[o.class_id] = byClass[o.class_id] || []).push(i); });
+    const ids = Object.keys(byClass).map(Number);
+    if (!ids.length) { this.objects.textContent = "none"; return; }
+    ids.forEach(function (id) {
+      const c = self.classes[id] || {name: "class " + id, rgb: [255, 0, 255]};
+      const group = self.el("details", "s3m-object-class", "", self.objects);
+      self.el("summary", "", c.name + " (" + byClass[id].length + ")", group);
+      byClass[id].forEach(function (idx, j) {
+        const o = self.data.instances[idx];
+        const b = self.el("button", "s3m-object", c.name + " #" + (j + 1) + ": " + o.voxels + " voxels, " +
+                          o.volume_m3.toFixed(3) + " m\u00b3, p=" + o.mean_confidence.toFixed(2), group);
+        b.addEventListener("click", function () { self.frameObject(o); });
+      });
+    });
+  };
+
+  Viewer.prototype.buildScene = function () {
+    const self = this, d = this.data, v = this.v;
+    this.renderer = new THREE.WebGLRenderer({antialias: false, preserveDrawingBuffer: true});
+    this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+    this.renderer.setClearColor(0xf4f4f4);
+    this.canvasBox.appendChild(this.renderer.domElement);
+    this.scene = new THREE.Scene();
+    // The map's frame rotated so that its "up" is three.js's +Y.
+    this.world = new THREE.Group();
+    this.world.quaternion.setFromUnitVectors(new THREE.Vector3().fromArray(d.up), new THREE.Vector3(0, 1, 0));
+    this.scene.add(this.world);
+    this.scene.add(new THREE.AmbientLight(0xffffff, 0.55));
+    const sun = new THREE.DirectionalLight(0xffffff, 0.6);
+    sun.position.set(0.4, 1.0, 0.7);
+    this.scene.add(sun);
+    // Voxels: the cube faces not covered by a visible neighbour (a surface map's voxels show 1-3
+    // of their 6 faces), merged into one indexed mesh that is rebuilt when a filter changes.
+    // Not three.js instancing: Chromium's software WebGL (SwiftShader, what a machine without a
+    // GPU gets) drew 387k instanced quads in 5.1 s but the same quads as one mesh in 0.32 s
+    // (docs/RESULTS.md). Shading is baked per face direction into the vertex colours.
+    this.faceGeometry = new THREE.BufferGeometry();
+    this.faceMesh = new THREE.Mesh(this.faceGeometry, new THREE.MeshBasicMaterial({vertexColors: THREE.VertexColors}));
+    this.faceMesh.frustumCulled = false;
+    this.world.add(this.faceMesh);
+    this.faceCapacity = 0;
+    this.visible = new Uint8Array(Math.max(v.n, 1));
+    this.buildGrid();
+    this.shade = this.faceShades();
+    // Extent.
+    let lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+    this.minHeight = Infinity; this.maxHeight = -Infinity;
+    for (let i = 0; i < v.n; ++i) {
+      for (let a = 0; a < 3; ++a) { lo[a] = Math.min(lo[a], v.pos[3 * i + a]); hi[a] = Math.max(hi[a], v.pos[3 * i + a]); }
+      this.minHeight = Math.min(this.minHeight, v.height[i]); this.maxHeight = Math.max(this.maxHeight, v.height[i]);
+    }
+    if (!v.n) { lo = [-1, -1, -1]; hi = [1, 1, 1]; this.minHeight = 0; this.maxHeight = 1; }
+    this.boxLo = lo; this.boxHi = hi;
+    this.addTrajectory();
+    // Camera looking at the map from above one corner.
+    const centre = new THREE.Vector3((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2).applyQuaternion(this.world.quaternion);
+    const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 0.5);
+    this.camera = new THREE.PerspectiveCamera(50, 1, size / 500, size * 20);
+    // From the side the camera flew on (the mapped surfaces face it), raised to look down.
+    const t = this.data.trajectory || [], side = new THREE.Vector3(0.8, 0, 1.1);
+    if (t.length >= 7) {
+      const mean = new THREE.Vector3();
+      for (let i = 0; i < t.length; i += 7) mean.add(new THREE.Vector3(t[i], t[i + 1], t[i + 2]));
+      mean.multiplyScalar(7 / t.length).applyQuaternion(this.world.quaternion).sub(centre).setY(0);
+      if (mean.length() > 1e-3) side.copy(mean).normalize().multiplyScalar(1.36);
+    }
+    this.camera.position.copy(centre).add(side.setY(0.9).multiplyScalar(size));
+    this.controls = new THREE.OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.target.copy(centre);
+    this.controls.screenSpacePanning = true;
+    this.controls.addEventListener("change", function () { self.render(); });
+    this.controls.update();
+    // Picking: a click without a drag.
+    const canvas = this.renderer.domElement;
+    let down = null;
+    canvas.addEventListener("pointerdown", function (e) { down = [e.clientX, e.clientY]; });
+    canvas.addEventListener("click", function (e) {
+      if (down && Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;  // it was a drag
+      self.pickAt(e.clientX, e.clientY);
+    });
+    window.addEventListener("resize", function () { self.resize(); });
+    this.resize();
+  };
+
+  // Trajectory as a line, keyframes as small frusta (camera frame: x right, y down, z forward).
+  Viewer.prototype.addTrajectory = function () {
+    const d = this.data, t = d.trajectory || [], kf = d.keyframes || [];
+    if (t.length >= 14) {
+      const pts = [];
+      for (let i = 0; i < t.length; i += 7) pts.push(new THREE.Vector3(t[i], t[i + 1], t[i + 2]));
+      const g = new THREE.BufferGeometry().setFromPoints(pts);
+      this.world.add(new THREE.Line(g, new THREE.LineBasicMaterial({color: 0x1f4fd0})));
+    }
+    if (kf.length) {
+      const cam = d.camera, depth = Math.max(d.resolution_m * 3, 0.08);
+      const hx = depth * cam.width / (2 * cam.fx), hy = depth * cam.height / (2 * cam.fy);
+      const corners = [[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]];
+      const seg = [];
+      const m = new THREE.Matrix4(), q = new THREE.Quaternion(), p = new THREE.Vector3(), one = new THREE.Vector3(1, 1, 1);
+      for (let i = 0; i < kf.length; i += 7) {
+        m.compose(p.set(kf[i], kf[i + 1], kf[i + 2]), q.set(kf[i + 3], kf[i + 4], kf[i + 5], kf[i + 6]), one);
+        const apex = new THREE.Vector3(0, 0, 0).applyMatrix4(m);
+        const cs = corners.map(function (c) { return new THREE.Vector3(c[0], c[1], depth).applyMatrix4(m); });
+        for (let j = 0; j < 4; ++j) seg.push(apex, cs[j], cs[j], cs[(j + 1) % 4]);
+      }
+      const g = new THREE.BufferGeometry().setFromPoints(seg);
+      this.world.add(new THREE.LineSegments(g, new THREE.LineBasicMaterial({color: 0xd03020})));
+    }
+  };
+
+  Viewer.prototype.isVisible = function (i) {
+    const v = this.v;
+    return !this.hidden[v.label[i * v.k]] && v.prob[i * v.k] >= this.minConfidence * 255 && v.height[i] <= this.ceiling;
+  };
+
+  // Occupancy grid over the map's key box (1 byte per cell): which cells hold a visible voxel.
+  Viewer.prototype.buildGrid = function () {
+    const v = this.v;
+    let lo = [65535, 65535, 65535], hi = [0, 0, 0];
+    for (let i = 0; i < v.n; ++i) {
+      const k = [v.kx[i], v.ky[i], v.kz[i]];
+      for (let a = 0; a < 3; ++a) { if (k[a] < lo[a]) lo[a] = k[a]; if (k[a] > hi[a]) hi[a] = k[a]; }
+    }
+    // One cell of margin on each side, so neighbours of border voxels need no bounds checks.
+    this.gridLo = lo.map(function (x) { return x - 1; });
+    this.gridDim = [0, 1, 2].map(function (a) { return Math.max(hi[a] - lo[a] + 3, 1); });
+    const cells = this.gridDim[0] * this.gridDim[1] * this.gridDim[2];
+    this.grid = v.n && cells <= 128e6 ? new Uint8Array(cells) : null;  // null: every face is drawn
+    this.cell = new Int32Array(Math.max(v.n, 1));
+    if (!this.grid) return;
+    const d = this.gridDim, o = this.gridLo;
+    for (let i = 0; i < v.n; ++i) this.cell[i] = (v.kx[i] - o[0]) + d[0] * ((v.ky[i] - o[1]) + d[1] * (v.kz[i] - o[2]));
+  };
+
+  // Vertex buffers for at least n faces (4 vertices, 2 triangles each); grown x1.25 when a filter
+  // exposes more faces than there is room for.
+  Viewer.prototype.reserveFaces = function (n) {
+    if (n <= this.faceCapacity && this.faceCapacity) return;
+    const cap = Math.max(Math.ceil(n * 1.25), 64), g = this.faceGeometry;
+    this.facePos = new Float32Array(12 * cap);
+    this.faceCol = new Uint8Array(12 * cap);
+    const index = new Uint32Array(6 * cap);
+    for (let q = 0; q < cap; ++q) index.set([4 * q, 4 * q + 1, 4 * q + 2, 4 * q, 4 * q + 2, 4 * q + 3], 6 * q);
+    g.dispose();  // frees the old GPU buffers
+    g.setAttribute("position", new THREE.BufferAttribute(this.facePos, 3).setUsage(THREE.DynamicDrawUsage));
+    g.setAttribute("color", new THREE.BufferAttribute(this.faceCol, 3, true).setUsage(THREE.DynamicDrawUsage));
+    g.setIndex(new THREE.BufferAttribute(index, 1));
+    this.faceCapacity = cap;
+  };
+
+  // Brightness of each face direction: ambient + a light from above and one side (map frame).
+  Viewer.prototype.faceShades = function () {
+    const q = this.world.quaternion, light = new THREE.Vector3(0.35, 1.0, 0.55).normalize();
+    return FACES.map(function (f) {
+      const n = new THREE.Vector3().fromArray(f.n).applyQuaternion(q);
+      return Math.min(1, 0.62 + 0.38 * Math.max(0, n.dot(light)) - 0.1 * Math.max(0, -n.dot(light)));
+    });
+  };
+
+  Viewer.prototype.voxelColor = function (i) {
+    const v = this.v;
+    if (this.colorMode === "rgb") return [v.rgb[3 * i], v.rgb[3 * i + 1], v.rgb[3 * i + 2]];
+    const cl = this.classes[v.label[i * v.k]];
+    return cl ? cl.rgb : [255, 0, 255];
+  };
+
+  // Applies the filters: which voxels are visible, which of their faces are exposed, and writes
+  // those faces into the six instanced meshes.
+  Viewer.prototype.updateVoxels = function () {
+    const v = this.v, grid = this.grid, cell = this.cell, vis = this.visible;
+    let n = 0;
+    if (grid) grid.fill(0);
+    for (let i = 0; i < v.n; ++i) {
+      vis[i] = this.isVisible(i) ? 1 : 0;
+      if (vis[i]) { ++n; if (grid) grid[cell[i]] = 1; }
+    }
+    const d = this.gridDim, step = grid ? [1, -1, d[0], -d[0], d[0] * d[1], -d[0] * d[1]] : null;
+    let faces = 0;
+    for (let i = 0; i < v.n; ++i) {
+      if (!vis[i]) continue;
+      for (let f = 0; f < 6; ++f) if (!grid || !grid[cell[i] + step[f]]) ++faces;
+    }
+    this.reserveFaces(faces);
+    const pos = this.facePos, col = this.faceCol, h = this.data.resolution_m / 2;
+    let q = 0;
+    for (let i = 0; i < v.n; ++i) {
+      if (!vis[i]) continue;
+      const rgb = this.voxelColor(i), x = v.pos[3 * i], y = v.pos[3 * i + 1], z = v.pos[3 * i + 2];
+      for (let f = 0; f < 6; ++f) {
+        if (grid && grid[cell[i] + step[f]]) continue;
+        const corners = FACES[f].corners, shade = this.shade[f];
+        for (let c = 0; c < 4; ++c) {
+          const o = 12 * q + 3 * c;
+          pos[o] = x + h * corners[3 * c]; pos[o + 1] = y + h * corners[3 * c + 1]; pos[o + 2] = z + h * corners[3 * c + 2];
+          col[o] = rgb[0] * shade; col[o + 1] = rgb[1] * shade; col[o + 2] = rgb[2] * shade;
+        }
+        ++q;
+      }
+    }
+    this.faceGeometry.setDrawRange(0, 6 * faces);
+    const pa = this.faceGeometry.attributes.position, ca = this.faceGeometry.attributes.color;
+    pa.updateRange.count = ca.updateRange.count = 12 * faces;
+    pa.needsUpdate = ca.needsUpdate = true;
+    this.facesInBuffers = faces;
+    this.visibleCount = n;
+    this.confLabel.textContent = "min. confidence " + this.minConfidence.toFixed(2) + " ";
+    this.cutLabel.textContent = "ceiling cut " + this.ceiling.toFixed(2) + " m ";
+    this.render();
+  };
+
+  Viewer.prototype.resize = function () {
+    const w = this.canvasBox.clientWidth || 800, h = this.canvasBox.clientHeight || 600;
+    this.renderer.setSize(w, h);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.render();
+  };
+
+  Viewer.prototype.render = function () {
+    if (!this.renderer) return;
+    if (!this.ready) return;  // one first frame, after the scene is complete
+    this.renderer.render(this.scene, this.camera);
+    // Cube faces are the scene's only triangles (2 each): what WebGL was asked to draw.
+    this.facesDrawn = this.renderer.info.render.triangles / 2;
+    this.drawnCount = this.visibleCount;
+    this.status.textContent = this.drawnCount.toLocaleString("en") + " of " + this.v.n.toLocaleString("en") +
+      " voxels shown (" + (this.data.resolution_m * 100).toFixed(1) + " cm), " + this.facesDrawn.toLocaleString("en") + " faces drawn";
+  };
+
+  // ---- picking: the first visible voxel along the click's ray (3-D DDA over the voxel keys) -----
+  Viewer.prototype.voxelIndex = function () {
+    if (this.keyIndex) return this.keyIndex;
+    const v = this.v, m = new Map();
+    for (let i = 0; i < v.n; ++i) m.set(v.kx[i] + 65536 * (v.ky[i] + 65536 * v.kz[i]), i);
+    return (this.keyIndex = m);
+  };
+
+  // Ray (map frame) through canvas pixel (px, py) in CSS pixels relative to the canvas.
+  Viewer.prototype.rayAt = function (px, py) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2((px / rect.width) * 2 - 1, -(py / rect.height) * 2 + 1);
+    const ray = new THREE.Raycaster();
+    ray.setFromCamera(ndc, this.camera);
+    const inv = new THREE.Matrix4().getInverse(this.world.matrixWorld);
+    return new THREE.Ray(ray.ray.origin.clone().applyMatrix4(inv), ray.ray.direction.clone().transformDirection(inv));
+  };
+
+  Viewer.prototype.pick = function (ray) {
+    const d = this.data, res = d.resolution_m, off = d.key_offset, index = this.voxelIndex();
+    const lo = new THREE.Vector3().fromArray(this.boxLo).subScalar(res), hi = new THREE.Vector3().fromArray(this.boxHi).addScalar(res);
+    const start = ray.intersectBox(new THREE.Box3(lo, hi), new THREE.Vector3());
+    if (!start) return -1;
+    const o = ray.origin.distanceTo(start) > 0 ? start : ray.origin.clone();
+    const p = [o.x / res, o.y / res, o.z / res], dir = [ray.direction.x, ray.direction.y, ray.direction.z];
+    const cell = p.map(Math.floor), step = dir.map(Math.sign);
+    const tMax = [0, 1, 2].map(function (a) { return dir[a] ? ((cell[a] + (step[a] > 0)) - p[a]) / dir[a] : Infinity; });
+    const tDelta = [0, 1, 2].map(function (a) { return dir[a] ? Math.abs(1 / dir[a]) : Infinity; });
+    const limit = 3 * Math.ceil(Math.max(hi.x - lo.x, hi.y - lo.y, hi.z - lo.z) / res) + 3;
+    for (let s = 0; s < limit; ++s) {
+      const i = index.get((cell[0] + off) + 65536 * ((cell[1] + off) + 65536 * (cell[2] + off)));
+      if (i !== undefined && this.isVisible(i)) return i;
+      const a = tMax[0] < tMax[1] ? (tMax[0] < tMax[2] ? 0 : 2) : (tMax[1] < tMax[2] ? 1 : 2);
+      cell[a] += step[a];
+      tMax[a] += tDelta[a];
+    }
+    return -1;
+  };
+
+  Viewer.prototype.pickAt = function (clientX, clientY) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const i = this.pick(this.rayAt(clientX - rect.left, clientY - rect.top));
+    this.picked = i;
+    this.showVoxel(i);
+    return i;
+  };
+
+  Viewer.prototype.voxelSummary = function (i) {
+    const v = this.v, labels = [];
+    for (let j = 0; j < v.k; ++j) {
+      const id = v.label[i * v.k + j], p = v.prob[i * v.k + j] / 255;
+      if (p > 0) labels.push({id: id, name: (this.classes[id] || {name: "class " + id}).name, p: p});
+    }
+    return {index: i, class_id: v.label[i * v.k], class: (this.classes[v.label[i * v.k]] || {name: "?"}).name,
+            key: [v.kx[i], v.ky[i], v.kz[i]], centre_m: [v.pos[3 * i], v.pos[3 * i + 1], v.pos[3 * i + 2]],
+            labels: labels, occupancy: v.occ[i] / 255, rgb: [v.rgb[3 * i], v.rgb[3 * i + 1], v.rgb[3 * i + 2]]};
+  };
+
+  Viewer.prototype.showVoxel = function (i) {
+    const info = this.info;
+    info.textContent = "";
+    if (i < 0) { info.textContent = "no visible voxel there"; return; }
+    const s = this.voxelSummary(i), self = this;
+    const t = this.el("table", "", "", info);
+    function row(k, val) { const tr = self.el("tr", "", "", t); self.el("th", "", k, tr); self.el("td", "", val, tr); }
+    row("class", s.class);
+    s.labels.forEach(function (l, j) { row("label " + (j + 1), l.name + "  p=" + l.p.toFixed(3)); });
+    row("occupancy", s.occupancy.toFixed(3));
+    row("centre [m]", s.centre_m.map(function (x) { return x.toFixed(3); }).join(", "));
+    row("colour", "rgb(" + s.rgb.join(", ") + ")");
+    row("fusions", this.data.fusions_stored ? "" : "not stored in the map");
+    info.dataset.classId = s.class_id;
+    info.dataset.key = s.key.join(",");
+  };
+
+  // Frames an object instance: orbit target at its centroid, distance from its bounding box.
+  Viewer.prototype.frameObject = function (o) {
+    const q = this.world.quaternion;
+    const c = new THREE.Vector3().fromArray(o.centroid).applyQuaternion(q);
+    const ext = new THREE.Vector3().fromArray(o.bbox_max).sub(new THREE.Vector3().fromArray(o.bbox_min)).length();
+    const dir = this.camera.position.clone().sub(this.controls.target).normalize();
+    this.controls.target.copy(c);
+    this.camera.position.copy(c).add(dir.multiplyScalar(Math.max(ext * 1.8, 0.5)));
+    if (this.highlight) this.world.remove(this.highlight);
+    const box = new THREE.Box3(new THREE.Vector3().fromArray(o.bbox_min), new THREE.Vector3().fromArray(o.bbox_max));
+    box.expandByScalar(this.data.resolution_m / 2);
+    this.highlight = new THREE.Box3Helper(box, 0x000000);
+    this.world.add(this.highlight);
+    this.controls.update();
+    this.render();
+  };
+
+  // ---- self-test: real DOM events on the real UI, result as JSON in the page ------------------
+  Viewer.prototype.selfTest = function () {
+    const r = {loaded: true, voxels: this.v.n, drawn: this.drawnCount, faces_in_buffers: this.facesInBuffers,
+               faces_drawn: this.facesDrawn, load_ms: this.loadMs};
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    r.canvas = {x: rect.left + window.scrollX, y: rect.top + window.scrollY, width: rect.width, height: rect.height};
+    // Hide the most frequent class through its legend checkbox, count, show it again.
+    const ids = Object.keys(this.counts).map(Number).sort((a, b) => this.counts[b] - this.counts[a]);
+    if (ids.length) {
+      const id = ids[0], box = this.legendInputs[id];
+      box.click();
+      r.hide = {class_id: id, class_voxels: this.counts[id], drawn_after_hide: this.drawnCount,
+                faces_in_buffers: this.facesInBuffers, faces_drawn: this.facesDrawn};
+      box.click();
+      r.hide.drawn_after_show = this.drawnCount;
+    }
+    // Click the voxel nearest to the camera among those whose centre projects into the canvas.
+    const v = this.v, w = this.world.matrixWorld, p = new THREE.Vector3();
+    let best = -1, bestDist = Infinity, bx = 0, by = 0;
+    for (let i = 0; i < v.n; ++i) {
+      p.set(v.pos[3 * i], v.pos[3 * i + 1], v.pos[3 * i + 2]).applyMatrix4(w);
+      const dist = p.distanceTo(this.camera.position);
+      if (dist >= bestDist) continue;
+      p.project(this.camera);
+      if (Math.abs(p.x) > 0.9 || Math.abs(p.y) > 0.9 || p.z > 1) continue;
+      best = i; bestDist = dist; bx = (p.x + 1) / 2 * rect.width; by = (1 - p.y) / 2 * rect.height;
+    }
+    if (best >= 0) {
+      const expect = this.voxelSummary(best);
+      const canvas = this.renderer.domElement, opts = {bubbles: true, clientX: rect.left + bx, clientY: rect.top + by};
+      canvas.dispatchEvent(new PointerEvent("pointerdown", opts));
+      canvas.dispatchEvent(new MouseEvent("click", opts));
+      r.click = {x: bx, y: by, expected_class_id: expect.class_id, expected_key: expect.key.join(","),
+                 reported_class_id: this.info.dataset.classId === undefined ? null : Number(this.info.dataset.classId),
+                 reported_key: this.info.dataset.key || null, info_text: this.info.textContent};
+    }
+    let out = document.getElementById("s3m-selftest");
+    if (!out) { out = document.createElement("pre"); out.id = "s3m-selftest"; document.body.appendChild(out); }
+    out.textContent = JSON.stringify(r);
+  };
+
+  // ---- entry point ------------------------------------------------------------------------------
+  function start(root, data) {
+    const t0 = performance.now();
+    if (typeof THREE === "undefined" || !THREE.OrbitControls) {
+      root.textContent = "The 3-D view needs three.js (Debian: apt-get install libjs-three), then run the report or `s3m view` again.";
+      root.classList.add("s3m-missing");
+      return null;
+    }
+    if (!data) { root.textContent = "no map data (map_data.js) found next to this page"; return null; }
+    const viewer = new Viewer(root, data);
+    // Force the first frame to finish so the time covers the drawing too (1-pixel read-back).
+    const gl = viewer.renderer.getContext();
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+    viewer.loadMs = performance.now();  // since navigation start: parsing the scripts included
+    viewer.setupMs = performance.now() - t0;
+    root.dataset.loaded = "1";
+    root.dataset.loadMs = viewer.loadMs.toFixed(1);
+    root.dataset.drawn = viewer.drawnCount;
+    root.dataset.facesDrawn = viewer.facesDrawn;
+    window.s3mViewer = viewer;
+    if (/selftest/.test(location.hash)) viewer.selfTest();
+    return viewer;
+  }
+
+  window.S3MViewer = {start: start, decodeVoxels: decodeVoxels};
+})();
