@@ -35,6 +35,6 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_
   -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g" -DS3M_SANITIZE=ON -DS3M_BUILD_BENCH=OFF >/dev/null
 # Only the unit-test executables (and what they link): the integration tests stay Release-only.
 mapfile -t unit_targets < <(cmake --build build-asan --target help | sed -n 's/^\(test_[a-z0-9_]*\): .*/\1/p' |
-                            grep -v '^test_integration$')
+                            grep -v -E '^test_(integration|browser)$')
 cmake --build build-asan -j "$(nproc)" --target "${unit_targets[@]}"
 ctest --test-dir build-asan --output-on-failure -j "$(nproc)" -L unit "${args[@]}"

@@ -9,7 +9,10 @@ Reads what `s3m run` wrote into OUT_DIR:
   report/*.png     trajectory X-Y / X-Z, RPE over time and ATE plots, drawn before this script by
                    tools/plot_trajectories.py (the evaluator's script, so `s3m eval` and `s3m run`
                    draw trajectories the same way)
-and writes report/map_topdown.png, report/class_iou.png and the one-page report/report.html.
+  report/viewer/   the interactive 3-D map (src/s3m/viewer; three.js copied from libjs-three)
+  report/camera_views.json + camera_views/*.png   a few frames: colour, depth, segmentation, map labels
+and writes report/map_topdown.png, report/class_iou.png and the one-page report/report.html:
+numbers first, then the 3-D view, the camera views and the plots.
 
 matplotlib (Debian's python3-matplotlib) is used for the same reason evo uses it: real axes,
 legends and equal-aspect plots in a few lines, and PNGs anyone can open.
@@ -201,29 +204,96 @@ def summary_rows(metrics):
     return [(k, v) for k, v in rows if v is not None]
 
 
-def write_html(metrics, report_dir):
-    parts = ["<!doctype html><html><head><meta charset='utf-8'><title>s3m report</title>",
-             "<style>body{font-family:sans-serif;max-width:1100px;margin:auto}"
-             "img{max-width:49%;border:1px solid #ccc;margin:2px}"
-             "td,th{padding:2px 10px;text-align:left}</style></head><body>",
-             "<h1>s3m run report</h1>"]
+STYLE = """
+body{font-family:sans-serif;max-width:1280px;margin:auto;padding:0 12px;color:#222}
+h2{margin:22px 0 8px;border-bottom:1px solid #ddd}
+td,th{padding:2px 10px;text-align:left;vertical-align:top}
+.numbers{display:flex;flex-wrap:wrap;gap:28px;align-items:flex-start}
+.numbers table{border-collapse:collapse}
+.numbers tr:nth-child(even){background:#f6f6f6}
+.plots{display:grid;grid-template-columns:1fr 1fr;gap:8px}
+.plots img{width:100%;border:1px solid #ddd}
+.plots img:last-child:nth-child(odd){grid-column:span 2;width:60%;justify-self:center}
+.views{display:grid;grid-template-columns:auto repeat(4,1fr);gap:4px;align-items:center}
+.views img{width:100%;display:block}
+.views .head{font-weight:bold;text-align:center}
+.views .frame{font-size:12px;color:#555;padding-right:6px;white-space:nowrap}
+.note{color:#555;font-size:13px}
+"""
+
+
+def numbers_section(metrics):
+    """The run's numbers first: inputs, the summary and the per-stage timings, side by side."""
     inputs = metrics.get("inputs", {})
-    parts.append("<p>" + "<br>".join(f"<b>{html.escape(k)}</b>: {fmt_value(v)}" for k, v in inputs.items()) + "</p>")
-    parts.append("<table>" + "".join(f"<tr><th>{html.escape(k)}</th><td>{fmt_value(v)}</td></tr>"
-                                     for k, v in summary_rows(metrics)) + "</table>")
+    parts = ["<p class='note'>" + "<br>".join(f"<b>{html.escape(k)}</b>: {fmt_value(v)}" for k, v in inputs.items()) + "</p>",
+             "<div class='numbers'><table>" + "".join(f"<tr><th>{html.escape(k)}</th><td>{fmt_value(v)}</td></tr>"
+                                                      for k, v in summary_rows(metrics)) + "</table>"]
     timings = metrics.get("timings_ms", {})
     if timings:
-        parts.append("<h2>Timings per stage [ms]</h2><table><tr><th>stage</th><th>mean</th><th>p50</th>"
-                     "<th>p95</th><th>count</th></tr>")
+        parts.append("<table><tr><th>stage [ms]</th><th>mean</th><th>p50</th><th>p95</th><th>count</th></tr>")
         for stage, t in timings.items():
             parts.append(f"<tr><td>{html.escape(stage)}</td><td>{t['mean']:.2f}</td><td>{t['p50']:.2f}</td>"
                          f"<td>{t['p95']:.2f}</td><td>{t['count']}</td></tr>")
         parts.append("</table>")
-    parts.append("<h2>Plots</h2>")
-    for png in ("trajectory_xy.png", "trajectory_xz.png", "rpe.png", "ate.png", "map_topdown.png",
-                "class_iou.png"):
-        if os.path.exists(os.path.join(report_dir, png)):
-            parts.append(f"<img src='{png}' alt='{png}'>")
+    parts.append("</div>")
+    return parts
+
+
+def viewer_section(report_dir):
+    """The interactive 3-D map (report/viewer/, written by s3m before this script: src/s3m/viewer)."""
+    viewer = os.path.join(report_dir, "viewer")
+    if not os.path.exists(os.path.join(viewer, "map_data.js")):
+        return []
+    parts = ["<h2>The map in 3-D</h2>",
+             "<p class='note'>Drag to orbit, right-drag to pan, wheel to zoom; click a voxel for its labels. "
+             "<a href='viewer/index.html'>Open on its own page</a>.</p>",
+             "<link rel='stylesheet' href='viewer/viewer.css'><div id='s3m-viewer'></div>"]
+    if not os.path.exists(os.path.join(viewer, "three.min.js")):
+        parts.append("<p class='note'>The 3-D view needs three.js: <code>apt-get install libjs-three</code>, then run again.</p>")
+    parts += ["<script src='viewer/three.min.js'></script>", "<script src='viewer/OrbitControls.js'></script>",
+              "<script src='viewer/map_data.js'></script>", "<script src='viewer/viewer.js'></script>",
+              "<script>S3MViewer.start(document.getElementById('s3m-viewer'), window.S3M_VIEWER_DATA);</script>"]
+    return parts
+
+
+def camera_views_section(report_dir):
+    """Rows of colour | depth | segmentation | map labels for a few frames (report/camera_views.json)."""
+    path = os.path.join(report_dir, "camera_views.json")
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        frames = json.load(f).get("frames", [])
+    if not frames:
+        return []
+    cols = (("colour", "colour"), ("depth", "depth (near blue, far red)"), ("segmentation", "segmentation"),
+            ("map", "final map's labels seen from this pose"))
+    parts = ["<h2>What the camera saw</h2>", "<div class='views'><div></div>"]
+    parts += [f"<div class='head'>{label}</div>" for _, label in cols]
+    for fr in frames:
+        parts.append(f"<div class='frame'>frame {fr['index']}<br>t={fr['t_s']:.2f} s</div>")
+        for key, label in cols:
+            parts.append(f"<img src='{html.escape(fr[key])}' alt='{label}'>" if key in fr else "<div class='note'>n/a</div>")
+    parts.append("</div>")
+    return parts
+
+
+def plots_section(report_dir):
+    """Trajectory, error and map plots two per row (an odd last one centred): no holes."""
+    pngs = [p for p in ("trajectory_xy.png", "trajectory_xz.png", "rpe.png", "ate.png", "map_topdown.png", "class_iou.png")
+            if os.path.exists(os.path.join(report_dir, p))]
+    if not pngs:
+        return []
+    return ["<h2>Trajectory, errors and map</h2><div class='plots'>"] + \
+        [f"<img src='{p}' alt='{p}'>" for p in pngs] + ["</div>"]
+
+
+def write_html(metrics, report_dir):
+    parts = ["<!doctype html><html><head><meta charset='utf-8'><title>s3m report</title>",
+             f"<style>{STYLE}</style></head><body>", "<h1>s3m run report</h1>"]
+    parts += numbers_section(metrics)
+    parts += viewer_section(report_dir)
+    parts += camera_views_section(report_dir)
+    parts += plots_section(report_dir)
     parts.append("<p>Full numbers: <a href='../metrics.json'>metrics.json</a></p></body></html>")
     tmp = os.path.join(report_dir, "report.html.tmp")
     with open(tmp, "w") as f:

@@ -207,14 +207,14 @@
     const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 0.5);
     this.camera = new THREE.PerspectiveCamera(50, 1, size / 500, size * 20);
     // From the side the camera flew on (the mapped surfaces face it), raised to look down.
-    const t = this.data.trajectory || [], side = new THREE.Vector3(0.8, 0, 1.1);
+    const t = this.data.trajectory || [], side = new THREE.Vector3(0.6, 0, 0.8);
     if (t.length >= 7) {
       const mean = new THREE.Vector3();
       for (let i = 0; i < t.length; i += 7) mean.add(new THREE.Vector3(t[i], t[i + 1], t[i + 2]));
       mean.multiplyScalar(7 / t.length).applyQuaternion(this.world.quaternion).sub(centre).setY(0);
-      if (mean.length() > 1e-3) side.copy(mean).normalize().multiplyScalar(1.36);
+      if (mean.length() > 1e-3) side.copy(mean).normalize().multiplyScalar(1.0);
     }
-    this.camera.position.copy(centre).add(side.setY(0.9).multiplyScalar(size));
+    this.camera.position.copy(centre).add(side.setY(0.75).multiplyScalar(size));
     this.controls = new THREE.OrbitControls(this.camera, this.renderer.domElement);
     this.controls.target.copy(centre);
     this.controls.screenSpacePanning = true;

@@ -77,4 +77,24 @@ void add_reprojection(const mapping::SemanticOcTree& map, const PinholeCamera& c
   score.frame.add(cv::Mat(1, n, CV_16UC1, gt.data()), cv::Mat(1, n, CV_16UC1, frame_pred.data()));
 }
 
+cv::Mat project_map_labels(const mapping::SemanticOcTree& map, const PinholeCamera& camera, const cv::Mat& depth_m,
+                           const SE3& T_w_c, const ReprojectionOptions& o) {
+  require(depth_m.type() == CV_32FC1, "project_map_labels: depth must be CV_32FC1");
+  require(o.pixel_stride >= 1, "project_map_labels: pixel_stride must be >= 1");
+  cv::Mat labels(depth_m.size(), CV_16UC1, cv::Scalar(cls::kUnknown));
+  const double res = map.getResolution();
+  const Eigen::Vector3d origin_w = T_w_c.translation();
+  const int s = o.pixel_stride;
+  for (int v = 0; v < depth_m.rows; v += s) {
+    const float* d = depth_m.ptr<float>(v);
+    for (int u = 0; u < depth_m.cols; u += s) {
+      if (!(d[u] >= o.min_depth_m && d[u] <= o.max_depth_m)) continue;
+      const Eigen::Vector3d p_w = T_w_c * camera.backproject(u, v, d[u]);
+      const ClassId m = map_label(map, p_w, res * (p_w - origin_w).normalized());
+      if (m != cls::kUnknown) labels(cv::Rect(u, v, std::min(s, depth_m.cols - u), std::min(s, depth_m.rows - v))) = m;
+    }
+  }
+  return labels;
+}
+
 }  // namespace s3m::pipeline

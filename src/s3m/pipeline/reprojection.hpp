@@ -74,4 +74,10 @@ struct ReprojectionScore {
 void add_reprojection(const mapping::SemanticOcTree& map, const PinholeCamera& camera,
                       const ReprojectionInput& in, const ReprojectionOptions& options, ReprojectionScore& score);
 
+// The map's label for every pixel of one frame (CV_16UC1, camera size; 0 where the map has none):
+// the same per-pixel lookup add_reprojection scores, for pictures (report/camera_views). Pixels
+// are looked up every options.pixel_stride in u and v and fill their stride x stride block.
+cv::Mat project_map_labels(const mapping::SemanticOcTree& map, const PinholeCamera& camera, const cv::Mat& depth_m,
+                           const SE3& T_w_c, const ReprojectionOptions& options);
+
 }  // namespace s3m::pipeline

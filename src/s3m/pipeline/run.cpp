@@ -6,6 +6,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
+#include "s3m/pipeline/camera_views.hpp"
 #include "s3m/pipeline/cost_estimate.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/metrics.hpp"
@@ -13,6 +14,7 @@
 #include "s3m/pipeline/pipeline.hpp"
 #include "s3m/pipeline/progress.hpp"
 #include "s3m/pipeline/report.hpp"
+#include "s3m/pipeline/report_views.hpp"
 
 namespace s3m::pipeline {
 namespace fs = std::filesystem;
@@ -92,6 +94,12 @@ RunResult run_dataset(const RunOptions& o) {
   spdlog::info("run: {} frames from {} (poses: {}, segmenter: {})", r.frames_total, c.info.dataset_dir,
                c.info.poses, c.info.segmenter);
 
+  // The report's camera views: segmentations of a few integrated frames, kept as the run goes.
+  CameraViewSampler camera_views;
+  if (o.report && o.config.eval.plots)
+    c.pipeline->set_frame_listener([&camera_views](const FrameOutcome& f, const RgbdFrame&, const semantics::LabelMap& l) {
+      camera_views.offer(f, l);
+    });
   ProgressLine progress(r.frames_total, o.progress);
   Stopwatch wall;
   std::size_t submitted = 0;
@@ -116,6 +124,8 @@ RunResult run_dataset(const RunOptions& o) {
   r.metrics = compute_metrics(*c.pipeline, *c.source, o.config, c.info, paths);
   write_metrics(r.metrics, paths);
   if (o.report && o.config.eval.plots) {
+    const std::string views = write_report_views(*c.pipeline, *c.source, o.config, paths, camera_views.chosen());
+    if (!views.empty()) spdlog::warn("run: report pictures missing: {}", views);
     const ReportResult rep = make_report(o.out_dir);
     r.report_html = rep.html;
     r.report_error = rep.error;
