@@ -62,6 +62,9 @@ ViewerFolder write_viewer(const mapping::SemanticOcTree& map, const SceneExtras&
   out.have_three = !three.empty();
   if (out.have_three) {
     for (const auto& [from, to] : kThreeFiles) io::write_text_atomic(dir + "/" + to, read_file(fs::path(three) / from));
+    // three.js is MIT-licensed: its notice travels with the copy (Debian's copyright file).
+    const fs::path notice = "/usr/share/doc/libjs-three/copyright";
+    if (fs::exists(notice)) io::write_text_atomic(dir + "/three.js-LICENSE.txt", read_file(notice));
   } else {
     out.note = "three.js not found (apt-get install libjs-three, or set S3M_THREE_DIR): the 3-D view needs it";
   }

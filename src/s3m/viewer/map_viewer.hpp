@@ -5,7 +5,8 @@
 //   map_data.js      the scene (viewer_data.hpp) as `window.S3M_VIEWER_DATA = {...};` (a script,
 //                    not fetched JSON: Chromium refuses fetch() of file:// URLs)
 //   viewer.js/.css   the viewer's own code, copied from the repository's tools/viewer/
-//   three.min.js, OrbitControls.js   three.js r111 copied from Debian's libjs-three
+//   three.min.js, OrbitControls.js   three.js r111 copied from Debian's libjs-three (and its
+//                    licence notice, three.js-LICENSE.txt)
 // When three.js is not installed the data and our files are still written, and the page says that
 // the 3-D view needs libjs-three.
 #include <string>
