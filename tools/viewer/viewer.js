@@ -519,7 +519,6 @@
 
   // ---- entry point ------------------------------------------------------------------------------
   function start(root, data) {
-    const t0 = performance.now();
     if (typeof THREE === "undefined" || !THREE.OrbitControls) {
       root.textContent = "The 3-D view needs three.js (Debian: apt-get install libjs-three), then run the report or `s3m view` again.";
       root.classList.add("s3m-missing");
@@ -528,7 +527,6 @@
     if (!data) { root.textContent = "no map data (map_data.js) found next to this page"; return null; }
     const viewer = new Viewer(root, data);
     viewer.loadMs = performance.now();  // since navigation start: parsing the scripts included
-    viewer.setupMs = performance.now() - t0;
     root.dataset.loaded = "1";
     root.dataset.loadMs = viewer.loadMs.toFixed(1);
     root.dataset.drawn = viewer.drawnCount;

@@ -9,18 +9,17 @@
 #include <sstream>
 #include <vector>
 
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
 
 namespace s3m::viewer {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-  return q + "'";
-}
 
 std::string on_path(const std::string& name) {
   const char* path = std::getenv("PATH");
@@ -30,26 +29,41 @@ std::string on_path(const std::string& name) {
   return {};
 }
 
-BrowserRun run(const std::string& chromium, const std::vector<std::string>& args, const BrowserOptions& o) {
+// Runs argv without a shell, stdout and stderr into files; exit code, -1 if it could not start.
+int spawn(const std::vector<std::string>& args, const std::string& out_file, const std::string& err_file) {
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t io;
+  posix_spawn_file_actions_init(&io);
+  posix_spawn_file_actions_addopen(&io, STDOUT_FILENO, out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&io, STDERR_FILENO, err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = 0;
+  const int started = posix_spawnp(&pid, argv[0], &io, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&io);
+  int status = 0;
+  if (started != 0 || waitpid(pid, &status, 0) < 0) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+BrowserRun run(const std::string& chromium, const std::vector<std::string>& extra, const BrowserOptions& o) {
   std::error_code ec;
   fs::remove_all(o.profile_dir, ec);
   fs::create_directories(o.profile_dir, ec);
-  std::string cmd = "timeout " + std::to_string(o.timeout_s) + " " + shell_quote(chromium);
+  std::vector<std::string> args = {"timeout", std::to_string(o.timeout_s), chromium};
   for (const char* f : {"--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                         "--disable-background-networking", "--disable-component-update", "--disable-sync",
                         "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--hide-scrollbars"})
-    cmd += std::string(" ") + f;
-  cmd += " " + shell_quote("--user-data-dir=" + o.profile_dir);
-  cmd += " --window-size=" + std::to_string(o.width) + "," + std::to_string(o.height);
-  if (o.virtual_time_budget_ms > 0) cmd += " --virtual-time-budget=" + std::to_string(o.virtual_time_budget_ms);
-  for (const auto& a : args) cmd += " " + shell_quote(a);
-  const std::string out_file = o.profile_dir + "/stdout.txt", err_file = o.profile_dir + "/stderr.txt";
-  cmd += " > " + shell_quote(out_file) + " 2> " + shell_quote(err_file);
+    args.emplace_back(f);
+  args.push_back("--user-data-dir=" + o.profile_dir);
+  args.push_back("--window-size=" + std::to_string(o.width) + "," + std::to_string(o.height));
+  if (o.virtual_time_budget_ms > 0) args.push_back("--virtual-time-budget=" + std::to_string(o.virtual_time_budget_ms));
+  args.insert(args.end(), extra.begin(), extra.end());
+  const std::string out_file = o.profile_dir + "/stdout.txt";
   BrowserRun r;
   const auto t0 = std::chrono::steady_clock::now();
-  const int status = std::system(cmd.c_str());
+  r.exit_code = spawn(args, out_file, o.profile_dir + "/stderr.txt");
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.exit_code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   std::ifstream f(out_file, std::ios::binary);
   std::ostringstream ss;
   ss << f.rdbuf();
