@@ -11,7 +11,7 @@
 #include "s3m/eval/trajectory_eval.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
 #include "s3m/io/tum_dataset.hpp"
-#include "s3m/slam/loop_slam.hpp"
+#include "s3m/slam/system.hpp"
 
 using namespace s3m;
 
@@ -26,10 +26,8 @@ Outcome run(const io::TumDataset& data, std::shared_ptr<const features::Vocabula
             int blank_first, bool threaded) {
   slam::SlamConfig cfg;
   cfg.threaded = threaded;
-  slam::System system(data.camera(), cfg);
-  slam::LoopSlamConfig lc;
-  lc.loop_closing = loop_closing;
-  slam::LoopClosingSlam loops(system, data.camera(), std::move(vocab), lc);
+  cfg.places.loop_closing = loop_closing;
+  slam::System system(data.camera(), cfg, std::move(vocab));
   Outcome o;
   Stopwatch wall;
   for (std::size_t i = 0; i < data.size(); ++i) {
@@ -38,7 +36,7 @@ Outcome run(const io::TumDataset& data, std::shared_ptr<const features::Vocabula
       f.rgb.setTo(0);
       f.depth_m.setTo(0);
     }
-    const auto r = loops.track(f);
+    const auto r = system.track(f);
     o.lost += r.state == slam::TrackState::kLost;
     if (i % 100 == 0) std::fprintf(stderr, "  frame %zu/%zu %s\n", i, data.size(), slam::to_string(r.state));
   }
@@ -54,8 +52,8 @@ Outcome run(const io::TumDataset& data, std::shared_ptr<const features::Vocabula
     }
   }
   o.ate_m = eval::compute_ate(m, eval::AlignMode::kSe3).stats_m.rmse;
-  o.loops = loops.n_loops();
-  o.relocalisations = loops.n_relocalisations();
+  o.loops = system.n_loops();
+  o.relocalisations = system.n_relocalised_frames();
   o.keyframes = system.map().n_keyframes();
   return o;
 }

@@ -13,7 +13,7 @@ namespace s3m::it {
 namespace {
 
 // Ground-truth poses that jump by a rigid correction at frame `switch_at`, as after a loop closure:
-// from then on every pose is corrected, and (if `notify`) the listener gets all earlier keyframes
+// from then on every pose is corrected, and (if `notify`) that frame's output carries all earlier keyframes
 // at their corrected poses. switch_at = 0: corrected from the start, no notification ever.
 class CorrectedPoses final : public pipeline::PoseSource {
  public:
@@ -23,20 +23,19 @@ class CorrectedPoses final : public pipeline::PoseSource {
   pipeline::TrackOutput track(const RgbdFrame& frame) override {
     pipeline::TrackOutput out = inner_->track(frame);
     if (frame.index < switch_at_) return out;
-    if (frame.index == switch_at_ && switch_at_ > 0 && notify_) listener_(corrected(inner_->keyframe_poses()));
-    out.T_w_c = T_corr_ * out.T_w_c;
-    out.T_w_kf = T_corr_ * out.T_w_kf;
+    if (frame.index == switch_at_ && switch_at_ > 0 && notify_)
+      out.corrections.push_back(corrected(inner_->keyframe_poses()));
+    out.T_w_c = T_corr_ * out.T_w_c;  // (the pose relative to its keyframe, out.anchor, is unchanged)
     return out;
   }
-  void set_correction_listener(pipeline::CorrectionListener l) override { listener_ = std::move(l); }
-  void finish() override {}
+  std::vector<pipeline::KeyframePoses> finish() override { return {}; }
   io::Trajectory camera_trajectory() const override { return inner_->camera_trajectory(); }
   io::Trajectory keyframe_trajectory() const override { return inner_->keyframe_trajectory(); }
-  std::map<pipeline::KeyframeId, SE3> keyframe_poses() const override { return corrected(inner_->keyframe_poses()); }
+  pipeline::KeyframePoses keyframe_poses() const override { return corrected(inner_->keyframe_poses()); }
   std::string name() const override { return "corrected ground truth"; }
 
  private:
-  std::map<pipeline::KeyframeId, SE3> corrected(std::map<pipeline::KeyframeId, SE3> poses) const {
+  pipeline::KeyframePoses corrected(pipeline::KeyframePoses poses) const {
     for (auto& [id, T] : poses) T = T_corr_ * T;
     return poses;
   }
@@ -44,7 +43,6 @@ class CorrectedPoses final : public pipeline::PoseSource {
   int switch_at_;
   bool notify_;
   SE3 T_corr_;
-  pipeline::CorrectionListener listener_;
 };
 
 using VoxelKey = std::tuple<int, int, int>;

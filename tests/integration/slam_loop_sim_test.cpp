@@ -11,7 +11,7 @@
 
 #include "s3m/eval/align.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
-#include "s3m/slam/loop_slam.hpp"
+#include "s3m/slam/system.hpp"
 #include "slam_loop_sim_fixture.hpp"
 
 namespace s3m::it {
@@ -45,12 +45,9 @@ LoopRun run(bool loop_closing, Mode mode, bool outage) {
   slam::SlamConfig cfg;
   cfg.threaded = mode != Mode::kSingleThread;
   cfg.T_c_r = loop_simulation().trajectory().T_c_r;
-  slam::System slam(data.camera(), cfg);
-  slam::LoopSlamConfig lc;
-  lc.loop_closing = loop_closing;
-  slam::LoopClosingSlam loops(slam, data.camera(), vocabulary(), lc);
+  cfg.places.loop_closing = loop_closing;
+  slam::System slam(data.camera(), cfg, vocabulary());
   LoopRun r;
-  loops.add_listener([&](const slam::LoopCorrection&) { ++r.corrections_heard; });  // read after finish()
   for (std::size_t i = 0; i < data.size(); ++i) {
     if (outage && !delivered_in_outage(int(i))) continue;
     RgbdFrame f = data.load(i);
@@ -58,14 +55,16 @@ LoopRun run(bool loop_closing, Mode mode, bool outage) {
       f.rgb.setTo(0);
       f.depth_m.setTo(0);
     }
-    const slam::TrackResult t = loops.track(f);
+    const slam::TrackResult t = slam.track(f);
     r.states[f.index] = t.state;
+    r.corrections_heard += int(t.corrections.size());
     if (mode == Mode::kLockstep && t.keyframe) slam.query_map([](const slam::Map&) {});
   }
   slam.finish();
+  r.corrections_heard += int(slam.late_corrections().size());
   r.traj = slam.camera_trajectory();
-  r.loops = loops.n_loops();
-  r.relocalisations = loops.n_relocalisations();
+  r.loops = slam.n_loops();
+  r.relocalisations = slam.n_relocalised_frames();
   return r;
 }
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "s3m/features/bow_vocabulary.hpp"
-#include "s3m/slam/loop_slam.hpp"
+#include "s3m/slam/system.hpp"
 #include "slam_synthetic_room.hpp"
 
 namespace s3m::slam {
@@ -62,24 +62,27 @@ struct RunResult {
 
 RunResult run(bool loop_closing, const std::set<int>& blank = {}) {
   SlamConfig cfg;
-  System slam(room_camera(), cfg);
-  LoopSlamConfig lc;
-  lc.loop_closing = loop_closing;
-  LoopClosingSlam loops(slam, room_camera(), vocabulary(), lc);
+  cfg.places.loop_closing = loop_closing;
+  System slam(room_camera(), cfg, vocabulary());
   RunResult r;
-  loops.add_listener([&](const LoopCorrection& c) {
-    ++r.corrections_heard;
-    r.keyframes_in_last_correction = c.T_w_kf_after.size();
-  });
+  auto hear = [&](const std::vector<LoopCorrection>& corrections) {
+    for (const auto& c : corrections) {
+      ++r.corrections_heard;
+      r.keyframes_in_last_correction = c.T_w_kf_after.size();
+    }
+  };
   for (const auto& frame : room_frames()) {
     RgbdFrame f = frame;
     if (blank.count(f.index)) blank_out(f);
-    r.states.push_back(loops.track(f).state);
+    const TrackResult t = slam.track(f);
+    r.states.push_back(t.state);
+    hear(t.corrections);
   }
   slam.finish();
+  hear(slam.late_corrections());
   r.traj = slam.camera_trajectory();
-  r.loops = loops.n_loops();
-  r.relocalisations = loops.n_relocalisations();
+  r.loops = slam.n_loops();
+  r.relocalisations = slam.n_relocalised_frames();
   return r;
 }
 
@@ -105,7 +108,7 @@ TEST(LoopClosing, ClosingTheRoomLoopReducesDrift) {
   std::printf("ATE without loop closing %.4f m, with %.4f m (%d loops)\n", ate_without, ate_with, with.loops);
   EXPECT_EQ(without.loops, 0);
   ASSERT_GE(with.loops, 1);
-  EXPECT_EQ(with.corrections_heard, with.loops);  // every closure reached the listener
+  EXPECT_EQ(with.corrections_heard, with.loops);  // every closure reached the caller
   EXPECT_GT(with.keyframes_in_last_correction, 10U);
   EXPECT_LT(ate_with, 0.8 * ate_without);
 }
@@ -154,15 +157,14 @@ std::vector<StampedPose> expect_kidnapped_camera_relocalised(bool threaded) {
   for (int i = 40; i < 80; ++i) source.push_back(i);
   SlamConfig cfg;
   cfg.threaded = threaded;
-  System slam(room_camera(), cfg);
-  LoopClosingSlam loops(slam, room_camera(), vocabulary());
+  System slam(room_camera(), cfg, vocabulary());
   std::vector<TrackState> states;
   for (size_t k = 0; k < source.size(); ++k) {
     RgbdFrame f = room_frames()[size_t(std::max(source[k], 0))];
     if (source[k] < 0) blank_out(f);
     f.index = int(k);
     f.t_s = double(k) / 30.0;
-    const TrackResult t = loops.track(f);
+    const TrackResult t = slam.track(f);
     states.push_back(t.state);
     if (threaded && t.keyframe) slam.query_map([](const Map&) {});
   }
@@ -171,7 +173,7 @@ std::vector<StampedPose> expect_kidnapped_camera_relocalised(bool threaded) {
   for (size_t k = 120; k < 130; ++k) EXPECT_EQ(states[k], TrackState::kLost) << mode << " step " << k;
   EXPECT_EQ(states[130], TrackState::kRelocalised) << mode;
   for (size_t k = 131; k < source.size(); ++k) EXPECT_EQ(states[k], TrackState::kOk) << mode << " step " << k;
-  EXPECT_EQ(loops.n_relocalisations(), 1) << mode;
+  EXPECT_EQ(slam.n_relocalised_frames(), 1) << mode;
   // Where the relocalised frame ended up (final trajectory) against the ground truth of frame 40.
   const SE3 T_0_w = test::uav_pose(0, kLoopFrames).inverse();
   double worst_m = 0;

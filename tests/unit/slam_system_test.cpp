@@ -42,10 +42,9 @@ struct RunResult {
   int lost = 0, keyframes = 0;
 };
 
-// progress (optional): set to the number of frames tracked so far, for hooks that pace mapping.
-RunResult run(const SlamConfig& cfg, LocalMapper::KeyFrameHook hook = {}, std::atomic<int>* progress = nullptr) {
-  System slam(room_camera(), cfg);
-  if (hook) slam.set_keyframe_hook(std::move(hook));
+// progress (optional): set to the number of frames tracked so far, for observers that pace mapping.
+RunResult run(const SlamConfig& cfg, MappingObserver observer = {}, std::atomic<int>* progress = nullptr) {
+  System slam(room_camera(), cfg, nullptr, std::move(observer));
   RunResult r;
   for (const auto& f : room_frames()) {
     r.results.push_back(slam.track(f));
@@ -123,7 +122,7 @@ TEST(SlamSystem, ThreadedModeSurvivesASlowMapper) {
   int n_paced = 0;
   const RunResult r = run(
       cfg,
-      [&](Map& map, KfId kf) {
+      [&](const Map& map, KfId kf) {
         const int target = map.keyframe(kf).frame_index + kLagFrames;
         int last = tracked.load(), still_ms = 0;
         while (tracked.load() < target && tracked.load() < kFrames && still_ms < 150) {
@@ -164,7 +163,8 @@ TEST(SlamTracker, FewCloseTrackedPointsMakeNoKeyframeWhileOneIsPending) {
   Tracker tracker(room_camera(), fc, tc);
   const TrackerOutput first = tracker.process(room_frames(3)[0]);
   ASSERT_TRUE(first.keyframe.has_value());
-  tracker.set_snapshot(std::make_shared<const LocalMapSnapshot>(mapper.process(*first.keyframe)));
+  tracker.set_snapshot(std::make_shared<const LocalMapSnapshot>(
+      make_snapshot(map, mapper.process(*first.keyframe), MapperConfig{}.snapshot_keyframes)));
   Tracker idle = tracker, busy = tracker;
   const TrackerOutput a = idle.process(room_frames(3)[2], /*pending_keyframes=*/0);
   const TrackerOutput b = busy.process(room_frames(3)[2], /*pending_keyframes=*/1);
@@ -218,6 +218,18 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("T_c_r: {q: [0, 0, 0, 2]}"), "t.yaml"), ParseError);
 }
 
+TEST(SlamConfig, QueueCapacityMustHoldEveryUnansweredKeyframe) {
+  // Tracking keeps up to max_pending_keyframes + 1 keyframes unanswered plus one relocalisation
+  // query in flight: smaller queues could block both threads, so such a config is refused.
+  EXPECT_EQ(SlamConfig{}.queue_capacity, SlamConfig{}.tracker.max_pending_keyframes + 2);
+  EXPECT_EQ(slam_config_from_yaml(YAML::Load("queue_capacity: 6\ntracker: {max_pending_keyframes: 4}"), "t.yaml")
+                .queue_capacity,
+            6);
+  EXPECT_THROW(slam_config_from_yaml(YAML::Load("queue_capacity: 4"), "t.yaml"), ParseError);
+  EXPECT_THROW(slam_config_from_yaml(YAML::Load("queue_capacity: 5\ntracker: {max_pending_keyframes: 4}"), "t.yaml"),
+               ParseError);
+}
+
 TEST(SlamSystem, WritesTumTrajectory) {
   const std::string path = ::testing::TempDir() + "/slam_traj.txt";
   write_tum_trajectory(path, {{1.5, 0, make_se3(Vec3(1, 2, 3), Quat::Identity()), TrackState::kOk}});
@@ -245,6 +257,7 @@ TEST(SlamConfig, ShippedDefaultPresetMatchesCompiledDefaults) {
   EXPECT_EQ(c.mapper.final_global_ba, d.mapper.final_global_ba);
   EXPECT_EQ(c.mapper.ba.global_iterations, d.mapper.ba.global_iterations);
   EXPECT_TRUE(c.T_c_r.isApprox(d.T_c_r));
+  EXPECT_EQ(c.queue_capacity, d.queue_capacity);
   EXPECT_THROW(load_slam_config("/nonexistent/slam.yaml"), ParseError);
 }
 

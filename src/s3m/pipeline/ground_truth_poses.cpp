@@ -18,8 +18,6 @@ class GroundTruthPoses final : public PoseSource {
     const auto T = lookup(frame.t_s);
     if (!T) {
       out.state = "NO_GT";
-      out.keyframe_id = last_kf_;
-      if (last_kf_ >= 0) out.T_w_kf = kf_poses_.at(last_kf_);
       return out;
     }
     out.T_w_c = *T;
@@ -31,17 +29,15 @@ class GroundTruthPoses final : public PoseSource {
       kf_traj_.push_back({frame.t_s, *T});
       out.keyframe = true;
     }
-    out.keyframe_id = last_kf_;
-    out.T_w_kf = kf_poses_.at(last_kf_);
+    out.anchor = {last_kf_, kf_poses_.at(last_kf_).inverse() * *T};
     traj_.push_back({frame.t_s, *T});
     return out;
   }
 
-  void set_correction_listener(CorrectionListener) override {}  // ground truth is never corrected
-  void finish() override {}
+  std::vector<KeyframePoses> finish() override { return {}; }  // ground truth is never corrected
   io::Trajectory camera_trajectory() const override { return traj_; }
   io::Trajectory keyframe_trajectory() const override { return kf_traj_; }
-  std::map<KeyframeId, SE3> keyframe_poses() const override { return kf_poses_; }
+  KeyframePoses keyframe_poses() const override { return kf_poses_; }
   std::string name() const override { return "ground truth"; }
 
  private:
@@ -63,8 +59,8 @@ class GroundTruthPoses final : public PoseSource {
   io::Trajectory gt_;
   GroundTruthPosesConfig config_;
   io::Trajectory traj_, kf_traj_;
-  std::map<KeyframeId, SE3> kf_poses_;
-  KeyframeId last_kf_ = -1;
+  KeyframePoses kf_poses_;
+  KeyframeId last_kf_ = kNoKeyframe;
 };
 
 }  // namespace

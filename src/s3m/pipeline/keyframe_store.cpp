@@ -8,11 +8,11 @@
 
 namespace s3m::pipeline {
 
-void KeyframeStore::add(KeyframeId anchor, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud) {
-  const auto it = keyframes_.find(anchor);
-  require(it != keyframes_.end(), "KeyframeStore::add: keyframe " + std::to_string(anchor) + " was not noted");
+void KeyframeStore::add(KeyframeId keyframe, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud) {
+  const auto it = keyframes_.find(keyframe);
+  require(it != keyframes_.end(), "KeyframeStore::add: keyframe " + std::to_string(keyframe) + " was not noted");
   cloud.shrink_to_fit();  // kept for the whole run: hold no spare capacity from building it
-  clouds_.push_back({anchor, it->second.inverse() * T_w_c, frame_index, std::move(cloud)});
+  clouds_.push_back({{keyframe, it->second.inverse() * T_w_c}, frame_index, std::move(cloud)});
   bytes_ += cloud_bytes(clouds_.back().cloud) + sizeof(KeptCloud);
   while (budget_bytes_ > 0 && bytes_ > budget_bytes_ && clouds_.size() > 1) drop_most_redundant();
 }
@@ -28,7 +28,7 @@ std::array<int, 6> viewpoint_cell(const SE3& T_w_c) {
 }
 
 bool is_keyframe_cloud(const KeptCloud& c) {
-  return c.T_kf_c.translation().norm() < 1e-9 && c.T_kf_c.linear().isIdentity(1e-9);
+  return c.anchor.T_kf_c.translation().norm() < 1e-9 && c.anchor.T_kf_c.linear().isIdentity(1e-9);
 }
 
 }  // namespace

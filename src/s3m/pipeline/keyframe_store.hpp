@@ -14,16 +14,14 @@
 #include <map>
 #include <vector>
 
+#include "s3m/core/keyframe_id.hpp"
 #include "s3m/core/se3.hpp"
 #include "s3m/pipeline/labelled_cloud.hpp"
 
 namespace s3m::pipeline {
 
-using KeyframeId = std::int64_t;  // same values as slam::KfId
-
 struct KeptCloud {
-  KeyframeId anchor = -1;      // keyframe the cloud moves with
-  SE3 T_kf_c = SE3::Identity();
+  KeyframeAnchor anchor;  // keyframe the cloud moves with, and the camera pose relative to it
   int frame_index = 0;
   mapping::LabeledCloud cloud;  // camera frame (origin 0), exactly what was inserted
 };
@@ -36,9 +34,9 @@ class KeyframeStore {
   // Records a keyframe and its pose as SLAM created it (every keyframe, so that corrections of
   // culled keyframes can be inferred from their neighbours).
   void note_keyframe(KeyframeId id, const SE3& T_w_kf) { keyframes_.insert_or_assign(id, T_w_kf); }
-  // Keeps a cloud observed at T_w_c, anchored to the noted keyframe `anchor`; then drops redundant
-  // clouds while over budget (never the one just added).
-  void add(KeyframeId anchor, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud);
+  // Keeps a cloud observed at T_w_c, anchored to the noted keyframe `keyframe`; then drops
+  // redundant clouds while over budget (never the one just added).
+  void add(KeyframeId keyframe, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud);
 
   // Moves anchors to new keyframe poses. Anchors not in the map (keyframes SLAM has culled since)
   // follow the correction of the nearest listed keyframe by id, which is the keyframe they were
@@ -50,7 +48,8 @@ class KeyframeStore {
   std::size_t budget_bytes() const { return budget_bytes_; }
   std::size_t dropped() const { return dropped_; }  // clouds dropped to stay within the budget
   const std::vector<KeptCloud>& clouds() const { return clouds_; }
-  SE3 T_w_c(const KeptCloud& c) const { return keyframes_.at(c.anchor) * c.T_kf_c; }
+  SE3 T_w_c(const KeyframeAnchor& a) const { return keyframes_.at(a.keyframe) * a.T_kf_c; }
+  SE3 T_w_c(const KeptCloud& c) const { return T_w_c(c.anchor); }
   const std::map<KeyframeId, SE3>& keyframes() const { return keyframes_; }
 
  private:

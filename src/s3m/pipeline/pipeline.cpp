@@ -19,10 +19,6 @@ Pipeline::Pipeline(PipelineConfig config, PinholeCamera camera, std::unique_ptr<
   config_.validate();
   camera_.validate();
   store_ = KeyframeStore(static_cast<std::size_t>(config_.cloud.kept_clouds_budget_mb * 1e6));
-  poses_->set_correction_listener([this](const std::map<KeyframeId, SE3>& T_w_kf) {
-    std::lock_guard lock(corrections_mutex_);
-    for (const auto& [id, T] : T_w_kf) pending_corrections_.insert_or_assign(id, T);
-  });
   if (!config_.threads.deterministic) start_threads();
 }
 
@@ -56,7 +52,7 @@ Pipeline::Work Pipeline::step1_track(RgbdFrame frame) {
   w.track = poses_->track(frame);
   timings_.add("track", sw.elapsed_ms());
   const bool wanted = config_.flow.integrate == IntegrateMode::kAllFrames || w.track.keyframe;
-  w.integrate = map_ != nullptr && w.track.ok && wanted && w.track.keyframe_id >= 0;
+  w.integrate = map_ != nullptr && w.track.ok && wanted && w.track.anchor.keyframe != kNoKeyframe;
   w.frame = std::move(frame);
   {
     std::lock_guard lock(state_mutex_);
@@ -76,6 +72,7 @@ void Pipeline::step2_segment(Work& w) {
 
 void Pipeline::steps3to5_map(Work& w) {
   const RgbdFrame& f = w.frame;
+  note_corrections(w.track.corrections);
   if (w.integrate) {
     apply_pending_corrections();
     // 3. cloud: back-project the labelled, range-filtered pixels; keep a downsampled copy.
@@ -95,13 +92,14 @@ void Pipeline::steps3to5_map(Work& w) {
     // keyframe before this step reaches it). The pose relative to the anchor is what tracking
     // measured; the anchor's pose is the store's, with every correction so far applied (this frame
     // may have been tracked before the latest one, in the uncorrected world).
-    if (!store_.keyframes().count(w.track.keyframe_id)) store_.note_keyframe(w.track.keyframe_id, w.track.T_w_kf);
-    const SE3 T_w_c = store_.keyframes().at(w.track.keyframe_id) * (w.track.T_w_kf.inverse() * w.track.T_w_c);
+    const KeyframeAnchor& a = w.track.anchor;
+    if (!store_.keyframes().count(a.keyframe)) store_.note_keyframe(a.keyframe, w.track.T_w_c * a.T_kf_c.inverse());
+    const SE3 T_w_c = store_.T_w_c(a);
     map_->insert(cloud, T_w_c);
-    store_.add(w.track.keyframe_id, T_w_c, f.index, std::move(cloud));
+    store_.add(a.keyframe, T_w_c, f.index, std::move(cloud));
     timings_.add("map", sw.elapsed_ms());
-  } else if (w.track.keyframe && !store_.keyframes().count(w.track.keyframe_id)) {
-    store_.note_keyframe(w.track.keyframe_id, w.track.T_w_c);
+  } else if (w.track.keyframe && !store_.keyframes().count(w.track.anchor.keyframe)) {
+    store_.note_keyframe(w.track.anchor.keyframe, w.track.T_w_c);
   }
   // 5. record: outcome, counters, segmentation against ground-truth labels when the dataset has them.
   if (!w.labels.empty() && !f.labels.empty()) {
@@ -122,15 +120,19 @@ void Pipeline::steps3to5_map(Work& w) {
   frames_done_.fetch_add(1);
 }
 
+// Corrections arrive with the frames (in tracking order); a newer pose of a keyframe replaces an
+// older one still waiting.
+void Pipeline::note_corrections(const std::vector<KeyframePoses>& corrections) {
+  for (const KeyframePoses& c : corrections)
+    for (const auto& [id, T] : c) pending_corrections_.insert_or_assign(id, T);
+}
+
 // Moves kept clouds to corrected keyframe poses and rebuilds the map, so it never disagrees with
 // the trajectory. Sub-millimetre changes (BA jitter) are not worth a rebuild mid-run; the final
 // re-integration in finish() picks them up.
 void Pipeline::apply_pending_corrections() {
-  std::map<KeyframeId, SE3> corrections;
-  {
-    std::lock_guard lock(corrections_mutex_);
-    corrections.swap(pending_corrections_);
-  }
+  KeyframePoses corrections;
+  corrections.swap(pending_corrections_);
   if (corrections.empty() || !map_) return;
   counters_.corrections++;
   Stopwatch sw;
@@ -154,7 +156,7 @@ void Pipeline::finish() {
     threads_[2].join();
     threads_.clear();
   }
-  poses_->finish();
+  note_corrections(poses_->finish());
   {
     std::lock_guard lock(error_mutex_);
     if (error_) std::rethrow_exception(error_);

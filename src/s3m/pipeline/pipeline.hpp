@@ -103,6 +103,7 @@ class Pipeline {
   Work step1_track(RgbdFrame frame);
   void step2_segment(Work& w);
   void steps3to5_map(Work& w);
+  void note_corrections(const std::vector<KeyframePoses>& corrections);
   void apply_pending_corrections();
   void start_threads();
   void run_stage(const char* name, const std::function<void()>& body);
@@ -126,8 +127,7 @@ class Pipeline {
 
   mutable std::mutex state_mutex_;
   std::string last_state_;
-  std::mutex corrections_mutex_;
-  std::map<KeyframeId, SE3> pending_corrections_;  // filled by the SLAM listener, used by step 4
+  KeyframePoses pending_corrections_;  // received with the frames, applied by step 4 (mapping step only)
 
   // Threaded mode.
   std::unique_ptr<BoundedQueue<RgbdFrame>> q_track_;

@@ -2,10 +2,10 @@
 // Where the pipeline's camera poses come from: the SLAM system (the normal case) or, for
 // evaluating segmentation and mapping in isolation, the dataset's ground truth. One interface so
 // the pipeline's process() does not care which.
-#include <functional>
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/io/trajectory.hpp"
@@ -13,31 +13,34 @@
 
 namespace s3m::pipeline {
 
+// Corrected keyframe poses T_w_kf (after a loop closure or a global optimisation).
+using KeyframePoses = std::map<KeyframeId, SE3>;
+
 struct TrackOutput {
   SE3 T_w_c = SE3::Identity();  // camera -> world
   std::string state;            // tracking state as SLAM names it ("OK", "LOST", "RELOCALISED", ...)
   bool ok = false;              // pose usable for mapping
   bool keyframe = false;        // this frame became a keyframe
-  KeyframeId keyframe_id = -1;  // its id when keyframe, else the current reference keyframe (-1: none)
-  SE3 T_w_kf = SE3::Identity(); // pose of keyframe_id (when >= 0)
+  // The keyframe this frame's pose is relative to (this frame's own when keyframe; kNoKeyframe:
+  // none yet), T_kf_c in the same world as T_w_c.
+  KeyframeAnchor anchor;
+  // Corrections made since the previous frame, oldest first. They travel with the frame, so the
+  // mapping stage applies them in tracking order (through the pipeline's frame queues).
+  std::vector<KeyframePoses> corrections;
 };
-
-// Corrected keyframe poses (T_w_kf) after a loop closure or a global optimisation.
-using CorrectionListener = std::function<void(const std::map<KeyframeId, SE3>&)>;
 
 class PoseSource {
  public:
   virtual ~PoseSource() = default;
   // Estimates the pose of the next frame (frames arrive in order, from one thread).
   virtual TrackOutput track(const RgbdFrame& frame) = 0;
-  // Called (from any thread) whenever keyframe poses are corrected. Set before the first track().
-  virtual void set_correction_listener(CorrectionListener listener) = 0;
-  // Ends background work (local mapping, loop closing) so the results below are final.
-  virtual void finish() = 0;
+  // Ends background work (local mapping, loop closing) so the results below are final; returns
+  // the corrections made after the last track() output.
+  virtual std::vector<KeyframePoses> finish() = 0;
   // Final per-frame camera trajectory (after all optimisation), and final keyframe poses.
   virtual io::Trajectory camera_trajectory() const = 0;
   virtual io::Trajectory keyframe_trajectory() const = 0;
-  virtual std::map<KeyframeId, SE3> keyframe_poses() const = 0;
+  virtual KeyframePoses keyframe_poses() const = 0;
   virtual std::string name() const = 0;
 };
 

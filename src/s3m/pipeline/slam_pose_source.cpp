@@ -1,14 +1,10 @@
-// The SLAM system (s3m::slam::System, with place recognition from slam::LoopClosingSlam) as the
-// pipeline's pose source.
-// Keyframes are identified by the index of the frame that became the keyframe: unique, stable
-// under SLAM's keyframe culling, and available both live and in the final keyframe trajectory.
+// The SLAM system (s3m::slam::System, with loop closing and relocalisation when a vocabulary is
+// given) as the pipeline's pose source. Keyframe ids are SLAM's.
 #include <filesystem>
-#include <mutex>
 
 #include "s3m/core/error.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
 #include "s3m/pipeline/factories.hpp"
-#include "s3m/slam/loop_slam.hpp"
 #include "s3m/slam/system.hpp"
 
 namespace s3m::pipeline {
@@ -24,68 +20,48 @@ io::Trajectory to_io(const std::vector<slam::StampedPose>& poses) {
   return out;
 }
 
+std::vector<KeyframePoses> corrected_poses(const std::vector<slam::LoopCorrection>& corrections) {
+  std::vector<KeyframePoses> out;
+  for (const auto& c : corrections) out.push_back(c.T_w_kf_after);
+  return out;
+}
+
 class SlamPoses final : public PoseSource {
  public:
   SlamPoses(const PinholeCamera& camera, const slam::SlamConfig& config,
-            std::shared_ptr<const features::Vocabulary> vocabulary, const slam::LoopSlamConfig& loop_config)
-      : system_(camera, config) {
-    if (!vocabulary) return;
-    loops_ = std::make_unique<slam::LoopClosingSlam>(system_, camera, std::move(vocabulary), loop_config);
-    // Runs on SLAM's mapping thread in threaded mode; the pipeline's listener is thread-safe.
-    loops_->add_listener([this](const slam::LoopCorrection& c) {
-      const std::map<KeyframeId, SE3> T_w_kf(c.T_w_kf_after_by_frame.begin(), c.T_w_kf_after_by_frame.end());
-      std::lock_guard lock(listener_mutex_);
-      if (listener_) listener_(T_w_kf);
-    });
-  }
-
-  // The mapping thread calls into loops_ and this object's listener: stop it before members go
-  // (finish() is idempotent; it matters when a run is abandoned after an error).
-  ~SlamPoses() override { system_.finish(); }
-  SlamPoses(const SlamPoses&) = delete;
-  SlamPoses& operator=(const SlamPoses&) = delete;
+            std::shared_ptr<const features::Vocabulary> vocabulary)
+      : system_(camera, config, std::move(vocabulary)) {}
 
   TrackOutput track(const RgbdFrame& frame) override {
-    const slam::TrackResult r = loops_ ? loops_->track(frame) : system_.track(frame);
+    const slam::TrackResult r = system_.track(frame);
     TrackOutput out;
     out.T_w_c = r.T_w_c;
     out.state = slam::to_string(r.state);
     out.ok = r.state == slam::TrackState::kOk || r.state == slam::TrackState::kRelocalised;
     out.keyframe = r.keyframe;
-    // SLAM numbers keyframes in the order tracking requests them; the pipeline names them by frame.
-    if (r.keyframe) kf_frame_[r.ref_kf] = frame.index;
-    if (const auto it = kf_frame_.find(r.ref_kf); it != kf_frame_.end()) {
-      out.keyframe_id = it->second;
-      // The reference keyframe's pose in the same world as T_w_c (after a loop closure the
-      // tracker may already work in the corrected world while the pipeline maps older frames).
-      out.T_w_kf = r.T_w_c * r.T_ref_c.inverse();
-    }
+    out.anchor = r.anchor;
+    out.corrections = corrected_poses(r.corrections);
     return out;
   }
 
-  void set_correction_listener(CorrectionListener listener) override {
-    std::lock_guard lock(listener_mutex_);
-    listener_ = std::move(listener);
+  std::vector<KeyframePoses> finish() override {
+    system_.finish();
+    return corrected_poses(system_.late_corrections());
   }
-  void finish() override { system_.finish(); }
   io::Trajectory camera_trajectory() const override { return to_io(system_.camera_trajectory()); }
   io::Trajectory keyframe_trajectory() const override { return to_io(system_.keyframe_trajectory()); }
-  std::map<KeyframeId, SE3> keyframe_poses() const override {
-    std::map<KeyframeId, SE3> out;
-    for (const auto& p : system_.keyframe_trajectory()) out.emplace(p.frame_index, p.T_w_x);
+  KeyframePoses keyframe_poses() const override {
+    KeyframePoses out;
+    for (const auto& [id, kf] : system_.map().keyframes()) out.emplace(id, kf.T_w_c);
     return out;
   }
   std::string name() const override {
-    if (!loops_) return "s3m SLAM";
-    return loops_->config().loop_closing ? "s3m SLAM + loop closing" : "s3m SLAM + relocalisation";
+    if (system_.closes_loops()) return "s3m SLAM + loop closing";
+    return system_.relocalises() ? "s3m SLAM + relocalisation" : "s3m SLAM";
   }
 
  private:
   slam::System system_;
-  std::unique_ptr<slam::LoopClosingSlam> loops_;  // null: loop closing and relocalisation off
-  std::mutex listener_mutex_;
-  CorrectionListener listener_;
-  std::map<slam::KfId, KeyframeId> kf_frame_;  // SLAM keyframe id -> frame index
 };
 
 }  // namespace
@@ -109,12 +85,11 @@ std::unique_ptr<PoseSource> make_slam_poses(const PinholeCamera& camera, const P
   // One thread means one thread: local mapping runs inside track() in deterministic mode.
   if (config.threads.deterministic) sc.threaded = false;
   const LoopClosingConfig& lc = config.loop_closing;
-  slam::LoopSlamConfig loops;
-  loops.loop_closing = lc.enabled;
-  loops.relocalisation = lc.relocalisation;
-  loops.loop.global_ba = lc.global_ba;
-  loops.loop.min_keyframes = lc.min_keyframes;
-  return std::make_unique<SlamPoses>(camera, sc, lc.any() ? load_vocabulary(lc) : nullptr, loops);
+  sc.places.loop_closing = lc.enabled;
+  sc.places.relocalisation = lc.relocalisation;
+  sc.places.loop.global_ba = lc.global_ba;
+  sc.places.loop.min_keyframes = lc.min_keyframes;
+  return std::make_unique<SlamPoses>(camera, sc, lc.any() ? load_vocabulary(lc) : nullptr);
 }
 
 }  // namespace s3m::pipeline

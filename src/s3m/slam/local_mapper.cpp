@@ -22,22 +22,19 @@ LocalMapper::LocalMapper(Map& map, const PinholeCamera& camera, const MapperConf
   config_.validate();
 }
 
-LocalMapSnapshot LocalMapper::process(const KeyFrameRequest& request) {
+KfId LocalMapper::process(const KeyFrameRequest& request) {
   Stopwatch sw;
   stats_ = {};
   // 1. Keyframe with tracking's matches; 2. new points from depth; 3. cull weak recent points;
-  // 4. fuse duplicates with the neighbours; 5. local BA; 6. drop redundant keyframes;
-  // 7. loop-closing hook; 8. snapshot for tracking.
+  // 4. fuse duplicates with the neighbours; 5. local BA; 6. drop redundant keyframes.
   const KfId kf = insert_keyframe(request);
   create_points(kf);
   cull_recent_points(kf);
   fuse_with_neighbours(kf);
   if (config_.local_ba && map_.n_keyframes() > 2) stats_.ba = local_bundle_adjustment(map_, kf, camera_, config_.ba);
   if (config_.cull_keyframes) cull_keyframes(kf);
-  if (hook_) hook_(map_, kf);
-  auto snapshot = make_snapshot(map_, kf, config_.snapshot_keyframes);
   stats_.ms = sw.elapsed_ms();
-  return snapshot;
+  return kf;
 }
 
 KfId LocalMapper::insert_keyframe(const KeyFrameRequest& r) {

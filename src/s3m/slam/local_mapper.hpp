@@ -1,9 +1,8 @@
 #pragma once
-// Local mapping: turns each keyframe request from tracking into map content and returns the
-// snapshot tracking continues with. One visible process() with numbered steps; owns nothing but
-// a reference to the Map (the caller decides which thread that is).
+// Local mapping: turns each keyframe request from tracking into map content. One visible process()
+// with numbered steps; owns nothing but a reference to the Map (the caller, slam::System, decides
+// which thread that is, and runs loop closing and makes tracking's snapshot after it).
 #include <deque>
-#include <functional>
 #include <utility>
 
 #include "s3m/core/camera.hpp"
@@ -40,12 +39,9 @@ struct MapperStats {
 
 class LocalMapper {
  public:
-  // Runs after local BA and culling, with the map and the new keyframe; loop closing plugs in here.
-  using KeyFrameHook = std::function<void(Map&, KfId)>;
-
   LocalMapper(Map& map, const PinholeCamera& camera, const MapperConfig& config);
-  LocalMapSnapshot process(const KeyFrameRequest& request);
-  void set_keyframe_hook(KeyFrameHook hook) { hook_ = std::move(hook); }
+  // Returns the new keyframe's id (make_snapshot(map, id, ...) is what tracking continues with).
+  KfId process(const KeyFrameRequest& request);
   const MapperStats& last_stats() const { return stats_; }
 
  private:
@@ -59,7 +55,6 @@ class LocalMapper {
   PinholeCamera camera_;
   MapperConfig config_;
   std::deque<std::pair<PointId, KfId>> recent_points_;  // (point, keyframe that created it)
-  KeyFrameHook hook_;
   MapperStats stats_;
 };
 

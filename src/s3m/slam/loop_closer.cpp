@@ -1,6 +1,5 @@
 #include "s3m/slam/loop_closer.hpp"
 
-
 #include "s3m/core/error.hpp"
 #include "s3m/features/orb_matcher.hpp"
 #include "s3m/slam/group_search.hpp"
@@ -24,25 +23,23 @@ LoopCloser::LoopCloser(std::shared_ptr<const features::Vocabulary> vocabulary, c
   config_.validate();
 }
 
-bool LoopCloser::process(Map& map, KfId kf) {
+std::optional<LoopCorrection> LoopCloser::process(Map& map, KfId kf) {
   // 1. Keep the BoW index in step with the map (new keyframe in, culled keyframes out).
   index_.sync(map);
-  if (!map.has_keyframe(kf) || !index_.find(kf)) return false;
-  if (map.n_keyframes() < config_.min_keyframes) return false;
-  if (last_loop_kf_ != kNoId && kf - last_loop_kf_ < config_.min_keyframes_since_loop) return false;
+  if (!map.has_keyframe(kf) || !index_.find(kf)) return std::nullopt;
+  if (map.n_keyframes() < config_.min_keyframes) return std::nullopt;
+  if (last_loop_kf_ != kNoId && kf - last_loop_kf_ < config_.min_keyframes_since_loop) return std::nullopt;
   // 2. Candidates that have been consistent for several keyframes.
   const std::vector<KfId> candidates = detector_.detect(map, index_, kf);
-  if (candidates.empty()) return false;
+  if (candidates.empty()) return std::nullopt;
   // 3. Geometric verification.
   const auto verified = verify(map, kf, candidates);
-  if (!verified) return false;
+  if (!verified) return std::nullopt;
   // 4-6. Correction, fusion, pose graph, optional global BA.
-  const LoopCorrection correction = correct(map, kf, *verified);
+  LoopCorrection correction = correct(map, kf, *verified);
   detector_.reset();
   last_loop_kf_ = kf;
-  // 7. Tell whoever built something from keyframe poses.
-  for (const auto& l : listeners_) l(correction);
-  return true;
+  return correction;
 }
 
 std::optional<SE3> LoopCloser::ransac_with_bow(const Map& map, KfId cur_id, KfId cand_id) const {

@@ -1,11 +1,11 @@
 #pragma once
-// Loop closing (ORB-SLAM's LoopClosing, SE3 for RGB-D). Runs in the mapping stage after each
-// keyframe (LocalMapper's keyframe hook), so it owns the Map while it works; process() steps:
+// Loop closing (ORB-SLAM's LoopClosing, SE3 for RGB-D). slam::System runs it in the mapping stage
+// after each keyframe's local mapping, so it owns the Map while it works; process() steps:
 //   1 index the keyframe's BoW, 2 covisibility-consistent candidates, 3 geometric verification
 //   (BoW matches -> 3D-3D RANSAC -> guided search -> refinement), 4 pose propagation to the
 //   keyframe's neighbourhood and fusion of duplicated map points, 5 essential-graph optimisation,
-//   6 optional global BA, 7 listeners get every corrected keyframe pose.
-#include <functional>
+//   6 optional global BA; the correction is returned (System hands it to tracking's caller).
+#include <map>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -40,7 +40,7 @@ struct LoopConfig {
   void validate() const;
 };
 
-// What a loop closure changed; listeners re-integrate whatever they built from keyframe poses.
+// What a loop closure changed; whoever built something from keyframe poses re-integrates it.
 struct LoopCorrection {
   KfId current_kf = kNoId;
   KfId loop_kf = kNoId;
@@ -49,22 +49,16 @@ struct LoopCorrection {
   int n_fused = 0;                       // duplicated points merged or re-observed
   std::map<KfId, SE3> T_w_kf_before;     // every keyframe, before the correction
   std::map<KfId, SE3> T_w_kf_after;      // every keyframe, after pose graph (and global BA)
-  // The same corrected poses keyed by the index of the frame each keyframe was made from (the
-  // pipeline's keyframe ids, stable under keyframe culling).
-  std::map<int, SE3> T_w_kf_after_by_frame;
 };
-using LoopListener = std::function<void(const LoopCorrection&)>;
 
 class LoopCloser {
  public:
   LoopCloser(std::shared_ptr<const features::Vocabulary> vocabulary, const PinholeCamera& camera,
              const LoopConfig& config = {});
 
-  // Processes a new keyframe; returns true when a loop was closed. Listeners run on the caller's
-  // thread (the mapping thread in threaded mode).
-  bool process(Map& map, KfId kf);
-  void add_listener(LoopListener listener) { listeners_.push_back(std::move(listener)); }
-  // The BoW index of all keyframes seen so far (shared with relocalisation in single-thread mode).
+  // Processes a new keyframe; returns what changed when a loop was closed.
+  std::optional<LoopCorrection> process(Map& map, KfId kf);
+  // The BoW index of all keyframes seen so far (relocalisation searches it too).
   const KeyFrameBowIndex& index() const { return index_; }
   KeyFrameBowIndex& index() { return index_; }
   const std::vector<std::pair<KfId, KfId>>& loop_edges() const { return loop_edges_; }
@@ -85,7 +79,6 @@ class LoopCloser {
   LoopConfig config_;
   KeyFrameBowIndex index_;
   LoopDetector detector_;
-  std::vector<LoopListener> listeners_;
   std::vector<std::pair<KfId, KfId>> loop_edges_;  // (current, loop) of every closed loop
   KfId last_loop_kf_ = kNoId;
 };

@@ -106,7 +106,6 @@ LoopCorrection LoopCloser::correct(Map& map, KfId cur_id, const Verified& v) {
   // 5. Optional global BA to polish points and poses together.
   if (config_.global_ba) global_bundle_adjustment(map, camera_, config_.ba);
   out.T_w_kf_after = keyframe_poses(map);
-  for (const auto& [id, kf] : map.keyframes()) out.T_w_kf_after_by_frame[kf.frame_index] = kf.T_w_c;
   return out;
 }
 

@@ -92,11 +92,20 @@ SE3 read_pose(const YAML::Node& n, const std::string& ctx) {
 
 }  // namespace
 
+void PlaceRecognitionConfig::validate() const {
+  loop.validate();
+  reloc.validate();
+  require(snapshot_keyframes >= 1, "slam.places.snapshot_keyframes must be >= 1");
+}
+
 void SlamConfig::validate() const {
   features.validate();
   tracker.validate();
   mapper.validate();
-  require(queue_capacity >= 1, "slam.queue_capacity must be >= 1");
+  places.validate();
+  require(queue_capacity >= tracker.max_pending_keyframes + 2,
+          "slam.queue_capacity must be >= tracker.max_pending_keyframes + 2 = " +
+              std::to_string(tracker.max_pending_keyframes + 2) + " (got " + std::to_string(queue_capacity) + ")");
   require(T_c_r.matrix().allFinite(), "slam.T_c_r must be finite");
 }
 

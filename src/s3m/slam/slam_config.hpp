@@ -7,17 +7,33 @@
 #include "s3m/core/se3.hpp"
 #include "s3m/features/frame_features.hpp"
 #include "s3m/slam/local_mapper.hpp"
+#include "s3m/slam/loop_closer.hpp"
+#include "s3m/slam/reloc.hpp"
 #include "s3m/slam/tracker.hpp"
 
 namespace s3m::slam {
+
+// Place recognition: loop closing and relocalisation (both need a vocabulary, given to System).
+struct PlaceRecognitionConfig {
+  bool loop_closing = true;
+  bool relocalisation = true;
+  LoopConfig loop;
+  RelocConfig reloc;
+  int snapshot_keyframes = 40;  // local map handed to the tracker around the relocalised keyframe
+  void validate() const;
+};
 
 struct SlamConfig {
   features::FeatureConfig features;
   TrackerConfig tracker;
   MapperConfig mapper;
+  PlaceRecognitionConfig places;
   SE3 T_c_r = SE3::Identity();  // robot (body) frame to camera frame: T_w_r = T_w_c * T_c_r
   bool threaded = false;        // tracking and local mapping in separate threads
-  int queue_capacity = 4;       // bounded queues between the two
+  // Bound of the two queues between tracking and local mapping (threaded mode). Tracking keeps at
+  // most tracker.max_pending_keyframes + 1 keyframes unanswered, plus one relocalisation query:
+  // validate() requires room for that, so neither thread can block the other for good.
+  int queue_capacity = 5;
 
   void validate() const;
 };

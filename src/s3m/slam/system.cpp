@@ -1,5 +1,6 @@
 #include "s3m/slam/system.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
@@ -7,24 +8,44 @@
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
 #include "s3m/slam/loop_closer.hpp"  // global_bundle_adjustment
+#include "s3m/slam/reloc.hpp"
 
 namespace s3m::slam {
 
-System::System(const PinholeCamera& camera, const SlamConfig& config)
+System::System(const PinholeCamera& camera, const SlamConfig& config,
+               std::shared_ptr<const features::Vocabulary> vocabulary, MappingObserver observer)
     : camera_(camera),
       config_(config),
       tracker_(camera, config.features, config.tracker),
       mapper_(map_, camera, config.mapper),
-      requests_(config.tracker.max_pending_keyframes + 2),
-      snapshots_(config.tracker.max_pending_keyframes + 2) {
+      observer_(std::move(observer)),
+      requests_(static_cast<std::size_t>(config.queue_capacity)),
+      mapped_(static_cast<std::size_t>(config.queue_capacity)) {
   config_.validate();
+  if (vocabulary && (config_.places.loop_closing || config_.places.relocalisation))
+    closer_.emplace(std::move(vocabulary), camera, config_.places.loop);
   if (config_.threaded) mapping_thread_ = std::thread([this] { mapping_loop(); });
 }
 
 System::~System() {
   requests_.close();
-  snapshots_.close();
+  mapped_.close();
   if (mapping_thread_.joinable()) mapping_thread_.join();
+}
+
+// The mapping stage for one keyframe: local mapping, loop closing, the snapshot for tracking.
+System::MappedKeyframe System::map_keyframe(const KeyFrameRequest& request) {
+  const KfId kf = mapper_.process(request);
+  MappedKeyframe out;
+  // The BoW index stays in step with the map even when loop closing is off, so relocalisation
+  // always sees every keyframe.
+  if (closes_loops())
+    out.correction = closer_->process(map_, kf);
+  else if (closer_)
+    closer_->index().sync(map_);
+  if (observer_) observer_(map_, kf);
+  out.snapshot = std::make_shared<const LocalMapSnapshot>(make_snapshot(map_, kf, config_.mapper.snapshot_keyframes));
+  return out;
 }
 
 void System::mapping_loop() {
@@ -39,8 +60,45 @@ void System::mapping_loop() {
       }
       continue;
     }
-    auto snapshot = std::make_shared<const LocalMapSnapshot>(mapper_.process(*job->keyframe));
-    if (!snapshots_.push(std::move(snapshot))) return;
+    if (!mapped_.push(map_keyframe(*job->keyframe))) return;
+  }
+}
+
+// No deadlock between the two threads: tracking sends a job only while fewer than queue_capacity
+// keyframes are unanswered. Then the request queue has room for it (it holds at most the
+// unanswered keyframes, a query is answered before the next job is sent), and the mapped queue
+// always has room for the mapping thread's answer (it holds at most the unanswered keyframes
+// too), so neither push ever blocks for good. track() keeps at most max_pending_keyframes + 1
+// keyframes unanswered, and SlamConfig::validate() requires queue_capacity >= that + 1.
+void System::send(MapperJob job) {
+  require(n_sent_ - n_received_ < int(requests_.capacity()),
+          "System: " + std::to_string(n_sent_ - n_received_) + " keyframes unanswered by local mapping, queue capacity " +
+              std::to_string(requests_.capacity()) + " (the no-deadlock rule is broken)");
+  const bool keyframe = job.keyframe.has_value();
+  if (!requests_.push(std::move(job))) throw Error("System: local mapping has stopped");
+  n_sent_ += keyframe;
+}
+
+void System::take(MappedKeyframe mapped) {
+  tracker_.set_snapshot(std::move(mapped.snapshot));
+  if (mapped.correction) corrections_.push_back(std::move(*mapped.correction));
+}
+
+// Hands the tracker what local mapping has finished: waits until at most max_pending keyframes
+// are unanswered, then takes whatever else has already arrived (single consumer: a non-empty
+// queue's pop() does not block). Single-thread mode has nothing in flight.
+void System::receive_mapped(int max_pending) {
+  while (n_sent_ - n_received_ > max_pending) {
+    auto m = mapped_.pop();
+    if (!m) return;
+    take(std::move(*m));
+    ++n_received_;
+  }
+  while (n_received_ < n_sent_ && mapped_.size() > 0) {
+    auto m = mapped_.pop();
+    if (!m) return;
+    take(std::move(*m));
+    ++n_received_;
   }
 }
 
@@ -51,36 +109,35 @@ void System::query_map(const MapQuery& query) {
   }
   auto done = std::make_shared<std::promise<void>>();
   std::future<void> answered = done->get_future();
-  if (!requests_.push(MapperJob{std::nullopt, query, done}))
-    throw Error("System::query_map: local mapping has stopped");
+  send(MapperJob{std::nullopt, query, done});
   answered.get();
-  // Every keyframe sent before the query has been mapped and its snapshot queued: take them now,
+  // Every keyframe sent before the query has been mapped and its answer queued: take them now,
   // so whatever snapshot the caller sets after the query is not overwritten by an older one.
-  while (n_received_ < n_sent_) {
-    auto s = snapshots_.pop();
-    if (!s) break;
-    tracker_.set_snapshot(std::move(*s));
-    ++n_received_;
-  }
+  receive_mapped(0);
 }
 
-void System::note_relocalised(int frame_index, KfId kf, const SE3& T_kf_c) {
-  require(!records_.empty() && records_.back().frame_index == frame_index &&
-              records_.back().state == TrackState::kLost,
-          "System::note_relocalised: frame " + std::to_string(frame_index) + " is not the last, LOST frame");
-  records_.back() = {frame_index, records_.back().t_s, TrackState::kRelocalised, kf, T_kf_c};
-  --n_lost_;
-  ++n_relocalised_;
-}
-
-void System::drain_snapshots() {
-  // Single consumer: size() > 0 guarantees pop() will not block.
-  while (snapshots_.size() > 0) {
-    auto s = snapshots_.pop();
-    if (!s) break;
-    tracker_.set_snapshot(std::move(*s));
-    ++n_received_;
-  }
+// Relocalises a LOST frame against every keyframe. The map and the BoW index belong to the
+// mapping stage: the search runs as a map query and copies out what tracking needs. On success
+// tracking resumes from the found pose with the local map around the matched keyframe.
+bool System::relocalise(const features::FrameFeatures& f, TrackResult& r) {
+  RelocResult reloc;
+  std::shared_ptr<const LocalMapSnapshot> snapshot;
+  SE3 T_w_kf = SE3::Identity();
+  query_map([&](const Map& map) {
+    reloc = slam::relocalise(f, map, closer_->index(), camera_, config_.places.reloc);
+    if (!reloc.success) return;
+    snapshot = std::make_shared<const LocalMapSnapshot>(make_snapshot(map, reloc.keyframe, config_.places.snapshot_keyframes));
+    T_w_kf = map.keyframe(reloc.keyframe).T_w_c;
+  });
+  if (!reloc.success) return false;
+  tracker_.set_snapshot(std::move(snapshot));
+  tracker_.set_pose(reloc.T_w_c);
+  r.state = TrackState::kRelocalised;
+  r.T_w_c = reloc.T_w_c;
+  r.T_w_r = robot_pose(reloc.T_w_c, config_.T_c_r);
+  r.n_inliers = reloc.n_inliers;
+  r.anchor = {reloc.keyframe, T_w_kf.inverse() * reloc.T_w_c};
+  return true;
 }
 
 TrackResult System::track(const RgbdFrame& frame) {
@@ -88,28 +145,16 @@ TrackResult System::track(const RgbdFrame& frame) {
   TrackResult r;
   r.frame_index = frame.index;
   r.t_s = frame.t_s;
-  // 1. Newer map views from the mapping thread, 2. tracking, 3. local mapping (inline or queued).
-  if (config_.threaded) {
-    // Until the first keyframe is mapped there is nothing to track against: wait for it.
-    if (n_received_ == 0 && n_sent_ > 0) {
-      if (auto s = snapshots_.pop()) {
-        tracker_.set_snapshot(std::move(*s));
-        ++n_received_;
-      }
-    }
-    drain_snapshots();
-  }
+  // 1. Take what the mapping thread has finished. Until the first keyframe is mapped there is
+  //    nothing to track against: wait for it.
+  if (config_.threaded) receive_mapped(n_received_ == 0 ? std::max(n_sent_ - 1, 0) : n_sent_);
+  // 2. Track. A failure only because local mapping lags is deferred: wait for every pending
+  //    keyframe and try again with the same features.
   Stopwatch sw;
   const std::clock_t cpu0 = std::clock();
   TrackerOutput out = tracker_.process(frame, n_sent_ - n_received_);
   if (out.deferred) {
-    // Lost only because local mapping lags: wait for every pending snapshot and try again.
-    while (n_received_ < n_sent_) {
-      auto s = snapshots_.pop();
-      if (!s) break;
-      tracker_.set_snapshot(std::move(*s));
-      ++n_received_;
-    }
+    receive_mapped(0);
     out = tracker_.retrack(frame, out.features, 0);
   }
   r.track_ms = sw.elapsed_ms();
@@ -119,30 +164,29 @@ TrackResult System::track(const RgbdFrame& frame) {
   r.T_w_r = robot_pose(out.T_w_c, config_.T_c_r);
   r.n_inliers = out.n_inliers;
   r.keyframe = out.keyframe.has_value();
-  r.ref_kf = out.ref_kf;
-  r.T_ref_c = out.T_ref_c;
+  r.anchor = {out.ref_kf, out.T_ref_c};
+  // 3. Relocalise a LOST frame against the whole map (with the features tracking computed).
+  if (out.state == TrackState::kLost && relocalises()) relocalise(*out.features, r);
+  // 4. A keyframe goes to the mapping stage: inline, or queued for the mapping thread. A keyframe
+  //    the tracker needs although mapping is max_pending behind waits for one answer first, so at
+  //    most max_pending + 1 are ever unanswered (see send()).
   if (out.keyframe) {
     if (config_.threaded) {
-      // A keyframe the tracker needs although local mapping is max_pending behind: wait for one
-      // answer first, so at most max_pending + 1 requests are ever in flight (the queues hold
-      // max_pending + 2, so neither side can block the other for good; a relocalisation query
-      // (query_map) is synchronous, so it adds at most one more request and no snapshot).
-      if (n_sent_ - n_received_ > config_.tracker.max_pending_keyframes)
-        if (auto s = snapshots_.pop()) {
-          tracker_.set_snapshot(std::move(*s));
-          ++n_received_;
-        }
-      requests_.push(MapperJob{std::move(*out.keyframe), {}, nullptr});
-      ++n_sent_;
+      receive_mapped(config_.tracker.max_pending_keyframes);
+      send(MapperJob{std::move(*out.keyframe), {}, nullptr});
     } else {
       Stopwatch mw;
-      tracker_.set_snapshot(std::make_shared<const LocalMapSnapshot>(mapper_.process(*out.keyframe)));
+      take(map_keyframe(*out.keyframe));
       r.mapping_ms = mw.elapsed_ms();
     }
   }
-  // 4. Record the pose relative to its reference keyframe for the final trajectory.
-  if (out.state == TrackState::kLost) ++n_lost_;
-  if (out.ref_kf != kNoId) records_.push_back({frame.index, frame.t_s, out.state, out.ref_kf, out.T_ref_c});
+  // 5. Record the pose relative to its keyframe for the final trajectory; hand over the loop
+  //    corrections received meanwhile.
+  n_lost_ += r.state == TrackState::kLost;
+  n_relocalised_ += r.state == TrackState::kRelocalised;
+  if (r.anchor.keyframe != kNoKeyframe) records_.push_back({frame.index, frame.t_s, r.state, r.anchor});
+  r.corrections = std::move(corrections_);
+  corrections_.clear();
   return r;
 }
 
@@ -151,7 +195,10 @@ void System::finish() {
   finished_ = true;
   requests_.close();
   if (mapping_thread_.joinable()) mapping_thread_.join();
-  drain_snapshots();
+  mapped_.close();  // everything is in it now: receiving drains it and cannot block
+  receive_mapped(0);
+  late_corrections_ = std::move(corrections_);
+  corrections_.clear();
   // One BA over the whole map. Local BA only ever optimises a covisibility window with its border
   // frozen, so error that entered while a keyframe sat at a window's edge is never redistributed;
   // one joint solve at the end (what ORB-SLAM2 runs after a loop closure) does that. Every frame
@@ -167,7 +214,7 @@ std::vector<StampedPose> System::camera_trajectory() const {
   std::vector<StampedPose> out;
   out.reserve(records_.size());
   for (const auto& rec : records_)
-    out.push_back({rec.t_s, rec.frame_index, map_.resolve_T_w_kf(rec.ref_kf) * rec.T_ref_c, rec.state});
+    out.push_back({rec.t_s, rec.frame_index, map_.resolve_T_w_kf(rec.anchor.keyframe) * rec.anchor.T_kf_c, rec.state});
   return out;
 }
 

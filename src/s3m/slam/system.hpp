@@ -1,11 +1,15 @@
 #pragma once
-// s3m::slam::System — the library entry point for RGB-D SLAM (thin: wires Tracker, LocalMapper
-// and the Map). Single-thread mode runs local mapping inside track() right after a keyframe and
-// is deterministic; threaded mode runs local mapping in its own thread, connected to tracking by
-// two bounded queues (keyframe requests one way, map snapshots the other).
+// s3m::slam::System — the one entry point for RGB-D SLAM: tracking, local mapping, loop closing
+// and relocalisation behind track(). Single-thread mode runs the mapping stage (local mapping,
+// then loop closing) inside track() right after a keyframe and is deterministic; threaded mode
+// runs it in its own thread, connected to tracking by two bounded queues (requests one way,
+// mapped keyframes the other). Tracking never touches the Map; the mapping stage owns it.
 //
-//   slam::System slam(camera, slam::load_slam_config("config/slam_default.yaml"));
-//   for (const RgbdFrame& f : frames) { auto r = slam.track(f); ... r.T_w_c, r.state ... }
+//   auto vocab = std::make_shared<const features::Vocabulary>(features::Vocabulary::load(path));
+//   slam::System slam(camera, slam::load_slam_config("config/slam_default.yaml"), vocab);
+//   for (const RgbdFrame& f : frames) {
+//     auto r = slam.track(f);  // r.T_w_c, r.state; r.corrections: loops closed since the last frame
+//   }
 //   slam.finish();
 //   slam::write_tum_trajectory("trajectory_camera.txt", slam.camera_trajectory());
 #include <functional>
@@ -20,6 +24,7 @@
 #include "s3m/core/camera.hpp"
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/slam/local_mapper.hpp"
+#include "s3m/slam/loop_closer.hpp"
 #include "s3m/slam/map.hpp"
 #include "s3m/slam/slam_config.hpp"
 #include "s3m/slam/tracker.hpp"
@@ -31,20 +36,27 @@ struct TrackResult {
   double t_s = 0;
   TrackState state = TrackState::kNotInitialized;
   SE3 T_w_c = SE3::Identity();  // camera-to-world at tracking time
-  SE3 T_w_r = SE3::Identity();  // robot-to-world: T_w_c * T_c_r
+  SE3 T_w_r = SE3::Identity();  // robot-to-world: robot_pose(T_w_c, T_c_r)
   bool keyframe = false;
   int n_inliers = 0;            // tracked map points
   double track_ms = 0;          // tracking only (features + pose), wall clock
   double track_cpu_ms = 0;      // process CPU time during tracking (all threads; in threaded mode
                                 // it includes whatever local mapping ran meanwhile)
   double mapping_ms = 0;        // local mapping run inside track() (single-thread mode only)
-  KfId ref_kf = kNoId;          // keyframe the pose is stored against (kNoId before the first one)
-  SE3 T_ref_c = SE3::Identity();  // pose relative to ref_kf at tracking time (same world as T_w_c)
+  // The keyframe the pose is stored against (kNoKeyframe before the first one), and the pose
+  // relative to it at tracking time (same world as T_w_c).
+  KeyframeAnchor anchor;
+  // Loop closures the mapping stage finished since the previous frame, oldest first (in
+  // single-thread mode: the one this frame's keyframe closed).
+  std::vector<LoopCorrection> corrections;
 };
 
-// A read of the whole map for the tracking side (relocalisation). Runs where the Map may be
-// touched: inline in single-thread mode, on the local-mapping thread in threaded mode.
+// A read of the whole map for the tracking side. Runs where the Map may be touched: inline in
+// single-thread mode, on the mapping thread in threaded mode.
 using MapQuery = std::function<void(const Map&)>;
+// Read-only look at the map after each keyframe's mapping stage (tests pace local mapping with
+// it); runs on the mapping thread in threaded mode.
+using MappingObserver = std::function<void(const Map&, KfId)>;
 
 struct StampedPose {
   double t_s = 0;
@@ -55,56 +67,66 @@ struct StampedPose {
 
 class System {
  public:
-  System(const PinholeCamera& camera, const SlamConfig& config);
+  // vocabulary: place recognition (config.places: loop closing, relocalisation); null = neither.
+  System(const PinholeCamera& camera, const SlamConfig& config,
+         std::shared_ptr<const features::Vocabulary> vocabulary = nullptr, MappingObserver observer = {});
   ~System();
   System(const System&) = delete;
   System& operator=(const System&) = delete;
 
+  // 1 take mapped keyframes, 2 track, 3 relocalise when lost, 4 send a keyframe, 5 record.
   TrackResult track(const RgbdFrame& frame);
   // Threaded mode: waits until local mapping has processed every keyframe and stops its thread.
   // Then (mapper.final_global_ba) one bundle adjustment over the whole map. Idempotent; track()
   // must not be called afterwards.
   void finish();
   int n_global_ba_outliers() const { return n_global_ba_outliers_; }  // after finish()
+  // After finish(): loop closures that reached tracking after the last track() (threaded mode).
+  const std::vector<LoopCorrection>& late_corrections() const { return late_corrections_; }
 
   // Every tracked frame (from the first keyframe on), each expressed relative to its reference
   // keyframe's final pose — so BA and loop corrections reach every frame. Call after finish().
   std::vector<StampedPose> camera_trajectory() const;
-  std::vector<StampedPose> robot_trajectory() const;    // camera_trajectory() * T_c_r
+  std::vector<StampedPose> robot_trajectory() const;    // robot_pose(camera_trajectory(), T_c_r)
   std::vector<StampedPose> keyframe_trajectory() const;  // live keyframes, camera poses
 
   // The map. Threaded mode: only after finish() (the mapping thread owns it before that).
   const Map& map() const { return map_; }
-  // Runs in the mapping stage after each keyframe (loop closing plugs in here). Set before track().
-  void set_keyframe_hook(LocalMapper::KeyFrameHook hook) { mapper_.set_keyframe_hook(std::move(hook)); }
   // Runs query on the map and waits for it. Threaded mode: the query travels through the keyframe
-  // request queue, so it sees every keyframe sent before it, and the snapshots those keyframes
-  // produced are handed to the tracker before this returns (a snapshot the query makes is newer).
+  // request queue, so it sees every keyframe sent before it, and what those keyframes produced is
+  // handed to the tracker before this returns (tests use an empty query as a lockstep barrier).
   // Call from the tracking thread only (the one calling track()); rethrows the query's exception.
   void query_map(const MapQuery& query);
-  // Relocalisation hook: frame_index (the frame track() just returned LOST) was relocalised at
-  // T_kf_c relative to keyframe kf; its trajectory record is replaced accordingly.
-  void note_relocalised(int frame_index, KfId kf, const SE3& T_kf_c);
-  Tracker& tracker() { return tracker_; }
   const SlamConfig& config() const { return config_; }
+  bool closes_loops() const { return closer_ && config_.places.loop_closing; }
+  bool relocalises() const { return closer_ && config_.places.relocalisation; }
   int n_lost_frames() const { return n_lost_; }
   int n_relocalised_frames() const { return n_relocalised_; }
+  int n_loops() const { return closer_ ? int(closer_->loop_edges().size()) : 0; }  // threaded: after finish()
 
  private:
   struct FrameRecord {
     int frame_index;
     double t_s;
     TrackState state;
-    KfId ref_kf;
-    SE3 T_ref_c;
+    KeyframeAnchor anchor;
   };
-  // What the local-mapping thread receives: a keyframe to map, or a map query to answer.
+  // What the mapping thread receives: a keyframe to map, or a map query to answer.
   struct MapperJob {
     std::optional<KeyFrameRequest> keyframe;
     MapQuery query;
     std::shared_ptr<std::promise<void>> done;  // set once the query ran (value or its exception)
   };
-  void drain_snapshots();
+  // What the mapping stage gives back for one keyframe.
+  struct MappedKeyframe {
+    std::shared_ptr<const LocalMapSnapshot> snapshot;
+    std::optional<LoopCorrection> correction;
+  };
+  MappedKeyframe map_keyframe(const KeyFrameRequest& request);  // the mapping stage, either thread
+  void take(MappedKeyframe mapped);
+  void receive_mapped(int max_pending);
+  void send(MapperJob job);
+  bool relocalise(const features::FrameFeatures& f, TrackResult& r);
   void mapping_loop();
 
   PinholeCamera camera_;
@@ -112,13 +134,17 @@ class System {
   Map map_;
   Tracker tracker_;
   LocalMapper mapper_;
+  std::optional<LoopCloser> closer_;  // place recognition (loop closing and/or relocalisation)
+  MappingObserver observer_;
   std::vector<FrameRecord> records_;
+  std::vector<LoopCorrection> corrections_;  // received, not yet returned by track()
+  std::vector<LoopCorrection> late_corrections_;
   int n_lost_ = 0, n_relocalised_ = 0;
   // Threaded mode.
   BoundedQueue<MapperJob> requests_;
-  BoundedQueue<std::shared_ptr<const LocalMapSnapshot>> snapshots_;
+  BoundedQueue<MappedKeyframe> mapped_;
   std::thread mapping_thread_;
-  int n_sent_ = 0, n_received_ = 0;
+  int n_sent_ = 0, n_received_ = 0;  // keyframe requests sent / answered (tracking thread only)
   bool finished_ = false;
   int n_global_ba_outliers_ = 0;
 };

@@ -3,11 +3,13 @@
 #include <array>
 #include <cstdint>
 
+#include "s3m/core/keyframe_id.hpp"
+
 namespace s3m::slam {
 
-using KfId = std::int64_t;     // keyframe id, increasing in insertion order
+using KfId = KeyframeId;       // the one keyframe id (core/keyframe_id.hpp), short name inside slam
 using PointId = std::int64_t;  // map point id, increasing in creation order
-constexpr std::int64_t kNoId = -1;
+constexpr std::int64_t kNoId = kNoKeyframe;  // no keyframe / no point
 
 using Descriptor = std::array<std::uint8_t, 32>;  // one ORB descriptor
 
