@@ -26,7 +26,7 @@ Outcome run(const io::TumDataset& data, std::shared_ptr<const features::Vocabula
             int blank_first, bool threaded) {
   slam::SlamConfig cfg;
   cfg.threaded = threaded;
-  cfg.places.loop_closing = loop_closing;
+  cfg.loop_closing.enabled = loop_closing;
   slam::System system(data.camera(), cfg, std::move(vocab));
   Outcome o;
   Stopwatch wall;

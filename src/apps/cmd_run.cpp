@@ -73,8 +73,8 @@ void register_run(CLI::App& app) {
     o.out_dir = args->out;
     o.config = args->config.empty() ? pipeline::PipelineConfig{} : pipeline::load_pipeline_config(args->config);
     if (args->deterministic) o.config.threads.deterministic = true;
-    if (args->no_loop_closing) o.config.loop_closing.enabled = o.config.loop_closing.relocalisation = false;
-    if (!args->vocab.empty()) o.config.loop_closing.vocabulary = args->vocab;
+    if (args->no_loop_closing) o.config.slam.loop_closing.enabled = o.config.slam.loop_closing.relocalisation = false;
+    if (!args->vocab.empty()) o.config.slam.loop_closing.vocabulary = args->vocab;
     o.segmenter = args->segmenter;
     o.model_dir = args->model_dir;
     o.poses = args->poses;

@@ -45,7 +45,7 @@ LoopRun run(bool loop_closing, Mode mode, bool outage) {
   slam::SlamConfig cfg;
   cfg.threaded = mode != Mode::kSingleThread;
   cfg.T_c_r = loop_simulation().trajectory().T_c_r;
-  cfg.places.loop_closing = loop_closing;
+  cfg.loop_closing.enabled = loop_closing;
   slam::System slam(data.camera(), cfg, vocabulary());
   LoopRun r;
   for (std::size_t i = 0; i < data.size(); ++i) {

@@ -123,3 +123,16 @@ TEST(SemanticsOnnx, BadCardsAndModelsFailAtLoadWithClearMessages) {
   expect_error(card_text(kData + "tiny_rgb.onnx", 100000, 16), "input size missing or out of range");
   expect_error("classes: x.txt\ninput: {width: 16, height: 16}\n", "no 'model' given");
 }
+
+TEST(SemanticsOnnx, CardTopKAboveWhatAVoxelKeepsIsRefusedAtLoad) {
+  // One limit (kMaxTopK = 5): a card asking for 8 labels per pixel used to load and then fail at
+  // the first map insert.
+  try {
+    load_model_card(write_card("topk8", card_text() + "top_k: 8\n"));
+    FAIL() << "a card with top_k 8 loaded";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("top_k = 8 out of range"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1..5"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(load_model_card(write_card("topk5", card_text() + "top_k: 5\n")).top_k, kMaxTopK);
+}

@@ -62,7 +62,7 @@ struct RunResult {
 
 RunResult run(bool loop_closing, const std::set<int>& blank = {}) {
   SlamConfig cfg;
-  cfg.places.loop_closing = loop_closing;
+  cfg.loop_closing.enabled = loop_closing;
   System slam(room_camera(), cfg, vocabulary());
   RunResult r;
   auto hear = [&](const std::vector<LoopCorrection>& corrections) {

@@ -42,6 +42,10 @@ inline constexpr ClassId kUnknown = 0, kWall = 1, kFloor = 2, kCeiling = 3, kDoo
 inline constexpr int kCount = 16;
 }  // namespace cls
 
+// The one top-k limit: labels per pixel a segmenter may emit (model cards, the oracle) and labels a
+// map voxel keeps (mapping::kMaxLabels, fusion.k). Checked where each is configured or loaded.
+inline constexpr int kMaxTopK = 5;
+
 // classes.txt format, one class per line: "<id> <name> <r> <g> <b>"; '#' starts a comment.
 void write_class_list(const std::string& path, const ClassList& classes);
 ClassList read_class_list(const std::string& path);  // ParseError with file/line on bad input

@@ -10,9 +10,9 @@
 
 namespace s3m::mapping {
 
-// Hard upper bound on k; the tree-level k (default 3) may be anything in [1, kMaxLabels].
-// Small and fixed so a voxel stays a flat 40-byte payload with no heap allocation.
-inline constexpr int kMaxLabels = 5;
+// Hard upper bound on k (the project-wide kMaxTopK); the tree-level k (default 3) may be anything in
+// [1, kMaxLabels]. Small and fixed so a voxel stays a flat 40-byte payload with no heap allocation.
+inline constexpr int kMaxLabels = kMaxTopK;
 
 struct LabelSet {
   std::uint8_t n = 0;

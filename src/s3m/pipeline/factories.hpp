@@ -22,12 +22,13 @@ std::unique_ptr<PoseSource> make_pose_source(const std::string& kind, const Fram
                                              const PinholeCamera& camera, const PipelineConfig& config);
 
 // The SLAM system as a PoseSource (slam_pose_source.cpp), with loop closing and relocalisation as
-// config.loop_closing asks (then the vocabulary is loaded first).
+// config.slam.loop_closing asks (then the vocabulary is loaded first). threads.deterministic takes
+// precedence over slam.threaded (logged when it overrides it).
 std::unique_ptr<PoseSource> make_slam_poses(const PinholeCamera& camera, const PipelineConfig& config);
 
 // The vocabulary config.vocabulary names (or the shipped one); throws s3m::Error naming the file
 // when it is missing or not a valid vocabulary.
-std::shared_ptr<const features::Vocabulary> load_vocabulary(const LoopClosingConfig& config);
+std::shared_ptr<const features::Vocabulary> load_vocabulary(const slam::LoopClosingConfig& config);
 
 // nullptr for "none". The oracle needs the dataset's label images (simulator output).
 std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterSpec& spec, const PipelineConfig& config,

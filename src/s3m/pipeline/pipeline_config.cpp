@@ -99,21 +99,7 @@ void load_eval(const YAML::Node& n, EvalConfig& c, const std::string& ctx) {
   yaml_get(n, "reprojection_max_frames", c.reprojection_max_frames, ctx);
 }
 
-void load_loop_closing(const YAML::Node& n, LoopClosingConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"enabled", "relocalisation", "vocabulary", "global_ba", "min_keyframes"}, ctx);
-  yaml_get(n, "enabled", c.enabled, ctx);
-  yaml_get(n, "relocalisation", c.relocalisation, ctx);
-  yaml_get(n, "vocabulary", c.vocabulary, ctx);
-  yaml_get(n, "global_ba", c.global_ba, ctx);
-  yaml_get(n, "min_keyframes", c.min_keyframes, ctx);
-}
-
 }  // namespace
-
-void LoopClosingConfig::validate() const {
-  require(min_keyframes >= 1 && min_keyframes <= 100000,
-          "loop_closing.min_keyframes must be in 1..100000 (got " + std::to_string(min_keyframes) + ")");
-}
 
 void SegmenterConfig::validate() const {
   require(type == "onnx" || type == "oracle" || type == "none",
@@ -165,7 +151,6 @@ void EvalConfig::validate() const {
 void PipelineConfig::validate() const {
   dataset.validate();
   slam.validate();
-  loop_closing.validate();
   cloud.validate();
   threads.validate();
   flow.validate();
@@ -187,7 +172,7 @@ PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::stri
                    path);
   if (const auto n = section(root, "dataset", path)) load_dataset(n, c.dataset, path);
   if (const auto n = section(root, "slam", path)) c.slam = slam::slam_config_from_yaml(n, path);
-  if (const auto n = section(root, "loop_closing", path)) load_loop_closing(n, c.loop_closing, path);
+  if (const auto n = section(root, "loop_closing", path)) slam::read_loop_closing(n, c.slam.loop_closing, path);
   if (const auto n = section(root, "cloud", path)) load_cloud(n, c.cloud, path);
   if (const auto n = section(root, "threads", path)) load_threads(n, c.threads, path);
   if (const auto n = section(root, "flow", path)) load_flow(n, c.flow, path);
@@ -199,15 +184,15 @@ PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::stri
   if (!cam.empty() && cam.find(".yaml") != std::string::npos && std::filesystem::path(cam).is_relative())
     c.dataset.camera = (std::filesystem::path(path).parent_path() / cam).lexically_normal().string();
   validate_in(c.dataset, path, "dataset");
+  validate_in(c.slam.loop_closing, path, "loop_closing");
   validate_in(c.slam, path, "slam");
-  validate_in(c.loop_closing, path, "loop_closing");
   validate_in(c.cloud, path, "cloud");
   validate_in(c.threads, path, "threads");
   validate_in(c.flow, path, "flow");
   validate_in(c.eval, path, "eval");
   validate_in(c.map, path, "map");
   // Model and vocabulary paths in a preset are relative to the preset, like camera files.
-  for (std::string* p : {&c.segmenter.model, &c.segmenter.model_dir, &c.loop_closing.vocabulary})
+  for (std::string* p : {&c.segmenter.model, &c.segmenter.model_dir, &c.slam.loop_closing.vocabulary})
     if (!p->empty() && std::filesystem::path(*p).is_relative())
       *p = (std::filesystem::path(path).parent_path() / *p).lexically_normal().string();
   validate_in(c.segmenter, path, "segmenter");

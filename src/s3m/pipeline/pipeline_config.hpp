@@ -74,20 +74,6 @@ struct EvalConfig {
   void validate() const;
 };
 
-// The `loop_closing:` section: place recognition on top of SLAM (slam::LoopClosingSlam). Used only
-// with --poses slam.
-struct LoopClosingConfig {
-  bool enabled = true;          // detect loops, optimise the essential graph, re-integrate the map
-  bool relocalisation = true;   // relocalise LOST frames against the whole map (vocabulary needed)
-  // Bag-of-words vocabulary (`s3m vocab`); "" = the shipped vocab/orb_k10_l5.bin of the source tree.
-  // A relative path is relative to the preset.
-  std::string vocabulary;
-  bool global_ba = false;       // full bundle adjustment after each loop's pose graph (slow on big maps)
-  int min_keyframes = 10;       // no loop search in a map with fewer keyframes
-  bool any() const { return enabled || relocalisation; }
-  void validate() const;
-};
-
 // The `map:` section of a preset is mapping::MappingConfig (resolution_m, occupancy, fusion, insert).
 using MapConfig = mapping::MappingConfig;
 
@@ -107,8 +93,9 @@ struct PipelineConfig {
   ThreadingConfig threads;
   FlowConfig flow;
   EvalConfig eval;
-  slam::SlamConfig slam;  // `slam:` section (s3m::slam keys), including the calibration T_c_r
-  LoopClosingConfig loop_closing;
+  // `slam:` section (s3m::slam keys), including the calibration T_c_r; slam.loop_closing is the
+  // `loop_closing:` section (slam::read_loop_closing; a relative vocabulary is relative to the preset).
+  slam::SlamConfig slam;
   MapConfig map;
   SegmenterConfig segmenter;
   std::string source;  // file the config was loaded from ("" = defaults), for messages

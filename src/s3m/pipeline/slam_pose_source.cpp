@@ -2,6 +2,8 @@
 // given) as the pipeline's pose source. Keyframe ids are SLAM's.
 #include <filesystem>
 
+#include <spdlog/spdlog.h>
+
 #include "s3m/core/error.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
 #include "s3m/pipeline/factories.hpp"
@@ -66,7 +68,7 @@ class SlamPoses final : public PoseSource {
 
 }  // namespace
 
-std::shared_ptr<const features::Vocabulary> load_vocabulary(const LoopClosingConfig& config) {
+std::shared_ptr<const features::Vocabulary> load_vocabulary(const slam::LoopClosingConfig& config) {
   const std::string path = config.vocabulary.empty() ? repo_path("vocab/orb_k10_l5.bin") : config.vocabulary;
   if (!std::filesystem::is_regular_file(path))
     throw Error("loop_closing.vocabulary: '" + path +
@@ -82,13 +84,14 @@ std::shared_ptr<const features::Vocabulary> load_vocabulary(const LoopClosingCon
 
 std::unique_ptr<PoseSource> make_slam_poses(const PinholeCamera& camera, const PipelineConfig& config) {
   slam::SlamConfig sc = config.slam;
-  // One thread means one thread: local mapping runs inside track() in deterministic mode.
-  if (config.threads.deterministic) sc.threaded = false;
-  const LoopClosingConfig& lc = config.loop_closing;
-  sc.places.loop_closing = lc.enabled;
-  sc.places.relocalisation = lc.relocalisation;
-  sc.places.loop.global_ba = lc.global_ba;
-  sc.places.loop.min_keyframes = lc.min_keyframes;
+  // One thread means one thread: local mapping runs inside track() in deterministic mode, whatever
+  // the preset's slam.threaded says (the documented precedence; said once at start).
+  if (config.threads.deterministic && sc.threaded) {
+    spdlog::info("slam.threaded: true is overridden by threads.deterministic (--deterministic): local mapping "
+                 "runs inside tracking");
+    sc.threaded = false;
+  }
+  const slam::LoopClosingConfig& lc = sc.loop_closing;
   return std::make_unique<SlamPoses>(camera, sc, lc.any() ? load_vocabulary(lc) : nullptr);
 }
 

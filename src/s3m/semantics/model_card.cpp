@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "s3m/core/classes.hpp"  // kMaxTopK
 #include "s3m/core/error.hpp"
 #include "s3m/core/thread_count.hpp"
 #include "s3m/core/yaml_util.hpp"
@@ -61,7 +62,9 @@ void ModelCard::validate() const {
   if (!(scale > 0)) fail("input.scale must be positive", "scale > 0");
   for (double s : std)
     if (!(s > 0)) fail("input.std entries must be positive", "std > 0");
-  if (top_k < 1 || top_k > 32) fail("top_k = " + std::to_string(top_k) + " out of range", "1..32");
+  if (top_k < 1 || top_k > kMaxTopK)
+    fail("top_k = " + std::to_string(top_k) + " out of range",
+         "1.." + std::to_string(kMaxTopK) + " (labels a map voxel keeps, s3m::kMaxTopK)");
   if (label_stride < 1 || label_stride > 16) fail("label_stride = " + std::to_string(label_stride) + " out of range", "1..16");
   if (!thread_count_ok(threads))
     fail("threads = " + std::to_string(threads) + " out of range", thread_count_range("OpenCV's default"));

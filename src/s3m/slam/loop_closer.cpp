@@ -7,14 +7,20 @@
 namespace s3m::slam {
 
 void LoopConfig::validate() const {
-  require(min_keyframes >= 1 && min_keyframes_since_loop >= 0, "loop: keyframe gaps must be >= 1 / >= 0");
-  require(direct_level >= 0, "loop.direct_level must be >= 0");
+  require(min_keyframes >= 1 && min_keyframes <= 100000,
+          "loop_closing.min_keyframes must be in 1..100000 (got " + std::to_string(min_keyframes) + ")");
+  require(min_keyframes_since_loop >= 0, "loop_closing.min_keyframes_since_loop must be >= 0");
+  require(direct_level >= 0, "loop_closing.direct_level must be >= 0");
   detector.validate();
   bow_match.validate();
   ransac.validate();
-  require(min_bow_matches >= 3 && min_projection_matches >= 3, "loop: match minimums must be >= 3");
-  require(loop_group_size >= 0 && search_radius_factor > 0, "loop: bad loop_group_size / search_radius_factor");
+  require(min_bow_matches >= 3 && min_projection_matches >= 3,
+          "loop_closing: min_bow_matches and min_projection_matches must be >= 3");
+  require(loop_group_size >= 0 && search_radius_factor > 0,
+          "loop_closing: loop_group_size must be >= 0, search_radius_factor > 0");
+  require(essential_min_weight >= 0, "loop_closing.essential_min_weight must be >= 0");
   pose_graph.validate();
+  ba.validate();
 }
 
 LoopCloser::LoopCloser(std::shared_ptr<const features::Vocabulary> vocabulary, const PinholeCamera& camera,

@@ -10,12 +10,15 @@
 namespace s3m::slam {
 
 void RelocConfig::validate() const {
-  require(max_candidates >= 1, "reloc.max_candidates must be >= 1");
-  require(min_score_ratio > 0 && min_score_ratio <= 1, "reloc.min_score_ratio must be in (0, 1]");
+  require(max_candidates >= 1, "loop_closing.reloc.max_candidates must be >= 1");
+  require(min_score_ratio > 0 && min_score_ratio <= 1, "loop_closing.reloc.min_score_ratio must be in (0, 1]");
   bow_match.validate();
   pnp.validate();
-  require(min_bow_matches >= 4 && min_final_inliers >= 4, "reloc: match minimums must be >= 4");
-  require(local_keyframes >= 0 && search_radius_factor > 0 && wide_radius_factor > 0, "reloc: bad local_keyframes / search_radius_factor");
+  require(min_bow_matches >= 4 && min_final_inliers >= 4,
+          "loop_closing.reloc: min_bow_matches and min_final_inliers must be >= 4");
+  require(local_keyframes >= 0 && search_radius_factor > 0 && wide_radius_factor > 0,
+          "loop_closing.reloc: local_keyframes must be >= 0, wide_/search_radius_factor > 0");
+  require(snapshot_keyframes >= 1, "loop_closing.reloc.snapshot_keyframes must be >= 1");
 }
 
 namespace {

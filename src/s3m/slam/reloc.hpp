@@ -28,6 +28,7 @@ struct RelocConfig {
   // ORB-SLAM asks 50 after refinement for any sensor; with metric depth in the map points a pose
   // that 30 projection inliers agree on (after two guided passes) is already unambiguous.
   int min_final_inliers = 30;
+  int snapshot_keyframes = 40;  // local map handed to tracking around the relocalised keyframe
   void validate() const;
 };
 

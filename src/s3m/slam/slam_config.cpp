@@ -54,6 +54,18 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
   yaml_get(n, "min_init_depth_points", c.min_init_depth_points, ctx);
 }
 
+void read_ba(const YAML::Node& n, BaConfig& c, const std::string& ctx) {
+  if (!n) return;
+  check_known_keys(n, {"first_iterations", "second_iterations", "chi2_mono", "chi2_stereo", "max_local_keyframes",
+                       "global_iterations"}, ctx);
+  yaml_get(n, "first_iterations", c.first_iterations, ctx);
+  yaml_get(n, "second_iterations", c.second_iterations, ctx);
+  yaml_get(n, "chi2_mono", c.chi2_mono, ctx);
+  yaml_get(n, "chi2_stereo", c.chi2_stereo, ctx);
+  yaml_get(n, "max_local_keyframes", c.max_local_keyframes, ctx);
+  yaml_get(n, "global_iterations", c.global_iterations, ctx);
+}
+
 void read_mapper(const YAML::Node& n, MapperConfig& c, const std::string& ctx) {
   if (!n) return;
   check_known_keys(n, {"close_depth_m", "min_new_points", "min_found_ratio", "fuse_neighbours", "local_ba",
@@ -68,13 +80,89 @@ void read_mapper(const YAML::Node& n, MapperConfig& c, const std::string& ctx) {
   yaml_get(n, "redundant_ratio", c.redundant_ratio, ctx);
   yaml_get(n, "snapshot_keyframes", c.snapshot_keyframes, ctx);
   yaml_get(n, "final_global_ba", c.final_global_ba, ctx);
-  if (const auto b = n["ba"]) {
-    check_known_keys(b, {"first_iterations", "second_iterations", "max_local_keyframes", "global_iterations"}, ctx);
-    yaml_get(b, "first_iterations", c.ba.first_iterations, ctx);
-    yaml_get(b, "second_iterations", c.ba.second_iterations, ctx);
-    yaml_get(b, "max_local_keyframes", c.ba.max_local_keyframes, ctx);
-    yaml_get(b, "global_iterations", c.ba.global_iterations, ctx);
-  }
+  read_ba(n["ba"], c.ba, ctx);
+}
+
+// Loop closing's sub-structs, one reader each.
+void read_detector(const YAML::Node& n, LoopDetectorConfig& c, const std::string& ctx) {
+  if (!n) return;
+  check_known_keys(n, {"min_common_words_ratio", "group_score_ratio", "group_neighbours", "consistency"}, ctx);
+  yaml_get(n, "min_common_words_ratio", c.min_common_words_ratio, ctx);
+  yaml_get(n, "group_score_ratio", c.group_score_ratio, ctx);
+  yaml_get(n, "group_neighbours", c.group_neighbours, ctx);
+  yaml_get(n, "consistency", c.consistency, ctx);
+}
+
+void read_bow_match(const YAML::Node& n, features::BowMatchConfig& c, const std::string& ctx) {
+  if (!n) return;
+  check_known_keys(n, {"max_hamming", "ratio"}, ctx);
+  yaml_get(n, "max_hamming", c.max_hamming, ctx);
+  yaml_get(n, "ratio", c.ratio, ctx);
+}
+
+void read_ransac(const YAML::Node& n, Se3RansacConfig& c, const std::string& ctx) {
+  if (!n) return;
+  check_known_keys(n, {"max_iterations", "threshold_m", "depth_ratio", "min_inliers", "seed"}, ctx);
+  yaml_get(n, "max_iterations", c.max_iterations, ctx);
+  yaml_get(n, "threshold_m", c.threshold_m, ctx);
+  yaml_get(n, "depth_ratio", c.depth_ratio, ctx);
+  yaml_get(n, "min_inliers", c.min_inliers, ctx);
+  yaml_get(n, "seed", c.seed, ctx);
+}
+
+void read_pose_graph(const YAML::Node& n, PoseGraphConfig& c, const std::string& ctx) {
+  if (!n) return;
+  check_known_keys(n, {"max_iterations", "loop_huber"}, ctx);
+  yaml_get(n, "max_iterations", c.max_iterations, ctx);
+  yaml_get(n, "loop_huber", c.loop_huber, ctx);
+}
+
+void read_pnp(const YAML::Node& n, PnpConfig& c, const std::string& ctx) {
+  if (!n) return;
+  check_known_keys(n, {"iterations", "reprojection_px", "confidence", "min_inliers"}, ctx);
+  yaml_get(n, "iterations", c.iterations, ctx);
+  yaml_get(n, "reprojection_px", c.reprojection_px, ctx);
+  yaml_get(n, "confidence", c.confidence, ctx);
+  yaml_get(n, "min_inliers", c.min_inliers, ctx);
+}
+
+// LoopConfig's keys sit at the top of the `loop_closing:` section (next to enabled, ...).
+const std::vector<std::string> kLoopKeys = {"min_keyframes", "min_keyframes_since_loop", "direct_level", "detector",
+                                            "bow_match", "min_bow_matches", "ransac", "loop_group_size",
+                                            "search_radius_factor", "min_projection_matches", "essential_min_weight",
+                                            "pose_graph", "global_ba", "ba"};
+
+void read_loop(const YAML::Node& n, LoopConfig& c, const std::string& ctx) {
+  yaml_get(n, "min_keyframes", c.min_keyframes, ctx);
+  yaml_get(n, "min_keyframes_since_loop", c.min_keyframes_since_loop, ctx);
+  yaml_get(n, "direct_level", c.direct_level, ctx);
+  read_detector(n["detector"], c.detector, ctx);
+  read_bow_match(n["bow_match"], c.bow_match, ctx);
+  yaml_get(n, "min_bow_matches", c.min_bow_matches, ctx);
+  read_ransac(n["ransac"], c.ransac, ctx);
+  yaml_get(n, "loop_group_size", c.loop_group_size, ctx);
+  yaml_get(n, "search_radius_factor", c.search_radius_factor, ctx);
+  yaml_get(n, "min_projection_matches", c.min_projection_matches, ctx);
+  yaml_get(n, "essential_min_weight", c.essential_min_weight, ctx);
+  read_pose_graph(n["pose_graph"], c.pose_graph, ctx);
+  yaml_get(n, "global_ba", c.global_ba, ctx);
+  read_ba(n["ba"], c.ba, ctx);
+}
+
+void read_reloc(const YAML::Node& n, RelocConfig& c, const std::string& ctx) {
+  if (!n) return;
+  check_known_keys(n, {"max_candidates", "min_score_ratio", "bow_match", "min_bow_matches", "pnp", "local_keyframes",
+                       "wide_radius_factor", "search_radius_factor", "min_final_inliers", "snapshot_keyframes"}, ctx);
+  yaml_get(n, "max_candidates", c.max_candidates, ctx);
+  yaml_get(n, "min_score_ratio", c.min_score_ratio, ctx);
+  read_bow_match(n["bow_match"], c.bow_match, ctx);
+  yaml_get(n, "min_bow_matches", c.min_bow_matches, ctx);
+  read_pnp(n["pnp"], c.pnp, ctx);
+  yaml_get(n, "local_keyframes", c.local_keyframes, ctx);
+  yaml_get(n, "wide_radius_factor", c.wide_radius_factor, ctx);
+  yaml_get(n, "search_radius_factor", c.search_radius_factor, ctx);
+  yaml_get(n, "min_final_inliers", c.min_final_inliers, ctx);
+  yaml_get(n, "snapshot_keyframes", c.snapshot_keyframes, ctx);
 }
 
 SE3 read_pose(const YAML::Node& n, const std::string& ctx) {
@@ -92,17 +180,28 @@ SE3 read_pose(const YAML::Node& n, const std::string& ctx) {
 
 }  // namespace
 
-void PlaceRecognitionConfig::validate() const {
+void LoopClosingConfig::validate() const {
   loop.validate();
   reloc.validate();
-  require(snapshot_keyframes >= 1, "slam.places.snapshot_keyframes must be >= 1");
+}
+
+void read_loop_closing(const YAML::Node& n, LoopClosingConfig& c, const std::string& ctx) {
+  if (!n) return;
+  std::vector<std::string> keys = kLoopKeys;
+  keys.insert(keys.end(), {"enabled", "relocalisation", "vocabulary", "reloc"});
+  check_known_keys(n, keys, ctx);
+  yaml_get(n, "enabled", c.enabled, ctx);
+  yaml_get(n, "relocalisation", c.relocalisation, ctx);
+  yaml_get(n, "vocabulary", c.vocabulary, ctx);
+  read_loop(n, c.loop, ctx);
+  read_reloc(n["reloc"], c.reloc, ctx);
 }
 
 void SlamConfig::validate() const {
   features.validate();
   tracker.validate();
   mapper.validate();
-  places.validate();
+  loop_closing.validate();
   require(queue_capacity >= tracker.max_pending_keyframes + 2,
           "slam.queue_capacity must be >= tracker.max_pending_keyframes + 2 = " +
               std::to_string(tracker.max_pending_keyframes + 2) + " (got " + std::to_string(queue_capacity) + ")");

@@ -13,13 +13,15 @@
 
 namespace s3m::slam {
 
-// Place recognition: loop closing and relocalisation (both need a vocabulary, given to System).
-struct PlaceRecognitionConfig {
-  bool loop_closing = true;
-  bool relocalisation = true;
+// Place recognition: loop closing and relocalisation. Both need a bag-of-words vocabulary, which
+// the caller loads from `vocabulary` and hands to System (pipeline::load_vocabulary).
+struct LoopClosingConfig {
+  bool enabled = true;         // detect and close loops
+  bool relocalisation = true;  // relocalise LOST frames against the whole map
+  std::string vocabulary;      // vocabulary file ("": the shipped vocab/orb_k10_l5.bin)
   LoopConfig loop;
   RelocConfig reloc;
-  int snapshot_keyframes = 40;  // local map handed to the tracker around the relocalised keyframe
+  bool any() const { return enabled || relocalisation; }
   void validate() const;
 };
 
@@ -27,7 +29,7 @@ struct SlamConfig {
   features::FeatureConfig features;
   TrackerConfig tracker;
   MapperConfig mapper;
-  PlaceRecognitionConfig places;
+  LoopClosingConfig loop_closing;  // a pipeline preset's `loop_closing:` section
   SE3 T_c_r = SE3::Identity();  // robot (body) frame to camera frame: T_w_r = T_w_c * T_c_r
   bool threaded = false;        // tracking and local mapping in separate threads
   // Bound of the two queues between tracking and local mapping (threaded mode). Tracking keeps at
@@ -41,7 +43,12 @@ struct SlamConfig {
 // Reads a SlamConfig from a YAML node (sections: features/orb, tracker, mapper/ba, calibration,
 // threaded). Absent keys keep their defaults; unknown keys are errors naming the file and line.
 // T_c_r is given as `T_c_r: {t: [x, y, z], q: [qx, qy, qz, qw]}` (metres, unit quaternion).
+// The loop_closing member comes from its own section (read_loop_closing).
 SlamConfig slam_config_from_yaml(const YAML::Node& node, const std::string& ctx);
+// Reads a `loop_closing:` section: enabled, relocalisation, vocabulary, every LoopConfig key at
+// the top (global_ba, min_keyframes, detector: {...}, ransac: {...}, ...), RelocConfig under
+// `reloc:`. Absent keys keep c's values; unknown keys are errors naming the file and line.
+void read_loop_closing(const YAML::Node& node, LoopClosingConfig& c, const std::string& ctx);
 SlamConfig load_slam_config(const std::string& path);
 
 }  // namespace s3m::slam

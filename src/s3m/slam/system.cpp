@@ -22,8 +22,8 @@ System::System(const PinholeCamera& camera, const SlamConfig& config,
       requests_(static_cast<std::size_t>(config.queue_capacity)),
       mapped_(static_cast<std::size_t>(config.queue_capacity)) {
   config_.validate();
-  if (vocabulary && (config_.places.loop_closing || config_.places.relocalisation))
-    closer_.emplace(std::move(vocabulary), camera, config_.places.loop);
+  if (vocabulary && (config_.loop_closing.any()))
+    closer_.emplace(std::move(vocabulary), camera, config_.loop_closing.loop);
   if (config_.threaded) mapping_thread_ = std::thread([this] { mapping_loop(); });
 }
 
@@ -124,9 +124,9 @@ bool System::relocalise(const features::FrameFeatures& f, TrackResult& r) {
   std::shared_ptr<const LocalMapSnapshot> snapshot;
   SE3 T_w_kf = SE3::Identity();
   query_map([&](const Map& map) {
-    reloc = slam::relocalise(f, map, closer_->index(), camera_, config_.places.reloc);
+    reloc = slam::relocalise(f, map, closer_->index(), camera_, config_.loop_closing.reloc);
     if (!reloc.success) return;
-    snapshot = std::make_shared<const LocalMapSnapshot>(make_snapshot(map, reloc.keyframe, config_.places.snapshot_keyframes));
+    snapshot = std::make_shared<const LocalMapSnapshot>(make_snapshot(map, reloc.keyframe, config_.loop_closing.reloc.snapshot_keyframes));
     T_w_kf = map.keyframe(reloc.keyframe).T_w_c;
   });
   if (!reloc.success) return false;

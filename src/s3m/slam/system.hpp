@@ -67,7 +67,7 @@ struct StampedPose {
 
 class System {
  public:
-  // vocabulary: place recognition (config.places: loop closing, relocalisation); null = neither.
+  // vocabulary: place recognition (config.loop_closing: loops, relocalisation); null = neither.
   System(const PinholeCamera& camera, const SlamConfig& config,
          std::shared_ptr<const features::Vocabulary> vocabulary = nullptr, MappingObserver observer = {});
   ~System();
@@ -98,8 +98,8 @@ class System {
   // Call from the tracking thread only (the one calling track()); rethrows the query's exception.
   void query_map(const MapQuery& query);
   const SlamConfig& config() const { return config_; }
-  bool closes_loops() const { return closer_ && config_.places.loop_closing; }
-  bool relocalises() const { return closer_ && config_.places.relocalisation; }
+  bool closes_loops() const { return closer_ && config_.loop_closing.enabled; }
+  bool relocalises() const { return closer_ && config_.loop_closing.relocalisation; }
   int n_lost_frames() const { return n_lost_; }
   int n_relocalised_frames() const { return n_relocalised_; }
   int n_loops() const { return closer_ ? int(closer_->loop_edges().size()) : 0; }  // threaded: after finish()
