@@ -4,7 +4,7 @@
 //                                UAV flight, the demo's, rendered once into $TMPDIR/s3m_bench_figure8)
 //   S3M_BENCH_CONFIG=FILE        pipeline preset (default: config/sim.yaml)
 //   S3M_BENCH_SEGMENTER=SPEC     onnx:MODEL | oracle | none (default: the shipped network, else oracle)
-//   S3M_BENCH_MODEL_DIR=DIR      model folder for cards in models/external/
+//   S3M_BENCH_MODEL_DIR=DIR      model folder when the card lives elsewhere (--model-dir)
 //
 //   build/bench/bench_pipeline_throughput --benchmark_min_time=1x
 // Counters: fps (wall clock, reading + all stages), per-stage mean ms (track, segment, cloud, map),
@@ -45,7 +45,7 @@ std::string dataset() {
 std::string segmenter() {
   if (auto s = env("S3M_BENCH_SEGMENTER"); !s.empty()) return s;
   try {
-    return "onnx:" + pipeline::resolve_model_card(pipeline::repo_path("models/s3m_pspnet_small")).card;
+    return "onnx:" + pipeline::resolve_model_card(pipeline::repo_path("models/s3m_pspnet_small"));
   } catch (const Error&) {
     return "oracle";
   }

@@ -2,7 +2,7 @@
 // forward, softmax, class mapping, upsampling to the camera image, top-k), plus the post-processing
 // steps alone.
 //
-//   S3M_SEG_CARDS="models/s3m_pspnet_small.yaml;models/external/deeplabv3plus_mnv2_ade20k_fast.yaml@/work/shared/models/deeplabv3plus_mnv2_ade20k_fast"
+//   S3M_SEG_CARDS="models/s3m_pspnet_small.yaml;models/deeplabv3plus_mnv2_ade20k_fast.yaml"
 //   S3M_SEG_IMAGE=/work/shared/data/7scenes_redkitchen_0000-0499/rgb/<frame>.png
 //   build/bench/bench_semantics_speed --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 // Cards are ';'-separated, each optionally "@model_dir". Without S3M_SEG_IMAGE a 640x480 noise image
@@ -49,6 +49,28 @@ void BM_Segment(benchmark::State& state, std::string card, std::string model_dir
                  std::to_string(img.cols) + "x" + std::to_string(img.rows));
 }
 
+// The network forward pass alone (OpenCV DNN, the card's model and input size, a blank blob): what
+// segment() costs beyond it is pre- and post-processing.
+void BM_Forward(benchmark::State& state, std::string card_path, std::string model_dir) {
+  ModelCard card;
+  cv::dnn::Net net;
+  try {
+    card = load_model_card(card_path, model_dir);
+    net = cv::dnn::readNetFromONNX(card.model_path);
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  const int shape[] = {1, 3, card.input_height, card.input_width};
+  const cv::Mat blob(4, shape, CV_32F, cv::Scalar(0));
+  net.setInput(blob);
+  net.forward();  // warm-up
+  for (auto _ : state) {
+    net.setInput(blob);
+    benchmark::DoNotOptimize(net.forward());
+  }
+}
+
 std::vector<cv::Mat> random_planes(int n, cv::Size size) {
   std::vector<cv::Mat> planes(n);
   for (auto& p : planes) {
@@ -88,6 +110,7 @@ int main(int argc, char** argv) {
     const auto at = item.find('@');
     const std::string card = item.substr(0, at), dir = at == std::string::npos ? "" : item.substr(at + 1);
     benchmark::RegisterBenchmark(("BM_Segment/" + card).c_str(), BM_Segment, card, dir)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("BM_Forward/" + card).c_str(), BM_Forward, card, dir)->Unit(benchmark::kMillisecond);
   }
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();

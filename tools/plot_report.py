@@ -188,7 +188,10 @@ def fmt_value(v):
 def summary_rows(metrics):
     rows = [("frames", metrics.get("frames")), ("keyframes", metrics.get("keyframes")),
             ("frames/s (wall clock)", metrics.get("fps")),
-            ("map voxels", metrics.get("map", {}).get("voxels"))]
+            ("map voxels", metrics.get("map", {}).get("voxels")),
+            ("map classes (share of labelled voxels)", ", ".join(
+                f"{c['class']} {100 * c['share']:.0f} %" for c in metrics.get("map", {}).get("class_voxels", [])[:8])
+             or None)]
     traj = metrics.get("trajectory", {})
     if "ate_rmse_m" in traj:
         rows += [("ATE RMSE [m]", traj["ate_rmse_m"]), ("RPE trans RMSE [m]", traj.get("rpe_trans_rmse_m")),

@@ -34,9 +34,9 @@ struct DemoArgs {
 // The shipped network when it is there; otherwise the noisy oracle, saying so.
 std::string choose_segmenter(const std::string& model) {
   try {
-    const auto card = pipeline::resolve_model_card(model);
-    std::cout << "segmenter: shipped network, model card " << card.card << "\n";
-    return "onnx:" + card.card;
+    const std::string card = pipeline::resolve_model_card(model);
+    std::cout << "segmenter: shipped network, model card " << card << "\n";
+    return "onnx:" + card;
   } catch (const Error& e) {
     std::cout << "segmenter: the shipped network is not available (" << e.what()
               << ");\n  falling back to the noisy oracle (ground-truth labels corrupted like a network's "

@@ -155,15 +155,20 @@ void S3mNode::start(const CameraInfo& info, const std::string& camera_frame) {
   } else if (params_.publish_camera_tf) {
     static_tf_.sendTransform(stamped(c.slam.T_c_r.inverse(), ros::Time::now(), params_.base_frame, camera_frame_));
   }
-  pipeline::SegmenterSpec spec;  // the config's segmenter section
-  auto segmenter = pipeline::make_segmenter(spec, c, params_.use_labels);
+  // The config's segmenter section; `auto` (no preset) = the real-image model unless the stream
+  // carries the simulator's label images.
+  const pipeline::SegmenterChoice choice =
+      pipeline::choose_segmenter({}, c, params_.use_labels ? "ground-truth label images" : "");
+  auto segmenter = pipeline::make_segmenter(choice, c, params_.use_labels);
+  const std::string segmenter_name = segmenter ? segmenter->name() : "none";
   auto map = std::make_unique<pipeline::MapIntegrator>(c.map);
   pipeline_ = std::make_unique<pipeline::Pipeline>(c, camera, pipeline::make_slam_poses(camera, c),
                                                    std::move(segmenter), std::move(map));
   pipeline_->set_frame_listener([this](const pipeline::FrameOutcome& o, const RgbdFrame&,
                                        const semantics::LabelMap& l) { on_outcome(o, l); });
-  ROS_INFO("s3m_node: started (%dx%d, fx %.1f, segmenter %s, config %s)", camera.width, camera.height, camera.fx,
-           c.segmenter.type.c_str(), c.source.empty() ? "defaults" : c.source.c_str());
+  ROS_INFO("s3m_node: started (%dx%d, fx %.1f, segmenter %s (%s), config %s)", camera.width, camera.height,
+           camera.fx, segmenter_name.c_str(), choice.reason.c_str(),
+           c.source.empty() ? "defaults" : c.source.c_str());
 }
 
 void S3mNode::on_outcome(const pipeline::FrameOutcome& o, const semantics::LabelMap& labels) {

@@ -72,7 +72,7 @@ TEST(PipelineConfig, ErrorsNameFileLineAndExpectation) {
   EXPECT_NE(e.find("vote"), std::string::npos) << e;
 
   e = error_of("segmenter:\n  type: magic\n");
-  EXPECT_NE(e.find("segmenter.type must be onnx | oracle | none"), std::string::npos) << e;
+  EXPECT_NE(e.find("segmenter.type must be auto | onnx | oracle | none"), std::string::npos) << e;
 
   e = error_of("threads: 4\n");
   EXPECT_NE(e.find("section 'threads' is not a map"), std::string::npos) << e;

@@ -62,6 +62,18 @@ std::vector<VoxelInfo> voxels_of_class(const SemanticOcTree& tree, ClassId label
   return out;
 }
 
+std::vector<std::size_t> class_voxel_counts(const SemanticOcTree& tree) {
+  std::vector<std::size_t> n;
+  const unsigned max_depth = tree.getTreeDepth();
+  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
+    if (!counts(tree, *it)) continue;
+    const ClassId id = it->labels().top();
+    if (n.size() <= id) n.resize(std::size_t(id) + 1, 0);
+    n[id] += std::size_t{1} << (3 * (max_depth - it.getDepth()));  // a pruned leaf covers 8^d voxels
+  }
+  return n;
+}
+
 std::vector<ObjectInstance> object_instances(const SemanticOcTree& tree, ClassId label, std::size_t min_voxels) {
   // 1. The class's finest voxels with their confidence, in sorted key order (deterministic seeds).
   std::unordered_map<std::uint64_t, float> conf;

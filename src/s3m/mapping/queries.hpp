@@ -24,6 +24,9 @@ std::optional<VoxelInfo> class_at(const SemanticOcTree& tree, const Eigen::Vecto
 // Occupied leaves whose top label is `label`, in the tree's depth-first order.
 std::vector<VoxelInfo> voxels_of_class(const SemanticOcTree& tree, ClassId label);
 
+// Finest-resolution voxel count per top label: counts[id] for every ClassId up to the largest present.
+std::vector<std::size_t> class_voxel_counts(const SemanticOcTree& tree);
+
 struct ObjectInstance {
   ClassId label = cls::kUnknown;
   std::size_t voxels = 0;                               // finest-resolution voxels

@@ -31,9 +31,9 @@ std::string repo_path(const std::string& relative) {
   return (fs::path(env && *env ? env : S3M_SOURCE_DIR) / relative).string();
 }
 
-ResolvedCard resolve_model_card(const std::string& path) {
-  if (fs::is_regular_file(path)) return {path, ""};
-  if (fs::is_regular_file(path + ".yaml")) return {path + ".yaml", ""};  // "models/s3m_pspnet_small"
+std::string resolve_model_card(const std::string& path) {
+  if (fs::is_regular_file(path)) return path;
+  if (fs::is_regular_file(path + ".yaml")) return path + ".yaml";  // "models/s3m_pspnet_small"
   if (!fs::is_directory(path))
     throw Error("segmenter: model '" + path + "' is neither a model card (.yaml) nor a folder");
   std::vector<std::string> cards;
@@ -45,37 +45,54 @@ ResolvedCard resolve_model_card(const std::string& path) {
     }
   }
   std::sort(cards.begin(), cards.end());
-  if (cards.size() == 1) return {cards[0], ""};
+  if (cards.size() == 1) return cards[0];
   if (cards.size() > 1) throw Error("segmenter: " + path + " holds several model cards; pass one: onnx:" + cards[0]);
-  const fs::path name = fs::path(path).lexically_normal().filename().empty()
-                            ? fs::path(path).lexically_normal().parent_path().filename()
-                            : fs::path(path).lexically_normal().filename();
-  const fs::path repo_card = repo_path("models/external/" + name.string() + ".yaml");
-  if (fs::exists(repo_card)) return {repo_card.string(), path};
-  throw Error("segmenter: no model card for " + path + " (expected a .yaml card in that folder or " +
-              repo_card.string() + "); pass onnx:CARD.yaml with --model-dir " + path);
+  throw Error("segmenter: no model card in " + path + " (expected a .yaml card with a 'model:' key, see " +
+              repo_path("models/s3m_pspnet_small.yaml") + "); or pass onnx:CARD.yaml with --model-dir " + path);
 }
 
-std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterSpec& spec, const PipelineConfig& config,
+namespace {
+
+std::string file_name(const std::string& path) { return fs::path(path).filename().string(); }
+
+}  // namespace
+
+SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig& config, const std::string& simulator_sign) {
+  const SegmenterConfig& sc = config.segmenter;
+  SegmenterChoice c{sc.type, sc.model, sc.model_dir, ""};
+  switch (spec.kind) {
+    case SegmenterSpec::Kind::kFromConfig:
+      c.reason = "segmenter section of " + (config.source.empty() ? "the built-in defaults" : file_name(config.source));
+      break;
+    case SegmenterSpec::Kind::kNone: return {"none", "", "", "--segmenter none"};
+    case SegmenterSpec::Kind::kOracle: return {"oracle", "", "", "--segmenter oracle"};
+    case SegmenterSpec::Kind::kOnnx: return {"onnx", spec.model, spec.model_dir, "--segmenter onnx:" + spec.model};
+  }
+  if (!spec.model_dir.empty()) c.model_dir = spec.model_dir;
+  if (c.type != "auto") return c;
+  if (!simulator_sign.empty()) {
+    c.type = "oracle";
+    c.reason = "simulator sequence (" + simulator_sign + "): its ground-truth labels through the noisy oracle";
+  } else {
+    c.type = "onnx";
+    c.model = repo_path(kRealImageModelCard);
+    c.reason = "dataset has no sim.yaml or label images: real-camera default";
+  }
+  return c;
+}
+
+std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterChoice& choice, const PipelineConfig& config,
                                                      bool dataset_has_labels) {
   const SegmenterConfig& sc = config.segmenter;
-  std::string type = sc.type, model = sc.model, model_dir = sc.model_dir;
-  switch (spec.kind) {
-    case SegmenterSpec::Kind::kFromConfig: break;
-    case SegmenterSpec::Kind::kNone: type = "none"; break;
-    case SegmenterSpec::Kind::kOracle: type = "oracle"; break;
-    case SegmenterSpec::Kind::kOnnx: type = "onnx", model = spec.model, model_dir = spec.model_dir; break;
-  }
-  if (type == "none") return nullptr;
-  if (type == "oracle") {
+  if (choice.type == "none") return nullptr;
+  if (choice.type == "oracle") {
     if (!dataset_has_labels)
       throw Error("segmenter oracle: the dataset has no ground-truth label images (labels.txt, as the "
                   "simulator writes); use --segmenter onnx:MODEL or --segmenter none");
     return std::make_unique<semantics::OracleSegmenter>(sc.oracle, sc.top_k);
   }
-  ResolvedCard card = resolve_model_card(model);
-  if (!model_dir.empty()) card.model_dir = model_dir;
-  return semantics::OnnxSegmenter::from_card(card.card, card.model_dir);
+  require(choice.type == "onnx", "segmenter: unknown type '" + choice.type + "'");
+  return semantics::OnnxSegmenter::from_card(resolve_model_card(choice.model), choice.model_dir);
 }
 
 }  // namespace s3m::pipeline

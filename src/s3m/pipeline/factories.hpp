@@ -30,17 +30,31 @@ std::unique_ptr<PoseSource> make_slam_poses(const PinholeCamera& camera, const P
 // when it is missing or not a valid vocabulary.
 std::shared_ptr<const features::Vocabulary> load_vocabulary(const slam::LoopClosingConfig& config);
 
+// The shipped real-image model (repository-relative): the segmenter of real-camera presets and of
+// segmenter type `auto` on anything that is not a simulator sequence.
+inline constexpr const char* kRealImageModelCard = "models/deeplabv3plus_mnv2_ade20k_fast.yaml";
+
+// Which segmenter a run uses and why, in words for the log, metrics.json and the report.
+struct SegmenterChoice {
+  std::string type;       // onnx | oracle | none (never auto)
+  std::string model;      // onnx: model card or folder holding one
+  std::string model_dir;  // onnx: folder with the model files ("" = the card's)
+  std::string reason;     // e.g. "segmenter section of kitchen_7scenes.yaml"
+};
+// `spec` (the command line) wins over the config's segmenter section. Type `auto` (the built-in
+// default) becomes the oracle on a simulator sequence and the shipped real-image model on everything
+// else. simulator_sign: what marks the data as simulated ("sim.yaml", "ground-truth label images"),
+// "" for a real camera.
+SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig& config,
+                                 const std::string& simulator_sign);
+
 // nullptr for "none". The oracle needs the dataset's label images (simulator output).
-std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterSpec& spec, const PipelineConfig& config,
+std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterChoice& choice, const PipelineConfig& config,
                                                      bool dataset_has_labels);
 
-// Finds the model card for `onnx:PATH`: PATH itself when it is a .yaml file (or PATH.yaml); the single card
-// (*.yaml with a `model:` key) inside the folder PATH; else the repository's card
-// models/external/<folder name>.yaml describing a downloaded model, with PATH as its model folder.
-struct ResolvedCard {
-  std::string card, model_dir;  // model_dir empty: the card's own folder
-};
-ResolvedCard resolve_model_card(const std::string& path);
+// Finds the model card for `onnx:PATH`: PATH itself when it is a .yaml file (or PATH.yaml), or the single
+// card (*.yaml with a `model:` key) inside the folder PATH.
+std::string resolve_model_card(const std::string& path);
 
 // A file of the source tree this library was built from (presets, shipped models): $S3M_SOURCE_DIR
 // when set (an installed or moved build), else the configure-time source directory.

@@ -1,5 +1,6 @@
 #include "s3m/pipeline/metrics.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "s3m/core/classes.hpp"
@@ -7,6 +8,7 @@
 #include "s3m/pipeline/evaluation.hpp"
 #include "s3m/pipeline/reprojection.hpp"
 #include "s3m/mapping/metrics.hpp"
+#include "s3m/mapping/queries.hpp"
 
 namespace s3m::pipeline {
 namespace fs = std::filesystem;
@@ -78,12 +80,31 @@ json reprojection_json(const Pipeline& p, const FrameSource& source, const Pipel
   return j;
 }
 
+// Occupied, labelled voxels per top label, most frequent first: what the map says the scene is.
+json class_voxels_json(const mapping::SemanticOcTree& tree) {
+  const std::vector<std::size_t> n = mapping::class_voxel_counts(tree);
+  std::size_t total = 0;
+  for (std::size_t c : n) total += c;
+  std::vector<ClassId> ids;
+  for (ClassId id = 0; id < n.size(); ++id)
+    if (n[id] > 0) ids.push_back(id);
+  std::stable_sort(ids.begin(), ids.end(), [&](ClassId a, ClassId b) { return n[a] > n[b]; });
+  const ClassList& classes = indoor_classes();
+  json j = json::array();
+  for (ClassId id : ids)
+    j.push_back({{"class", id < classes.size() ? classes.at(id).name : std::to_string(id)},
+                 {"voxels", n[id]},
+                 {"share", double(n[id]) / double(total)}});
+  return j;
+}
+
 // T_map_gt: the ground-truth world in the map's frame (pose alignment of the trajectory).
 json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& dataset_dir, const SE3& T_map_gt) {
   const MapIntegrator* map = p.map();
   if (!map) return json::object();
   const PipelineCounters& c = p.counters();
   json j = map->describe();
+  j["class_voxels"] = class_voxels_json(map->tree());
   j["kept_clouds"] = p.kept_clouds().size();
   j["kept_clouds_mb"] = p.kept_clouds().bytes() / 1e6;
   j["kept_clouds_dropped"] = p.kept_clouds().dropped();  // over cloud.kept_clouds_budget_mb
@@ -154,6 +175,7 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
                  {"config", info.config_file.empty() ? "(built-in defaults)" : info.config_file},
                  {"poses", info.poses},
                  {"segmenter", info.segmenter},
+                 {"segmenter_reason", info.segmenter_reason},
                  {"mode", config.threads.deterministic ? "deterministic (1 thread)" : "threaded"}};
   m["frames"] = c.frames;
   m["frames_total"] = info.frames_total;

@@ -14,6 +14,7 @@ namespace s3m::pipeline {
 
 struct RunInfo {
   std::string dataset_dir, config_file, poses, segmenter;
+  std::string segmenter_reason;  // why this segmenter (pipeline::SegmenterChoice::reason)
   double wall_time_s = 0;
   bool interrupted = false;
   std::size_t frames_total = 0;

@@ -102,8 +102,8 @@ void load_eval(const YAML::Node& n, EvalConfig& c, const std::string& ctx) {
 }  // namespace
 
 void SegmenterConfig::validate() const {
-  require(type == "onnx" || type == "oracle" || type == "none",
-          "segmenter.type must be onnx | oracle | none (got '" + type + "')");
+  require(type == "auto" || type == "onnx" || type == "oracle" || type == "none",
+          "segmenter.type must be auto | onnx | oracle | none (got '" + type + "')");
   require(type != "onnx" || !model.empty(), "segmenter.model (a model card) is required for type onnx");
   require(top_k >= 1 && top_k <= mapping::kMaxLabels,
           "segmenter.top_k must be in 1.." + std::to_string(mapping::kMaxLabels));

@@ -79,7 +79,9 @@ using MapConfig = mapping::MappingConfig;
 
 // The `segmenter:` section. `s3m run --segmenter` overrides type/model.
 struct SegmenterConfig {
-  std::string type = "oracle";  // onnx | oracle | none
+  // auto: the oracle on a simulator sequence, the shipped real-image model on anything else
+  // (pipeline::choose_segmenter); onnx | oracle | none: as said.
+  std::string type = "auto";
   std::string model;            // onnx: model card (.yaml) or a folder holding one; relative to the preset
   std::string model_dir;        // onnx: folder with the model files when the card lives elsewhere
   int top_k = 3;                // oracle: labels per pixel (an ONNX model card carries its own)

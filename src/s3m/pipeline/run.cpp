@@ -44,6 +44,12 @@ struct Components {
   RunInfo info;
 };
 
+// What marks the source as simulator output for segmenter type auto ("" = a real camera).
+std::string simulator_sign(const RunOptions& o, const FrameSource& source) {
+  if (!o.open_source && fs::exists(fs::path(o.dataset_dir) / "sim.yaml")) return "sim.yaml";
+  return source.has_labels() ? "ground-truth label images" : "";
+}
+
 Components build(const RunOptions& o) {
   Components c{o.open_source ? o.open_source(o.config) : open_tum_source(o.dataset_dir, o.config.dataset), nullptr, {}};
   const PinholeCamera& cam = c.source->camera();
@@ -56,7 +62,9 @@ Components build(const RunOptions& o) {
   if (!o.slam_only) {
     SegmenterSpec spec = parse_segmenter_spec(o.segmenter);
     spec.model_dir = o.model_dir;
-    segmenter = make_segmenter(spec, o.config, c.source->has_labels());
+    const SegmenterChoice choice = choose_segmenter(spec, o.config, simulator_sign(o, *c.source));
+    segmenter = make_segmenter(choice, o.config, c.source->has_labels());
+    c.info.segmenter_reason = choice.reason;
     map = std::make_unique<MapIntegrator>(o.config.map);
   }
   c.info.segmenter = segmenter ? segmenter->name() : (o.slam_only ? "none (--slam-only)" : "none");
@@ -91,8 +99,9 @@ RunResult run_dataset(const RunOptions& o) {
   r.frames_total = c.source->size();
   if (o.max_frames >= 0) r.frames_total = std::min<std::size_t>(r.frames_total, o.max_frames);
   require(r.frames_total > 0, "run: dataset " + c.info.dataset_dir + " has no frames");
-  spdlog::info("run: {} frames from {} (poses: {}, segmenter: {})", r.frames_total, c.info.dataset_dir,
-               c.info.poses, c.info.segmenter);
+  spdlog::info("run: {} frames from {} (poses: {})", r.frames_total, c.info.dataset_dir, c.info.poses);
+  spdlog::info("run: segmenter: {}{}", c.info.segmenter,
+               c.info.segmenter_reason.empty() ? "" : " (" + c.info.segmenter_reason + ")");
 
   // The report's camera views: segmentations of a few integrated frames, kept as the run goes.
   CameraViewSampler camera_views;
