@@ -158,7 +158,7 @@ void S3mNode::start(const CameraInfo& info, const std::string& camera_frame) {
   // The config's segmenter section; `auto` (no preset) = the real-image model unless the stream
   // carries the simulator's label images.
   const pipeline::SegmenterChoice choice =
-      pipeline::choose_segmenter({}, c, params_.use_labels ? "ground-truth label images" : "");
+      pipeline::choose_segmenter({}, c, pipeline::simulator_sign("", params_.use_labels));
   auto segmenter = pipeline::make_segmenter(choice, c, params_.use_labels);
   const std::string segmenter_name = segmenter ? segmenter->name() : "none";
   auto map = std::make_unique<pipeline::MapIntegrator>(c.map);

@@ -110,6 +110,8 @@ TEST(SemanticsOnnx, BadCardsAndModelsFailAtLoadWithClearMessages) {
   std::ofstream(corrupt) << "this is not a protobuf \xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff";
   expect_error(card_text(corrupt), "not a valid ONNX model");
   expect_error(card_text(kData + "tiny_rgb.onnx", 20, 16), "input size 16x20 (HxW) does not match the model's input 'input' of shape [1,3,16,16]");
+  // an output that is not NCHW (tiny_flat.onnx: [1,4,256])
+  expect_error(card_text(kData + "tiny_flat.onnx"), kData + "tiny_flat.onnx: output must be NCHW [1, C, H, W], got 3 dimensions");
   // class list with 3 names for a 4-channel model
   const auto names3 = (fs::temp_directory_path() / "s3m_names3.txt").string();
   std::ofstream(names3) << "wall\nfloor\nchair\n";

@@ -51,18 +51,18 @@ std::string resolve_model_card(const std::string& path) {
               repo_path("models/s3m_pspnet_small.yaml") + "); or pass onnx:CARD.yaml with --model-dir " + path);
 }
 
-namespace {
+std::string simulator_sign(const std::string& dataset_dir, bool has_labels) {
+  if (!dataset_dir.empty() && fs::exists(fs::path(dataset_dir) / "sim.yaml")) return "sim.yaml";
+  return has_labels ? "ground-truth label images" : "";
+}
 
-std::string file_name(const std::string& path) { return fs::path(path).filename().string(); }
-
-}  // namespace
-
-SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig& config, const std::string& simulator_sign) {
+SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig& config, const std::string& sim_sign) {
   const SegmenterConfig& sc = config.segmenter;
   SegmenterChoice c{sc.type, sc.model, sc.model_dir, ""};
   switch (spec.kind) {
     case SegmenterSpec::Kind::kFromConfig:
-      c.reason = "segmenter section of " + (config.source.empty() ? "the built-in defaults" : file_name(config.source));
+      c.reason = "segmenter section of " +
+                 (config.source.empty() ? "the built-in defaults" : fs::path(config.source).filename().string());
       break;
     case SegmenterSpec::Kind::kNone: return {"none", "", "", "--segmenter none"};
     case SegmenterSpec::Kind::kOracle: return {"oracle", "", "", "--segmenter oracle"};
@@ -70,9 +70,9 @@ SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig
   }
   if (!spec.model_dir.empty()) c.model_dir = spec.model_dir;
   if (c.type != "auto") return c;
-  if (!simulator_sign.empty()) {
+  if (!sim_sign.empty()) {
     c.type = "oracle";
-    c.reason = "simulator sequence (" + simulator_sign + "): its ground-truth labels through the noisy oracle";
+    c.reason = "simulator sequence (" + sim_sign + "): its ground-truth labels through the noisy oracle";
   } else {
     c.type = "onnx";
     c.model = repo_path(kRealImageModelCard);

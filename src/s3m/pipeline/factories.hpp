@@ -41,12 +41,15 @@ struct SegmenterChoice {
   std::string model_dir;  // onnx: folder with the model files ("" = the card's)
   std::string reason;     // e.g. "segmenter section of kitchen_7scenes.yaml"
 };
+// What marks a source as simulator output: "sim.yaml" (dataset_dir holds the file `s3m sim` writes),
+// "ground-truth label images" (has_labels: a TUM labels.txt, a bag's or the node's label topic), or
+// "" for a real camera. dataset_dir is "" for a bag or a live stream.
+std::string simulator_sign(const std::string& dataset_dir, bool has_labels);
+
 // `spec` (the command line) wins over the config's segmenter section. Type `auto` (the built-in
 // default) becomes the oracle on a simulator sequence and the shipped real-image model on everything
-// else. simulator_sign: what marks the data as simulated ("sim.yaml", "ground-truth label images"),
-// "" for a real camera.
-SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig& config,
-                                 const std::string& simulator_sign);
+// else. sim_sign: simulator_sign() of the source ("" = a real camera).
+SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig& config, const std::string& sim_sign);
 
 // nullptr for "none". The oracle needs the dataset's label images (simulator output).
 std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterChoice& choice, const PipelineConfig& config,

@@ -44,12 +44,6 @@ struct Components {
   RunInfo info;
 };
 
-// What marks the source as simulator output for segmenter type auto ("" = a real camera).
-std::string simulator_sign(const RunOptions& o, const FrameSource& source) {
-  if (!o.open_source && fs::exists(fs::path(o.dataset_dir) / "sim.yaml")) return "sim.yaml";
-  return source.has_labels() ? "ground-truth label images" : "";
-}
-
 Components build(const RunOptions& o) {
   Components c{o.open_source ? o.open_source(o.config) : open_tum_source(o.dataset_dir, o.config.dataset), nullptr, {}};
   const PinholeCamera& cam = c.source->camera();
@@ -62,7 +56,8 @@ Components build(const RunOptions& o) {
   if (!o.slam_only) {
     SegmenterSpec spec = parse_segmenter_spec(o.segmenter);
     spec.model_dir = o.model_dir;
-    const SegmenterChoice choice = choose_segmenter(spec, o.config, simulator_sign(o, *c.source));
+    const std::string sim_sign = simulator_sign(o.open_source ? "" : o.dataset_dir, c.source->has_labels());
+    const SegmenterChoice choice = choose_segmenter(spec, o.config, sim_sign);
     segmenter = make_segmenter(choice, o.config, c.source->has_labels());
     c.info.segmenter_reason = choice.reason;
     map = std::make_unique<MapIntegrator>(o.config.map);
