@@ -17,7 +17,7 @@ namespace {
 struct SimArgs {
   std::string config_path, out_dir, scene = "office", trajectory = "uav_sweep", camera = "kinect", snapshots;
   int frames = 300, width = 640, height = 480, drop_frames = 0, motion_blur = 1;
-  std::uint64_t seed = 7;
+  std::uint64_t seed = 7, layout_seed = 0;
   double fps = 30.0, voxel_res_m = 0.05;
   bool noise = true, snapshots_only = false;
 };
@@ -61,6 +61,7 @@ void run(const SimArgs& a, const CLI::App& cmd) {
   auto given = [&](const char* name) { return a.config_path.empty() || cmd.count(name) > 0; };
   if (given("--scene")) cfg.scene = a.scene;
   if (given("--seed")) cfg.seed = a.seed;
+  if (cmd.count("--layout-seed")) cfg.layout_seed = a.layout_seed;
   if (given("--trajectory")) cfg.trajectory.type = a.trajectory;
   if (given("--frames")) cfg.trajectory.frames = a.frames;
   if (given("--fps")) cfg.trajectory.fps = a.fps;
@@ -78,8 +79,9 @@ void run(const SimArgs& a, const CLI::App& cmd) {
     std::fprintf(stderr, "s3m sim: wrote snapshots %s to %s/snapshots\n", a.snapshots.c_str(), a.out_dir.c_str());
     return;
   }
-  std::fprintf(stderr, "s3m sim: scene %s (seed %llu), trajectory %s, %d frames at %dx%d -> %s\n", cfg.scene.c_str(),
-               static_cast<unsigned long long>(cfg.seed), cfg.trajectory.type.c_str(), cfg.trajectory.frames,
+  std::fprintf(stderr, "s3m sim: scene %s (layout seed %llu, seed %llu), trajectory %s, %d frames at %dx%d -> %s\n", cfg.scene.c_str(),
+               static_cast<unsigned long long>(cfg.layout()), static_cast<unsigned long long>(cfg.seed),
+               cfg.trajectory.type.c_str(), cfg.trajectory.frames,
                cfg.sensor.camera.width, cfg.sensor.camera.height, a.out_dir.c_str());
   Stopwatch sw;
   const sim::SimSummary s = sim::simulate_sequence(cfg, a.out_dir, [&](int done, int total) {
@@ -108,7 +110,10 @@ void register_sim(CLI::App& app) {
                   "uav_sweep, figure8, loop, lawnmower, handheld, hover, forward")->capture_default_str();
   cmd->add_option("--frames", args->frames, "Number of frames")->capture_default_str();
   cmd->add_option("--fps", args->fps, "Frame rate [Hz]")->capture_default_str();
-  cmd->add_option("--seed", args->seed, "Seed for layout, trajectory variation and noise")->capture_default_str();
+  cmd->add_option("--seed", args->seed, "Seed for trajectory variation and noise (and the layout without --layout-seed)")
+      ->capture_default_str();
+  cmd->add_option("--layout-seed", args->layout_seed,
+                  "Seed for the scene layout only (default: --seed); same value = same building, other flights");
   cmd->add_option("--camera", args->camera, "Intrinsics: kinect (fx 525 at 640 px) or d455 (fx 382.6)")
       ->capture_default_str();
   cmd->add_option("--width", args->width, "Image width [px]")->capture_default_str();

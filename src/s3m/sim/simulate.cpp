@@ -54,6 +54,7 @@ std::string sim_yaml(const SimConfig& c, const Trajectory& t, const SimSummary& 
   e.SetDoublePrecision(9);
   e << YAML::BeginMap;
   e << YAML::Key << "scene" << YAML::Value << c.scene << YAML::Key << "seed" << YAML::Value << c.seed;
+  if (c.layout_seed) e << YAML::Key << "layout_seed" << YAML::Value << *c.layout_seed;  // absent: = seed
   e << YAML::Key << "trajectory" << YAML::Value << c.trajectory.type;
   e << YAML::Key << "frames" << YAML::Value << c.trajectory.frames << YAML::Key << "fps" << YAML::Value
     << c.trajectory.fps;
@@ -75,13 +76,18 @@ void SimConfig::validate() const {
   sensor.validate();
   require(drop_frames >= 0, "sim: drop_frames must be >= 0");
   require(voxel_resolution_m > 0.005 && voxel_resolution_m <= 1.0, "sim: voxel_resolution_m must be in (0.005, 1] m");
-  make_scene(scene, seed);  // throws for an unknown preset
+  make_scene(scene, layout());  // throws for an unknown preset
 }
 
 void load_sim_config(const YAML::Node& n, SimConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"scene", "seed", "drop_frames", "voxel_resolution_m", "trajectory", "sensor"}, ctx);
+  check_known_keys(n, {"scene", "seed", "layout_seed", "drop_frames", "voxel_resolution_m", "trajectory", "sensor"}, ctx);
   yaml_get(n, "scene", c.scene, ctx);
   yaml_get(n, "seed", c.seed, ctx);
+  if (n["layout_seed"]) {
+    std::uint64_t layout = 0;
+    yaml_get(n, "layout_seed", layout, ctx);
+    c.layout_seed = layout;
+  }
   yaml_get(n, "drop_frames", c.drop_frames, ctx);
   yaml_get(n, "voxel_resolution_m", c.voxel_resolution_m, ctx);
   if (n["trajectory"]) load_trajectory_config(n["trajectory"], c.trajectory, ctx);
@@ -96,7 +102,7 @@ SimConfig load_sim_config(const std::string& path) {
 
 Simulation::Simulation(const SimConfig& cfg)
     : cfg_(validated(cfg)),
-      renderer_(make_scene(cfg.scene, cfg.seed), cfg.sensor),
+      renderer_(make_scene(cfg.scene, cfg.layout()), cfg.sensor),
       trajectory_(make_trajectory(renderer_.scene(), cfg.trajectory, cfg.seed)),
       dropped_(choose_dropped(cfg.trajectory.frames, cfg.drop_frames, cfg.seed)) {}
 

@@ -8,6 +8,7 @@
 //   sim::simulate_sequence(cfg, "out/");      // rgb/ depth/ labels/ *.txt camera.yaml classes.txt gt_voxels.txt
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -22,15 +23,21 @@ namespace s3m::sim {
 
 struct SimConfig {
   std::string scene = "office";  // preset name, see scene_presets()
-  std::uint64_t seed = 7;        // layout, trajectory variation and sensor noise
+  std::uint64_t seed = 7;        // trajectory variation, dropped frames and sensor noise (and the
+                                 // layout unless layout_seed is set)
+  // Scene layout (positions, sizes, colours, patterns). Unset: the layout follows `seed`, so
+  // sequences made before layout_seed existed stay byte-identical. Two configs with the same
+  // layout_seed and different seeds fly through one and the same building.
+  std::optional<std::uint64_t> layout_seed;
   TrajectoryConfig trajectory;
   SensorConfig sensor;
   int drop_frames = 0;              // this many frames (never the first 10) come out blank: black, no depth
   double voxel_resolution_m = 0.05; // ground-truth voxel map resolution
+  std::uint64_t layout() const { return layout_seed.value_or(seed); }
   void validate() const;
 };
 
-// YAML keys: scene, seed, drop_frames, voxel_resolution_m, trajectory: {...}, sensor: {...}.
+// YAML keys: scene, seed, layout_seed, drop_frames, voxel_resolution_m, trajectory: {...}, sensor: {...}.
 // Unknown keys are errors (ParseError with file and line).
 SimConfig load_sim_config(const std::string& path);
 void load_sim_config(const YAML::Node& node, SimConfig& cfg, const std::string& ctx);
