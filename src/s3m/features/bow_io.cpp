@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "s3m/core/atomic_file.hpp"
+#include "s3m/core/byte_io.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/input_file.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
@@ -19,12 +20,6 @@ namespace {
 
 constexpr char kMagic[8] = {'S', '3', 'M', 'V', 'O', 'C', 'A', 'B'};
 constexpr uint32_t kVersion = 1;
-
-uint64_t fnv1a(const std::string& bytes) {
-  uint64_t h = 1469598103934665603ULL;
-  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ULL;
-  return h;
-}
 
 template <typename T>
 void put(std::string& out, const T& v) {
@@ -128,6 +123,8 @@ void Vocabulary::save(const std::string& path) const {
   // crash mid-write never leave a torn vocabulary (the old file stays until the rename).
   write_text_atomic(path, bytes);
 }
+
+uint64_t Vocabulary::checksum() const { return fnv1a(VocabularyIo::serialise(*this)); }
 
 Vocabulary Vocabulary::load(const std::string& path) {
   std::ifstream in = open_input_file(path, "an s3m ORB vocabulary file", std::ios::binary);

@@ -41,6 +41,10 @@ class Vocabulary {
   // version, truncated, checksum mismatch, inconsistent tree).
   static Vocabulary load(const std::string& path);
 
+  // FNV-1a of the vocabulary's file bytes: two vocabularies with one checksum give the same words,
+  // weights and BoW vectors (a saved SLAM map records it).
+  uint64_t checksum() const;
+
   bool empty() const { return words_.empty(); }
   int branching() const { return branching_; }
   int levels() const { return levels_; }

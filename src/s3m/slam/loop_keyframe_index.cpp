@@ -33,6 +33,11 @@ void KeyFrameBowIndex::sync(const Map& map) {
   }
 }
 
+void KeyFrameBowIndex::restore(KfId id, KeyFrameBow bow) {
+  db_.add(int(id), bow.bow);
+  entries_[id] = std::move(bow);
+}
+
 const KeyFrameBow* KeyFrameBowIndex::find(KfId id) const {
   const auto it = entries_.find(id);
   return it == entries_.end() ? nullptr : &it->second;

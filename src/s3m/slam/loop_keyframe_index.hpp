@@ -23,12 +23,15 @@ class KeyFrameBowIndex {
 
   // Adds keyframes the index has not seen and removes those no longer in the map.
   void sync(const Map& map);
+  // Indexes keyframe id with a BoW computed earlier (a loaded map) instead of recomputing it.
+  void restore(KfId id, KeyFrameBow bow);
   // BoW of any descriptor set (a frame being relocalised).
   KeyFrameBow describe(const cv::Mat& descriptors) const;
 
   const KeyFrameBow* find(KfId id) const;
   const features::BowDatabase& database() const { return db_; }
   const features::Vocabulary& vocabulary() const { return *vocabulary_; }
+  int direct_level() const { return direct_level_; }
   size_t size() const { return entries_.size(); }
 
  private:

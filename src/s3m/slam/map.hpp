@@ -95,6 +95,7 @@ class Map {
   KfId last_keyframe_id() const { return next_kf_id_ - 1; }
 
  private:
+  friend class MapIo;  // map_io.cpp: a loaded map gets back its ids, culled chain and id counters
   std::map<KfId, KeyFrame> keyframes_;
   std::map<PointId, MapPoint> points_;
   std::map<KfId, std::pair<KfId, SE3>> culled_;  // erased keyframe -> (parent, T_parent_kf)

@@ -1,0 +1,214 @@
+// slam_map.bin (issue 23): a map built by SLAM on a rendered room flight saves, loads and saves
+// again to the same bytes; the loaded map relocalises every keyframe image; bad files (missing,
+// truncated, foreign, other version, corrupt, inconsistent, other camera, other vocabulary) stop
+// with a ParseError naming the file and the problem.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "s3m/core/byte_io.hpp"
+#include "s3m/core/error.hpp"
+#include "s3m/features/bow_vocabulary.hpp"
+#include "s3m/slam/map_io.hpp"
+#include "s3m/slam/reloc.hpp"
+#include "s3m/slam/system.hpp"
+#include "slam_synthetic_room.hpp"
+
+namespace fs = std::filesystem;
+
+namespace s3m::slam {
+namespace {
+
+constexpr int kFrames = 60;
+
+PinholeCamera room_camera() {
+  PinholeCamera c;
+  c.fx = c.fy = 525;
+  c.cx = 319.5;
+  c.cy = 239.5;
+  c.bf = 40;
+  return c;
+}
+
+RgbdFrame room_frame(int i) {
+  return test::render_room(test::Room{}, room_camera(), test::uav_pose(i, 4 * kFrames), i, i / 30.0, 0.002);
+}
+
+std::shared_ptr<const features::Vocabulary> vocabulary() {
+  static const auto v = std::make_shared<const features::Vocabulary>(
+      features::Vocabulary::load(features::default_vocabulary_path()));
+  return v;
+}
+
+// The map SLAM builds on a quarter of the room circuit, its BoW index and one loop edge (the
+// file stores loop edges; this short flight closes none).
+struct Built {
+  Map map;
+  KeyFrameBowIndex index{vocabulary()};
+  LoopEdges loops;
+};
+
+const Built& built() {
+  static const Built b = [] {
+    System slam(room_camera(), SlamConfig{});
+    for (int i = 0; i < kFrames; ++i) slam.track(room_frame(i));
+    slam.finish();
+    Built out{slam.map(), KeyFrameBowIndex(vocabulary()), {}};
+    out.index.sync(out.map);
+    out.loops = {{out.map.keyframes().rbegin()->first, out.map.keyframes().begin()->first}};
+    return out;
+  }();
+  return b;
+}
+
+fs::path temp_file(const std::string& name) {
+  return fs::temp_directory_path() / ("s3m_map_io_" + name + "_" + std::to_string(::getpid()) + ".bin");
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+void write(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
+
+// The message of the ParseError load_slam_map throws for path ("" when it loads).
+std::string load_error(const fs::path& path, const PinholeCamera& camera = room_camera(),
+                       std::shared_ptr<const features::Vocabulary> vocab = vocabulary()) {
+  try {
+    load_slam_map(path.string(), camera, std::move(vocab));
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.file(), path.string());
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SlamMapIo, SaveLoadSaveGivesIdenticalBytes) {
+  const Built& b = built();
+  ASSERT_GE(b.map.n_keyframes(), 5);
+  ASSERT_GE(b.map.n_points(), 500);
+  const fs::path a = temp_file("a"), c = temp_file("c");
+  save_slam_map(a.string(), b.map, b.index, b.loops, room_camera());
+  const LoadedSlamMap m = load_slam_map(a.string(), room_camera(), vocabulary());
+  save_slam_map(c.string(), m.map, m.index, m.loop_edges, m.camera);
+  const std::string bytes = slurp(a);
+  EXPECT_EQ(bytes, slurp(c));
+  EXPECT_EQ(bytes, serialise_slam_map(b.map, b.index, b.loops, room_camera()));
+  // What the bytes stand for came back too: ids, poses, observations, graph, BoW index.
+  EXPECT_EQ(m.map.n_keyframes(), b.map.n_keyframes());
+  EXPECT_EQ(m.map.n_points(), b.map.n_points());
+  EXPECT_EQ(m.map.last_keyframe_id(), b.map.last_keyframe_id());
+  EXPECT_EQ(m.loop_edges, b.loops);
+  EXPECT_EQ(m.index.size(), b.index.size());
+  for (const auto& [id, kf] : b.map.keyframes()) {
+    const KeyFrame& k = m.map.keyframe(id);
+    EXPECT_TRUE(k.T_w_c.isApprox(kf.T_w_c, 0.0));
+    EXPECT_EQ(k.points, kf.points);
+    EXPECT_EQ(k.covisibility, kf.covisibility);
+    EXPECT_EQ(k.parent, kf.parent);
+    EXPECT_EQ(cv::norm(k.features->descriptors, kf.features->descriptors, cv::NORM_INF), 0.0);
+    EXPECT_EQ(k.features->in_area(320, 240, 40), kf.features->in_area(320, 240, 40)) << "grid rebuilt";
+    EXPECT_EQ(m.index.find(id)->bow, b.index.find(id)->bow);
+    EXPECT_EQ(m.index.find(id)->direct, b.index.find(id)->direct);
+  }
+  for (const auto& [pid, p] : b.map.points()) {
+    EXPECT_EQ(m.map.point(pid).observations, p.observations);
+    EXPECT_EQ(m.map.point(pid).descriptor, p.descriptor);
+  }
+  // A session matching at another direct-index level recomputes the index: same BoW vectors.
+  const LoadedSlamMap other_level = load_slam_map(a.string(), room_camera(), vocabulary(), 3);
+  for (const auto& [id, kf] : b.map.keyframes()) EXPECT_EQ(other_level.index.find(id)->bow, b.index.find(id)->bow);
+  fs::remove(a);
+  fs::remove(c);
+}
+
+TEST(SlamMapIo, LoadedMapRelocalisesEveryKeyframeImage) {
+  const fs::path a = temp_file("reloc");
+  save_slam_map(a.string(), built().map, built().index, built().loops, room_camera());
+  const LoadedSlamMap m = load_slam_map(a.string(), room_camera(), vocabulary());
+  const SlamConfig cfg;
+  const features::OrbExtractor orb(cfg.features.orb);
+  int n = 0;
+  for (const auto& [id, kf] : m.map.keyframes()) {
+    const RgbdFrame f = room_frame(kf.frame_index);
+    const auto feats = features::compute_frame_features(f.rgb, f.depth_m, room_camera(), orb, cfg.features);
+    const RelocResult r = relocalise(feats, m.map, m.index, room_camera());
+    ASSERT_TRUE(r.success) << "keyframe " << id;
+    const SE3 d = kf.T_w_c.inverse() * r.T_w_c;
+    EXPECT_LT(d.translation().norm(), 0.01) << "keyframe " << id;
+    EXPECT_LT(rotation_angle_rad(d.linear()) * 180 / M_PI, 0.5) << "keyframe " << id;
+    ++n;
+  }
+  EXPECT_EQ(n, built().map.n_keyframes());
+  fs::remove(a);
+}
+
+TEST(SlamMapIo, BadFilesNameTheFileAndTheProblem) {
+  const fs::path good = temp_file("good"), bad = temp_file("bad");
+  const std::string bytes = serialise_slam_map(built().map, built().index, built().loops, room_camera());
+  write(good, bytes);
+  ASSERT_EQ(load_error(good), "");
+
+  EXPECT_NE(load_error(temp_file("missing")).find("no such SLAM map file"), std::string::npos);
+  write(bad, bytes.substr(0, bytes.size() / 2));
+  EXPECT_NE(load_error(bad).find("truncated"), std::string::npos) << load_error(bad);
+  write(bad, bytes.substr(0, 10));
+  EXPECT_NE(load_error(bad).find("truncated"), std::string::npos) << load_error(bad);
+  write(bad, slurp(features::default_vocabulary_path()));
+  EXPECT_NE(load_error(bad).find("not an s3m SLAM map"), std::string::npos);
+  std::string v2 = bytes;
+  v2[8] = 2;  // u32 version after the 8 magic bytes
+  write(bad, v2);
+  EXPECT_NE(load_error(bad).find("version 2 is not supported (expected version 1)"), std::string::npos)
+      << load_error(bad);
+  std::string flipped = bytes;
+  flipped[bytes.size() / 2] ^= 0x10;
+  write(bad, flipped);
+  EXPECT_NE(load_error(bad).find("checksum mismatch"), std::string::npos);
+
+  PinholeCamera other = room_camera();
+  other.fx = 500;
+  EXPECT_NE(load_error(good, other).find("made with another camera: fx = 525 (this run: 500)"), std::string::npos)
+      << load_error(good, other);
+  other = room_camera();
+  other.width = 320;
+  EXPECT_NE(load_error(good, other).find("image size 640x480 (this run: 320x480)"), std::string::npos);
+
+  // A vocabulary trained on a few room images: other words, other checksum.
+  std::vector<cv::Mat> descs;
+  for (int i : {0, 20, 40}) descs.push_back(features::extract_orb_descriptors(room_frame(i).rgb, 300));
+  features::VocabularyConfig vc;
+  vc.branching = 4;
+  vc.levels = 2;
+  const auto tiny = std::make_shared<const features::Vocabulary>(features::Vocabulary::train(descs, vc));
+  EXPECT_NE(load_error(good, room_camera(), tiny).find("made with another vocabulary"), std::string::npos)
+      << load_error(good, room_camera(), tiny);
+  fs::remove(good);
+  fs::remove(bad);
+}
+
+// A file whose framing and checksum are right but whose map contradicts itself.
+TEST(SlamMapIo, InconsistentMapIsRejected) {
+  std::string bytes = serialise_slam_map(built().map, built().index, built().loops, room_camera());
+  // Payload = camera (96 B), vocabulary checksum and size, direct level (20 B), then the map's
+  // next keyframe id and next point id: claim no point was ever created.
+  const std::size_t payload = 8 + 4 + 8, next_point = payload + 96 + 20 + 8;
+  const std::int64_t zero = 0;
+  std::memcpy(bytes.data() + next_point, &zero, 8);
+  const std::uint64_t sum = fnv1a(std::string_view(bytes).substr(payload, bytes.size() - payload - 16));
+  std::memcpy(bytes.data() + bytes.size() - 16, &sum, 8);
+  const fs::path p = temp_file("inconsistent");
+  write(p, bytes);
+  const std::string e = load_error(p);
+  EXPECT_NE(e.find("inconsistent map: point id "), std::string::npos) << e;
+  EXPECT_NE(e.find(" outside [0, 0)"), std::string::npos) << e;
+  fs::remove(p);
+}
+
+}  // namespace
+}  // namespace s3m::slam
