@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "s3m/core/byte_io.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/input_file.hpp"
 #include "s3m/io/atomic_file.hpp"
@@ -14,12 +15,6 @@ namespace {
 
 constexpr char kMagic[8] = {'S', '3', 'M', 'S', 'E', 'M', '0', '1'};
 constexpr char kEndMagic[8] = {'S', '3', 'M', 'E', 'N', 'D', '0', '1'};
-
-std::uint64_t fnv1a(const std::string& bytes) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
 
 template <typename T>
 void put(std::ostream& s, const T& v) {
