@@ -60,4 +60,8 @@ struct LocalMapSnapshot {
 // to max_keyframes, with all their points.
 LocalMapSnapshot make_snapshot(const Map& map, KfId ref, int max_keyframes);
 
+// The keyframe observing most of points (ties: the smaller id); kNoId when none does. ORB-SLAM's
+// choice of the reference keyframe for a frame's local map.
+KfId best_covisible_keyframe(const Map& map, const std::vector<PointId>& points);
+
 }  // namespace s3m::slam

@@ -1,3 +1,4 @@
+#include <map>
 #include <set>
 
 #include "s3m/slam/local_map.hpp"
@@ -37,6 +38,18 @@ LocalMapSnapshot make_snapshot(const Map& map, KfId ref, int max_keyframes) {
     }
   }
   return s;
+}
+
+KfId best_covisible_keyframe(const Map& map, const std::vector<PointId>& points) {
+  std::map<KfId, int> votes;
+  for (PointId pid : points)
+    if (map.has_point(pid))
+      for (const auto& [kf, idx] : map.point(pid).observations) ++votes[kf];
+  KfId best = kNoId;
+  int best_votes = 0;
+  for (const auto& [kf, n] : votes)
+    if (n > best_votes) best = kf, best_votes = n;
+  return best;
 }
 
 }  // namespace s3m::slam

@@ -62,6 +62,22 @@ void Tracker::set_pose(const SE3& T_w_c) {
   resume_from_pose_ = true;
 }
 
+void Tracker::continue_map(KfId next_keyframe_id) {
+  require(state_ == TrackState::kNotInitialized && n_requests_ == 0,
+          "Tracker::continue_map: only before the first frame");
+  n_requests_ = next_keyframe_id;
+  state_ = TrackState::kLost;
+}
+
+void Tracker::set_local_map(std::shared_ptr<const LocalMapSnapshot> snapshot, int frame_index) {
+  require(snapshot && !snapshot->keyframes.empty(), "Tracker::set_local_map: empty local map");
+  ref_kf_ = snapshot->reference_kf;
+  T_w_ref_ = snapshot->keyframes.front().T_w_c;
+  last_keyframe_frame_ = frame_index;
+  if (localize_only_) visibility_.clear();  // statistics only travel with keyframe requests
+  snapshot_ = std::move(snapshot);
+}
+
 TrackerOutput Tracker::process(const RgbdFrame& frame, int pending_keyframes) {
   // 1. Features.
   return track(frame,
@@ -125,8 +141,16 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   velocity_ = cur.T_c_w * last_.T_c_w.inverse();
   out.state = state_;
   out.T_w_c = cur.T_c_w.inverse();
-  // 5. Keyframe decision.
-  if (need_keyframe(cur, frame.index, out.n_inliers, pending)) out.keyframe = make_request(cur, frame);
+  // 5. Keyframe decision (localisation only: a new local map instead of a keyframe).
+  if (need_keyframe(cur, frame.index, out.n_inliers, pending)) {
+    if (!localize_only_) {
+      out.keyframe = make_request(cur, frame);
+    } else {
+      out.wants_local_map = true;
+      for (int i = 0; i < n; ++i)
+        if (cur.matched[i] && cur.pid[i] != kNoId) out.tracked_points.push_back(cur.pid[i]);
+    }
+  }
   out.ref_kf = ref_kf_;
   out.T_ref_c = T_w_ref_.inverse() * out.T_w_c;
   // 6. This frame (with fresh visual-odometry points) is the next frame's "last".

@@ -47,6 +47,11 @@ struct TrackerOutput {
   // Tracking failed while keyframes were still being mapped and nothing was changed: retry with
   // retrack() once the pending snapshots have arrived.
   bool deferred = false;
+  // Localisation only (set_localize_only): this frame would have become a keyframe; the caller
+  // hands the tracker the local map around the existing keyframe that sees most of
+  // tracked_points (set_local_map) instead.
+  bool wants_local_map = false;
+  std::vector<PointId> tracked_points;  // with wants_local_map: the frame's inlier map points
 };
 
 class Tracker {
@@ -63,6 +68,15 @@ class Tracker {
   void set_snapshot(std::shared_ptr<const LocalMapSnapshot> snapshot);
   // Relocalisation hook: resume tracking from this camera pose on the next frame.
   void set_pose(const SE3& T_w_c);
+  // A loaded map (issue 23): tracking starts LOST, so the first frame is relocalised against the
+  // map instead of starting a new one, and keyframes get ids from next_keyframe_id on.
+  void continue_map(KfId next_keyframe_id);
+  // Localisation only: no keyframe requests (the map stays as it is, statistics included).
+  void set_localize_only(bool on) { localize_only_ = on; }
+  // Makes snapshot (around an existing keyframe) the local map and its keyframe the reference,
+  // as if that keyframe had just been made at frame_index (after relocalisation in a loaded map,
+  // and for wants_local_map).
+  void set_local_map(std::shared_ptr<const LocalMapSnapshot> snapshot, int frame_index);
   TrackState state() const { return state_; }
   const features::OrbExtractor& extractor() const { return extractor_; }
 
@@ -108,6 +122,7 @@ class Tracker {
   TrackState state_ = TrackState::kNotInitialized;
   Frame last_;
   bool resume_from_pose_ = false;  // set_pose() was called: the next frame tracks the local map from it
+  bool localize_only_ = false;
   std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
   int last_keyframe_frame_ = 0;
   KfId n_requests_ = 0;          // keyframe ids are assigned by the Map in request order
