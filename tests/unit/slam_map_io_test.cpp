@@ -1,7 +1,9 @@
 // slam_map.bin (issue 23): a map built by SLAM on a rendered room flight saves, loads and saves
 // again to the same bytes; the loaded map relocalises every keyframe image; bad files (missing,
 // truncated, foreign, other version, corrupt, inconsistent, other camera, other vocabulary) stop
-// with a ParseError naming the file and the problem.
+// with a ParseError naming the file and the problem. A second session over the same room
+// (System::load_map) starts relocalised, reports poses in the first session's world, and with
+// localize_only adds nothing (the map saves to the bytes it was loaded from).
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -208,6 +210,110 @@ TEST(SlamMapIo, InconsistentMapIsRejected) {
   EXPECT_NE(e.find("inconsistent map: point id "), std::string::npos) << e;
   EXPECT_NE(e.find(" outside [0, 0)"), std::string::npos) << e;
   fs::remove(p);
+}
+
+// Session B of the room: the poses between session A's frames (half a frame on) with other depth
+// noise, so no image repeats one the map was built from.
+RgbdFrame session_b_frame(int i) {
+  return test::render_room(test::Room{}, room_camera(), test::uav_pose(2 * i + 1, 8 * kFrames), i, i / 30.0, 0.002, 2);
+}
+SE3 session_b_T_w_c(int i) {  // ground truth in session A's world (its first camera)
+  return test::uav_pose(0, 4 * kFrames).inverse() * test::uav_pose(2 * i + 1, 8 * kFrames);
+}
+
+// Session A through System::save_map (single-thread, place recognition on); removed at exit.
+const std::string& session_a_file() {
+  struct File {
+    std::string path = temp_file("session_a").string();
+    File() {
+      System slam(room_camera(), SlamConfig{}, vocabulary());
+      for (int i = 0; i < kFrames; ++i) slam.track(room_frame(i));
+      slam.finish();
+      slam.save_map(path);
+    }
+    ~File() { fs::remove(path); }
+  };
+  static const File file;
+  return file.path;
+}
+
+struct SessionB {
+  std::vector<TrackResult> results;
+  std::vector<StampedPose> traj;
+  int keyframes_before = 0, keyframes_after = 0, keyframes_made = 0;
+};
+
+SessionB run_session_b(bool localize_only, bool threaded, const std::string& save_to = "") {
+  SlamConfig cfg;
+  cfg.threaded = threaded;
+  System slam(room_camera(), cfg, vocabulary());
+  slam.load_map(session_a_file(), localize_only);
+  SessionB b;
+  b.keyframes_before = slam.map().n_keyframes();
+  for (int i = 0; i < kFrames; ++i) {
+    b.results.push_back(slam.track(session_b_frame(i)));
+    b.keyframes_made += b.results.back().keyframe;
+  }
+  slam.finish();
+  b.traj = slam.camera_trajectory();
+  b.keyframes_after = slam.map().n_keyframes();
+  if (!save_to.empty()) slam.save_map(save_to);
+  return b;
+}
+
+// Worst camera position error of session B against ground truth in session A's world: no
+// alignment, the loaded map's frame is the frame.
+double worst_error_m(const SessionB& b) {
+  double worst = 0;
+  for (const auto& p : b.traj)
+    worst = std::max(worst, (p.T_w_x.translation() - session_b_T_w_c(p.frame_index).translation()).norm());
+  return worst;
+}
+
+TEST(SlamSession, LocalizeOnlyTracksInTheLoadedWorldAndLeavesTheMapAsItWas) {
+  const fs::path again = temp_file("localized");
+  const SessionB b = run_session_b(true, false, again.string());
+  EXPECT_EQ(b.results.front().state, TrackState::kRelocalised) << "the first frame relocalises in the map";
+  for (const auto& r : b.results) EXPECT_NE(r.state, TrackState::kLost) << "frame " << r.frame_index;
+  EXPECT_EQ(b.keyframes_made, 0);
+  EXPECT_EQ(b.keyframes_after, b.keyframes_before);
+  EXPECT_EQ(slurp(again), slurp(session_a_file())) << "the frozen map saves to the bytes it was loaded from";
+  ASSERT_EQ(b.traj.size(), std::size_t(kFrames));
+  const double worst = worst_error_m(b);
+  std::printf("localize-only session B: worst position error %.4f m in session A's world\n", worst);
+  EXPECT_LT(worst, 0.03);
+  fs::remove(again);
+}
+
+TEST(SlamSession, ThreadedLocalizeOnlyAlsoAddsNothing) {
+  const SessionB b = run_session_b(true, true);
+  EXPECT_EQ(b.results.front().state, TrackState::kRelocalised);
+  EXPECT_EQ(b.keyframes_made, 0);
+  EXPECT_EQ(b.keyframes_after, b.keyframes_before);
+  EXPECT_LT(worst_error_m(b), 0.03);
+}
+
+TEST(SlamSession, ExtendingContinuesTheLoadedMapInItsWorld) {
+  const SessionB b = run_session_b(false, false);
+  EXPECT_EQ(b.results.front().state, TrackState::kRelocalised);
+  for (const auto& r : b.results) EXPECT_NE(r.state, TrackState::kLost) << "frame " << r.frame_index;
+  ASSERT_EQ(b.traj.size(), std::size_t(kFrames));
+  // New keyframes continue the loaded ids.
+  for (const auto& r : b.results)
+    if (r.keyframe) EXPECT_GE(r.anchor.keyframe, b.keyframes_before) << "frame " << r.frame_index;
+  const double worst = worst_error_m(b);
+  std::printf("extending session B: %d keyframes added, worst position error %.4f m\n", b.keyframes_made, worst);
+  EXPECT_LT(worst, 0.03);
+}
+
+TEST(SlamSession, LoadingNeedsRelocalisationAndAFreshSystem) {
+  System no_vocab(room_camera(), SlamConfig{});
+  EXPECT_THROW(no_vocab.load_map(session_a_file()), Error);
+  System used(room_camera(), SlamConfig{}, vocabulary());
+  used.track(room_frame(0));
+  EXPECT_THROW(used.load_map(session_a_file()), Error);
+  System other_camera(room_camera().scaled(0.5), SlamConfig{}, vocabulary());
+  EXPECT_THROW(other_camera.load_map(session_a_file()), ParseError);
 }
 
 }  // namespace

@@ -62,6 +62,8 @@ class LoopCloser {
   const KeyFrameBowIndex& index() const { return index_; }
   KeyFrameBowIndex& index() { return index_; }
   const std::vector<std::pair<KfId, KfId>>& loop_edges() const { return loop_edges_; }
+  // A loaded map's loop edges (its index goes in through index()), before the first process().
+  void restore_loop_edges(std::vector<std::pair<KfId, KfId>> edges) { loop_edges_ = std::move(edges); }
 
  private:
   struct Verified {

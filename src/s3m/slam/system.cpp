@@ -22,8 +22,10 @@ System::System(const PinholeCamera& camera, const SlamConfig& config,
       requests_(static_cast<std::size_t>(config.queue_capacity)),
       mapped_(static_cast<std::size_t>(config.queue_capacity)) {
   config_.validate();
-  if (vocabulary && (config_.loop_closing.any()))
+  if (vocabulary && config_.loop_closing.any()) {
+    vocabulary_ = vocabulary;
     closer_.emplace(std::move(vocabulary), camera, config_.loop_closing.loop);
+  }
   if (config_.threaded) mapping_thread_ = std::thread([this] { mapping_loop(); });
 }
 
@@ -116,10 +118,44 @@ void System::query_map(const MapQuery& query) {
   receive_mapped(0);
 }
 
+void System::load_map(const std::string& path, bool localize_only) {
+  require(map_.n_keyframes() == 0 && records_.empty() && n_sent_ == 0,
+          "System::load_map: only before the first frame");
+  require(relocalises(), "System::load_map: continuing in a saved map needs relocalisation (a vocabulary and "
+                         "loop_closing.relocalisation)");
+  // The mapping thread has not touched the map yet (nothing was sent): no query needed.
+  LoadedSlamMap m = load_slam_map(path, camera_, vocabulary_, config_.loop_closing.loop.direct_level);
+  require(m.map.n_keyframes() > 0, "System::load_map: '" + path + "' holds an empty map");
+  map_ = std::move(m.map);
+  closer_->index() = std::move(m.index);
+  closer_->restore_loop_edges(std::move(m.loop_edges));
+  tracker_.continue_map(map_.last_keyframe_id() + 1);
+  tracker_.set_localize_only(localize_only);
+  localize_only_ = localize_only;
+}
+
+void System::save_map(const std::string& path) const {
+  require(closer_.has_value(), "System::save_map: needs place recognition (the map file holds the BoW index)");
+  require(finished_ || !config_.threaded, "System::save_map: threaded mode, call finish() first");
+  save_slam_map(path, map_, closer_->index(), closer_->loop_edges(), camera_);
+}
+
+// Localisation only: where tracking would have made a keyframe, it continues with the local map
+// around the loaded keyframe that sees most of what it tracks (ORB-SLAM's localisation mode).
+void System::move_local_map(const std::vector<PointId>& tracked_points, int frame_index) {
+  std::shared_ptr<const LocalMapSnapshot> snapshot;
+  query_map([&](const Map& map) {
+    const KfId best = best_covisible_keyframe(map, tracked_points);
+    if (best != kNoKeyframe)
+      snapshot = std::make_shared<const LocalMapSnapshot>(make_snapshot(map, best, config_.mapper.snapshot_keyframes));
+  });
+  if (snapshot) tracker_.set_local_map(std::move(snapshot), frame_index);
+}
+
 // Relocalises a LOST frame against every keyframe. The map and the BoW index belong to the
 // mapping stage: the search runs as a map query and copies out what tracking needs. On success
 // tracking resumes from the found pose with the local map around the matched keyframe.
-bool System::relocalise(const features::FrameFeatures& f, TrackResult& r) {
+bool System::relocalise(const features::FrameFeatures& f, int frame_index, TrackResult& r) {
   RelocResult reloc;
   std::shared_ptr<const LocalMapSnapshot> snapshot;
   SE3 T_w_kf = SE3::Identity();
@@ -130,7 +166,12 @@ bool System::relocalise(const features::FrameFeatures& f, TrackResult& r) {
     T_w_kf = map.keyframe(reloc.keyframe).T_w_c;
   });
   if (!reloc.success) return false;
-  tracker_.set_snapshot(std::move(snapshot));
+  // In a loaded map before the first relocalisation there is no reference keyframe yet, and in
+  // localisation only no keyframe will be made: the matched keyframe becomes the reference.
+  if (r.anchor.keyframe == kNoKeyframe || localize_only_)
+    tracker_.set_local_map(std::move(snapshot), frame_index);
+  else
+    tracker_.set_snapshot(std::move(snapshot));
   tracker_.set_pose(reloc.T_w_c);
   r.state = TrackState::kRelocalised;
   r.T_w_c = reloc.T_w_c;
@@ -166,10 +207,12 @@ TrackResult System::track(const RgbdFrame& frame) {
   r.keyframe = out.keyframe.has_value();
   r.anchor = {out.ref_kf, out.T_ref_c};
   // 3. Relocalise a LOST frame against the whole map (with the features tracking computed).
-  if (out.state == TrackState::kLost && relocalises()) relocalise(*out.features, r);
-  // 4. A keyframe goes to the mapping stage: inline, or queued for the mapping thread. A keyframe
+  if (out.state == TrackState::kLost && relocalises()) relocalise(*out.features, frame.index, r);
+  // 4. A keyframe goes to the mapping stage: inline, or queued for the mapping thread (in
+  //    localisation only, a new local map from the frozen map instead). A keyframe
   //    the tracker needs although mapping is max_pending behind waits for one answer first, so at
   //    most max_pending + 1 are ever unanswered (see send()).
+  if (out.wants_local_map) move_local_map(out.tracked_points, frame.index);
   if (out.keyframe) {
     if (config_.threaded) {
       receive_mapped(config_.tracker.max_pending_keyframes);
@@ -203,7 +246,7 @@ void System::finish() {
   // frozen, so error that entered while a keyframe sat at a window's edge is never redistributed;
   // one joint solve at the end (what ORB-SLAM2 runs after a loop closure) does that. Every frame
   // pose follows its reference keyframe in camera_trajectory(), so all frames get the refinement.
-  if (config_.mapper.final_global_ba && map_.n_keyframes() >= 2) {
+  if (config_.mapper.final_global_ba && !localize_only_ && map_.n_keyframes() >= 2) {
     BaConfig ba = config_.mapper.ba;
     ba.first_iterations = ba.second_iterations = ba.global_iterations;
     n_global_ba_outliers_ = global_bundle_adjustment(map_, camera_, ba);

@@ -26,6 +26,7 @@
 #include "s3m/slam/local_mapper.hpp"
 #include "s3m/slam/loop_closer.hpp"
 #include "s3m/slam/map.hpp"
+#include "s3m/slam/map_io.hpp"
 #include "s3m/slam/slam_config.hpp"
 #include "s3m/slam/tracker.hpp"
 
@@ -90,6 +91,20 @@ class System {
   std::vector<StampedPose> robot_trajectory() const;    // robot_pose(camera_trajectory(), T_c_r)
   std::vector<StampedPose> keyframe_trajectory() const;  // live keyframes, camera poses
 
+  // A map that lasts (issue 23). Before the first track(): continue in the map saved at path by
+  // save_map(); load_slam_map() checks it against this camera and vocabulary (ParseError naming
+  // the file otherwise). The first frame is relocalised in it (BoW candidates, PnP, refinement)
+  // and every pose is in its world frame; until a frame relocalises, frames are LOST. New
+  // keyframes extend the map (their ids continue the loaded ones); with localize_only the map
+  // stays exactly as loaded (no keyframes, points or point statistics, no final BA): tracking
+  // moves its local map between the loaded keyframes and LOST frames relocalise against them.
+  // Needs place recognition with relocalisation (a vocabulary).
+  void load_map(const std::string& path, bool localize_only = false);
+  // Writes the map with its BoW index and loop edges (map_io.hpp), atomically. Threaded mode:
+  // after finish(). Needs place recognition (the index).
+  void save_map(const std::string& path) const;
+  bool localize_only() const { return localize_only_; }
+
   // The map. Threaded mode: only after finish() (the mapping thread owns it before that).
   const Map& map() const { return map_; }
   // Runs query on the map and waits for it. Threaded mode: the query travels through the keyframe
@@ -126,7 +141,8 @@ class System {
   void take(MappedKeyframe mapped);
   void receive_mapped(int max_pending);
   void send(MapperJob job);
-  bool relocalise(const features::FrameFeatures& f, TrackResult& r);
+  bool relocalise(const features::FrameFeatures& f, int frame_index, TrackResult& r);
+  void move_local_map(const std::vector<PointId>& tracked_points, int frame_index);
   void mapping_loop();
 
   PinholeCamera camera_;
@@ -135,6 +151,8 @@ class System {
   Tracker tracker_;
   LocalMapper mapper_;
   std::optional<LoopCloser> closer_;  // place recognition (loop closing and/or relocalisation)
+  std::shared_ptr<const features::Vocabulary> vocabulary_;
+  bool localize_only_ = false;  // a loaded map, frozen
   MappingObserver observer_;
   std::vector<FrameRecord> records_;
   std::vector<LoopCorrection> corrections_;  // received, not yet returned by track()
