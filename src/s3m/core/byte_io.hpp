@@ -9,6 +9,8 @@
 #include <string_view>
 #include <type_traits>
 
+#include "s3m/core/se3.hpp"
+
 namespace s3m {
 
 // 64-bit FNV-1a of bytes: cheap, and catches truncation and bit flips the structure checks miss.
@@ -58,5 +60,26 @@ class ByteReader {
   std::string expected_;
   std::size_t pos_ = 0;
 };
+
+// Rigid transforms as the 3 x 4 matrix [R | t], row-major f64; get_pose fails on a matrix that is
+// not finite or not a rotation.
+void put_pose(ByteWriter& w, const SE3& T);
+SE3 get_pose(ByteReader& r, const char* what);
+
+// The frame every s3m binary file shares:
+//   8 B magic | u32 version | u64 payload bytes | payload | u64 FNV-1a(payload) | 8 B end marker
+struct BinaryFormat {
+  const char* magic;       // 8 bytes
+  const char* end_marker;  // 8 bytes
+  std::uint32_t version;
+  const char* name;        // for messages: "SLAM map"
+  const char* expected;    // for messages: "an s3m SLAM map (slam_map.bin written by 's3m run --out')"
+};
+std::string frame_payload(const BinaryFormat& format, std::string_view payload);
+// The whole file at path (ParseError: missing or unreadable).
+std::string read_binary_file(const std::string& path, const BinaryFormat& format);
+// Checks magic, version, size, checksum and end marker of bytes read from path; returns the
+// payload (a view into bytes). ParseError naming path and the problem otherwise.
+std::string_view unframe_payload(const std::string& path, const std::string& bytes, const BinaryFormat& format);
 
 }  // namespace s3m

@@ -15,20 +15,6 @@
 namespace s3m::slam {
 namespace {
 
-void put_pose(ByteWriter& w, const SE3& T) {
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) w.put(T.matrix()(r, c));
-}
-
-SE3 get_pose(ByteReader& r, const char* what) {
-  SE3 T = SE3::Identity();
-  for (int i = 0; i < 3; ++i)
-    for (int c = 0; c < 4; ++c) T.matrix()(i, c) = r.get<double>(what);
-  if (!T.matrix().allFinite() || std::abs(T.linear().determinant() - 1.0) > 1e-6)
-    r.fail(std::string("corrupt ") + what + " (not a rigid transform)");
-  return T;
-}
-
 void put_features(ByteWriter& w, const features::FrameFeatures& f) {
   w.put(f.pyramid.scale_factor);
   w.put<std::uint32_t>(std::uint32_t(f.pyramid.n_levels()));

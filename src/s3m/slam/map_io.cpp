@@ -8,10 +8,6 @@
 #include "s3m/slam/map_io.hpp"
 
 #include <cmath>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
 
@@ -23,11 +19,8 @@
 namespace s3m::slam {
 namespace {
 
-constexpr char kMagic[8] = {'S', '3', 'M', 'S', 'L', 'A', 'M', '\0'};
-constexpr char kEndMagic[8] = {'S', '3', 'M', 'S', 'L', 'E', 'N', 'D'};
-constexpr std::uint32_t kVersion = 1;
-constexpr std::size_t kFraming = 8 + 4 + 8 + 8 + 8;  // magic, version, length, checksum, end marker
-const char* const kExpected = "an s3m SLAM map (slam_map.bin written by 's3m run --out')";
+const BinaryFormat kFormat{"S3MSLAM\0", "S3MSLEND", 1, "SLAM map",
+                           "an s3m SLAM map (slam_map.bin written by 's3m run --out')"};
 
 void put_camera(ByteWriter& w, const PinholeCamera& c) {
   w.put(c.fx), w.put(c.fy), w.put(c.cx), w.put(c.cy);
@@ -96,43 +89,6 @@ std::string camera_mismatch(const PinholeCamera& map, const PinholeCamera& run) 
   return "";
 }
 
-std::string read_file(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw ParseError(path, 0, "no such SLAM map file", kExpected);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ParseError(path, 0, "cannot open the SLAM map file", kExpected);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-// Magic, version, size and checksum; returns the payload.
-std::string_view unframe(const std::string& path, const std::string& bytes) {
-  if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 8) != 0)
-    throw ParseError(path, 0, "not an s3m SLAM map (bad magic bytes)", kExpected);
-  ByteReader r(path, bytes, kExpected);
-  char magic[8];
-  r.get_bytes(magic, 8, "magic");
-  const auto version = r.get<std::uint32_t>("version");
-  if (version != kVersion)
-    throw ParseError(path, 0, "SLAM map format version " + std::to_string(version) + " is not supported",
-                     "version " + std::to_string(kVersion));
-  const auto length = r.get<std::uint64_t>("payload length");
-  if (bytes.size() < kFraming || length != bytes.size() - kFraming)
-    throw ParseError(path, 0,
-                     fmt::format("file has {} bytes, its header announces {} (truncated or corrupt)", bytes.size(),
-                                 length + kFraming),
-                     kExpected);
-  const std::string_view payload(bytes.data() + r.pos(), length);
-  std::uint64_t sum;
-  std::memcpy(&sum, bytes.data() + r.pos() + length, 8);
-  if (sum != fnv1a(payload)) throw ParseError(path, 0, "checksum mismatch (file corrupt)", kExpected);
-  if (std::memcmp(bytes.data() + bytes.size() - 8, kEndMagic, 8) != 0)
-    throw ParseError(path, 0, "missing end marker (truncated or corrupt)", kExpected);
-  return payload;
-}
-
 }  // namespace
 
 std::string serialise_slam_map(const Map& map, const KeyFrameBowIndex& index, const LoopEdges& loop_edges,
@@ -150,14 +106,7 @@ std::string serialise_slam_map(const Map& map, const KeyFrameBowIndex& index, co
     require(b != nullptr, "save_slam_map: keyframe " + std::to_string(id) + " is not in the BoW index");
     put_bow(w, *b);
   }
-  ByteWriter file;
-  file.put_bytes(kMagic, 8);
-  file.put(kVersion);
-  file.put<std::uint64_t>(w.bytes().size());
-  file.put_bytes(w.bytes().data(), w.bytes().size());
-  file.put(fnv1a(w.bytes()));
-  file.put_bytes(kEndMagic, 8);
-  return std::move(file.bytes());
+  return frame_payload(kFormat, w.bytes());
 }
 
 void save_slam_map(const std::string& path, const Map& map, const KeyFrameBowIndex& index,
@@ -170,8 +119,8 @@ LoadedSlamMap load_slam_map(const std::string& path, const PinholeCamera& camera
                             std::shared_ptr<const features::Vocabulary> vocabulary, int direct_level) {
   require(vocabulary && !vocabulary->empty(), "load_slam_map: a vocabulary is needed to use a SLAM map");
   // 1. Framing: magic, version, size, checksum.
-  const std::string bytes = read_file(path);
-  ByteReader r(path, unframe(path, bytes), kExpected);
+  const std::string bytes = read_binary_file(path, kFormat);
+  ByteReader r(path, unframe_payload(path, bytes, kFormat), kFormat.expected);
   // 2. Session checks first: a map of another camera or vocabulary is useless however sound it is.
   const PinholeCamera map_camera = get_camera(r);
   if (const std::string d = camera_mismatch(map_camera, camera); !d.empty())
