@@ -15,8 +15,9 @@ namespace s3m::apps {
 namespace {
 
 struct RunArgs {
-  std::string dataset, config, out, segmenter, model_dir, poses = "slam", vocab;
-  bool slam_only = false, deterministic = false, no_report = false, no_loop_closing = false, force = false;
+  std::string dataset, config, out, segmenter, model_dir, poses = "slam", vocab, map;
+  bool localize_only = false, slam_only = false, deterministic = false, no_report = false, no_loop_closing = false,
+       force = false;
   long max_frames = -1;
   RosbagArgs bag;
 };
@@ -58,6 +59,11 @@ void register_run(CLI::App& app) {
   cmd->add_flag("--no-loop-closing", args->no_loop_closing,
                 "SLAM without loop closing and relocalisation (preset: loop_closing.enabled/relocalisation)");
   cmd->add_option("--vocab", args->vocab, "bag-of-words vocabulary (default: the preset's, else vocab/orb_k10_l5.bin)");
+  cmd->add_option("--map", args->map,
+                  "continue in the session a previous run wrote into this folder (slam_map.bin, kept_clouds.bin): "
+                  "relocalise in it, report poses in its world, extend it");
+  cmd->add_flag("--localize-only", args->localize_only,
+                "with --map: localise only, the SLAM map stays as loaded (the semantic map still fuses this run)");
   cmd->add_option("--max-frames", args->max_frames, "process at most N frames");
   cmd->add_flag("--no-report", args->no_report, "skip the plots and report.html");
   cmd->add_flag("--force", args->force,
@@ -80,6 +86,8 @@ void register_run(CLI::App& app) {
     o.poses = args->poses;
     o.slam_only = args->slam_only;
     o.max_frames = args->max_frames;
+    o.map_dir = args->map;
+    o.localize_only = args->localize_only;
     o.report = !args->no_report;
     o.force = args->force;
     o.progress = pipeline::stderr_is_tty();

@@ -11,8 +11,14 @@ namespace s3m::pipeline {
 void KeyframeStore::add(KeyframeId keyframe, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud) {
   const auto it = keyframes_.find(keyframe);
   require(it != keyframes_.end(), "KeyframeStore::add: keyframe " + std::to_string(keyframe) + " was not noted");
-  cloud.shrink_to_fit();  // kept for the whole run: hold no spare capacity from building it
-  clouds_.push_back({{keyframe, it->second.inverse() * T_w_c}, frame_index, std::move(cloud)});
+  add_kept({{keyframe, it->second.inverse() * T_w_c}, frame_index, std::move(cloud)});
+}
+
+void KeyframeStore::add_kept(KeptCloud kept) {
+  require(keyframes_.count(kept.anchor.keyframe),
+          "KeyframeStore::add_kept: keyframe " + std::to_string(kept.anchor.keyframe) + " was not noted");
+  kept.cloud.shrink_to_fit();  // kept for the whole run: hold no spare capacity from building it
+  clouds_.push_back(std::move(kept));
   bytes_ += cloud_bytes(clouds_.back().cloud) + sizeof(KeptCloud);
   while (budget_bytes_ > 0 && bytes_ > budget_bytes_ && clouds_.size() > 1) drop_most_redundant();
 }

@@ -37,6 +37,9 @@ class KeyframeStore {
   // Keeps a cloud observed at T_w_c, anchored to the noted keyframe `keyframe`; then drops
   // redundant clouds while over budget (never the one just added).
   void add(KeyframeId keyframe, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud);
+  // Keeps a cloud exactly as another run's store held it (a loaded session); its keyframe must
+  // have been noted. The budget applies as in add().
+  void add_kept(KeptCloud kept);
 
   // Moves anchors to new keyframe poses. Anchors not in the map (keyframes SLAM has culled since)
   // follow the correction of the nearest listed keyframe by id, which is the keyframe they were

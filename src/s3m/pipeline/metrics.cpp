@@ -201,7 +201,10 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
                   {"keyframes", paths.keyframes},
                   {"frames", paths.frames},
                   {"map_ot", paths.map_ot},
-                  {"map_ply", paths.map_ply}};
+                  {"map_ply", paths.map_ply},
+                  {"slam_map", paths.slam_map},
+                  {"kept_clouds", paths.kept_clouds}};
+  if (!info.loaded_map.empty()) m["inputs"]["map"] = {{"folder", info.loaded_map}, {"localize_only", info.localize_only}};
   return m;
 }
 

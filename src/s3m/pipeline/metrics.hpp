@@ -18,6 +18,8 @@ struct RunInfo {
   double wall_time_s = 0;
   bool interrupted = false;
   std::size_t frames_total = 0;
+  std::string loaded_map;  // --map folder ("" = none)
+  bool localize_only = false;
 };
 
 // Files a dataset may carry for evaluation (s3m simulator output): ground-truth voxel map.

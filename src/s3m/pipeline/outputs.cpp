@@ -7,6 +7,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/io/atomic_file.hpp"
+#include "s3m/pipeline/session_io.hpp"
 
 namespace s3m::pipeline {
 
@@ -28,7 +29,8 @@ std::string frames_table(const std::vector<FrameOutcome>& frames) {
   return out;
 }
 
-OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config, const std::string& out_dir) {
+OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config, const std::string& out_dir,
+                          bool write_session) {
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw Error("outputs: cannot create '" + out_dir + "': " + ec.message());
@@ -49,6 +51,13 @@ OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config
     p.map_ot = out_dir + "/map.ot";
     p.map_ply = out_dir + "/map.ply";
     map->save(p.map_ot, p.map_ply);
+  }
+  if (write_session) {
+    if (pipeline.poses().save_map(out_dir + "/" + kSlamMapFile)) p.slam_map = out_dir + "/" + kSlamMapFile;
+    if (pipeline.map() && !p.slam_map.empty()) {
+      p.kept_clouds = out_dir + "/" + kKeptCloudsFile;
+      save_kept_clouds(p.kept_clouds, pipeline.kept_clouds());
+    }
   }
   return p;
 }

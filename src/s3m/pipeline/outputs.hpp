@@ -14,6 +14,7 @@ struct OutputPaths {
   std::string trajectory_camera, trajectory_robot, keyframes;  // TUM format
   std::string frames;                                          // one line per frame: its tracking state
   std::string map_ot, map_ply;                                 // empty when there is no map
+  std::string slam_map, kept_clouds;                           // the session (session_io.hpp); empty: not written
   std::string metrics;
 };
 
@@ -25,6 +26,9 @@ io::Trajectory robot_trajectory(const io::Trajectory& camera, const SE3& T_c_r);
 // are visible to the user; tracked/keyframe/integrated are 0 or 1.
 std::string frames_table(const std::vector<FrameOutcome>& frames);
 
-OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config, const std::string& out_dir);
+// write_session = false keeps slam_map.bin / kept_clouds.bin out (a run that was interrupted must
+// not overwrite the session it loaded from the same folder).
+OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config, const std::string& out_dir,
+                          bool write_session = true);
 
 }  // namespace s3m::pipeline

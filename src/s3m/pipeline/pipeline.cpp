@@ -4,6 +4,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
+#include "s3m/pipeline/session_io.hpp"
 
 namespace s3m::pipeline {
 
@@ -26,6 +27,17 @@ Pipeline::~Pipeline() {
   try {
     finish();
   } catch (...) {  // a destructor must not throw; finish() already reported through its caller
+  }
+}
+
+void Pipeline::load_session_clouds(const std::string& path) {
+  require(frames_done_.load() == 0 && outcomes_.empty(), "Pipeline::load_session_clouds: only before the first frame");
+  KeyframeStore loaded(store_.budget_bytes());
+  load_kept_clouds(path, loaded);  // the mapping step waits on its queue: no frame has been sent
+  store_ = std::move(loaded);
+  if (map_ && store_.size() > 0) {
+    map_->rebuild(store_);
+    counters_.rebuilds++;
   }
 }
 

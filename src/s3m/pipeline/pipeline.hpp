@@ -69,6 +69,9 @@ class Pipeline {
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
 
+  // A loaded session (issue 23), before the first process(): the kept clouds of the run whose
+  // SLAM map the pose source continues in (session_io.hpp); the semantic map is rebuilt from them.
+  void load_session_clouds(const std::string& path);
   void process(RgbdFrame frame);
   // Set before the first process().
   void set_frame_listener(FrameListener listener) { listener_ = std::move(listener); }

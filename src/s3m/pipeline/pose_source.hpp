@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "s3m/core/error.hpp"
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
@@ -42,6 +43,13 @@ class PoseSource {
   virtual io::Trajectory keyframe_trajectory() const = 0;
   virtual KeyframePoses keyframe_poses() const = 0;
   virtual std::string name() const = 0;
+  // A map that lasts (issue 23). Before the first track(): continue in the SLAM map saved at path
+  // (localize_only: without changing it). After finish(): write the map to path; false when the
+  // source has none to write. Sources without a map (ground truth) refuse to load one.
+  virtual void load_map(const std::string& path, bool /*localize_only*/) {
+    throw Error("--map " + path + ": poses from " + name() + " cannot continue in a saved SLAM map (use --poses slam)");
+  }
+  virtual bool save_map(const std::string& /*path*/) const { return false; }
 };
 
 // Ground-truth poses (T_w_c from the dataset). Keyframes are chosen by motion, like a SLAM

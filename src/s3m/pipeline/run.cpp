@@ -15,6 +15,7 @@
 #include "s3m/pipeline/progress.hpp"
 #include "s3m/pipeline/report.hpp"
 #include "s3m/pipeline/report_views.hpp"
+#include "s3m/pipeline/session_io.hpp"
 
 namespace s3m::pipeline {
 namespace fs = std::filesystem;
@@ -37,6 +38,28 @@ SegmenterSpec parse_segmenter_spec(const std::string& spec) {
 
 namespace {
 
+// --map: the session folder's files (a path to slam_map.bin itself is accepted too).
+struct SessionFiles {
+  std::string slam_map, kept_clouds;  // empty without --map
+};
+SessionFiles session_files(const RunOptions& o) {
+  if (o.map_dir.empty()) {
+    require(!o.localize_only, "run: --localize-only needs --map RUN_FOLDER (the map to localise in)");
+    return {};
+  }
+  const fs::path given(o.map_dir);
+  const fs::path dir = fs::is_regular_file(given) ? given.parent_path() : given;
+  const fs::path slam = fs::is_regular_file(given) ? given : dir / kSlamMapFile;
+  return {slam.string(), (dir / kKeptCloudsFile).string()};
+}
+
+// The loaded session lives in --out itself: overwritten only by a run that finished.
+bool same_folder(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  const fs::path da = fs::is_regular_file(a) ? fs::path(a).parent_path() : fs::path(a);
+  return !a.empty() && fs::equivalent(da, b, ec);
+}
+
 // Components the run is made of, built from the options (each factory names what is wrong).
 struct Components {
   std::unique_ptr<FrameSource> source;
@@ -50,7 +73,11 @@ Components build(const RunOptions& o) {
   c.info.dataset_dir = c.source->name();
   c.info.config_file = o.config.source;
   auto poses = make_pose_source(o.poses, *c.source, cam, o.config);
+  const SessionFiles session = session_files(o);
+  if (!session.slam_map.empty()) poses->load_map(session.slam_map, o.localize_only);
   c.info.poses = poses->name();
+  c.info.loaded_map = o.map_dir;
+  c.info.localize_only = o.localize_only;
   std::unique_ptr<semantics::Segmenter> segmenter;
   std::unique_ptr<MapIntegrator> map;
   if (!o.slam_only) {
@@ -63,7 +90,14 @@ Components build(const RunOptions& o) {
     map = std::make_unique<MapIntegrator>(o.config.map);
   }
   c.info.segmenter = segmenter ? segmenter->name() : (o.slam_only ? "none (--slam-only)" : "none");
+  const bool has_map = map != nullptr;
   c.pipeline = std::make_unique<Pipeline>(o.config, cam, std::move(poses), std::move(segmenter), std::move(map));
+  if (has_map && !session.kept_clouds.empty()) {
+    if (fs::exists(session.kept_clouds))
+      c.pipeline->load_session_clouds(session.kept_clouds);
+    else
+      spdlog::warn("run: {} has no {} (a --slam-only run?): the semantic map starts empty", o.map_dir, kKeptCloudsFile);
+  }
   return c;
 }
 
@@ -124,7 +158,9 @@ RunResult run_dataset(const RunOptions& o) {
   if (r.interrupted) spdlog::warn("run: stopped after {} of {} frames; writing what was processed", r.frames_done, r.frames_total);
 
   // Outputs first (trajectory and map are what a user keeps), then the evaluation of them.
-  const OutputPaths paths = write_outputs(*c.pipeline, o.config, o.out_dir);
+  const bool keep_loaded = r.interrupted && same_folder(o.map_dir, o.out_dir);
+  if (keep_loaded) spdlog::warn("run: interrupted: the session loaded from {} is not overwritten", o.out_dir);
+  const OutputPaths paths = write_outputs(*c.pipeline, o.config, o.out_dir, !keep_loaded);
   r.metrics = compute_metrics(*c.pipeline, *c.source, o.config, c.info, paths);
   write_metrics(r.metrics, paths);
   if (o.report && o.config.eval.plots) {

@@ -57,7 +57,19 @@ class SlamPoses final : public PoseSource {
     for (const auto& [id, kf] : system_.map().keyframes()) out.emplace(id, kf.T_w_c);
     return out;
   }
+  void load_map(const std::string& path, bool localize_only) override {
+    if (!system_.relocalises())
+      throw Error("--map: continuing in a saved map needs relocalisation (drop --no-loop-closing, or set "
+                  "loop_closing.relocalisation true)");
+    system_.load_map(path, localize_only);
+  }
+  bool save_map(const std::string& path) const override {
+    if (!system_.relocalises() && !system_.closes_loops()) return false;  // no BoW index to save
+    system_.save_map(path);
+    return true;
+  }
   std::string name() const override {
+    if (system_.localize_only()) return "s3m SLAM, localisation only in a loaded map";
     if (system_.closes_loops()) return "s3m SLAM + loop closing";
     return system_.relocalises() ? "s3m SLAM + relocalisation" : "s3m SLAM";
   }
