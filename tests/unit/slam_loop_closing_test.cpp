@@ -16,14 +16,7 @@ namespace {
 constexpr int kLoopFrames = 240;  // one lap of the ellipse
 constexpr int kFrames = 300;      // a lap and a quarter: the start is revisited
 
-PinholeCamera room_camera() {
-  PinholeCamera c;
-  c.fx = c.fy = 525;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  c.bf = 40;
-  return c;
-}
+using test::room_camera;
 
 // 1 % depth noise makes odometry drift by centimetres over the lap, which loop closing removes.
 constexpr double kDepthNoise = 0.01;

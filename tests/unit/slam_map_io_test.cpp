@@ -27,14 +27,7 @@ namespace {
 
 constexpr int kFrames = 60;
 
-PinholeCamera room_camera() {
-  PinholeCamera c;
-  c.fx = c.fy = 525;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  c.bf = 40;
-  return c;
-}
+using test::room_camera;
 
 RgbdFrame room_frame(int i) {
   return test::render_room(test::Room{}, room_camera(), test::uav_pose(i, 4 * kFrames), i, i / 30.0, 0.002);

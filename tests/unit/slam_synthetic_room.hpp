@@ -74,6 +74,16 @@ inline RgbdFrame render_room(const Room& room, const PinholeCamera& cam, const S
 }
 
 // A UAV-like flight: an ellipse at ~1.5 m height with gentle bobbing, yaw turning with the path.
+// The room tests' camera: Kinect-like 640x480 intrinsics, bf 40 px*m.
+inline PinholeCamera room_camera() {
+  PinholeCamera c;
+  c.fx = c.fy = 525;
+  c.cx = 319.5;
+  c.cy = 239.5;
+  c.bf = 40;
+  return c;
+}
+
 inline SE3 uav_pose(int i, int n) {
   const double s = 2.0 * M_PI * i / n;
   const Vec3 pos(1.0 * std::cos(s), 0.7 * std::sin(s), 1.5 + 0.1 * std::sin(3 * s));

@@ -19,14 +19,7 @@ namespace {
 
 constexpr int kFrames = 120;
 
-PinholeCamera room_camera() {
-  PinholeCamera c;
-  c.fx = c.fy = 525;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  c.bf = 40;
-  return c;
-}
+using test::room_camera;
 
 // Renders lazily and caches: each test process renders only the frames it uses.
 const std::vector<RgbdFrame>& room_frames(int count = kFrames) {
