@@ -1,4 +1,5 @@
 // ORB extraction (pyramid, distribution), keypoint depth / virtual right coordinate, matching.
+#include <array>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -66,6 +67,60 @@ TEST(OrbExtractor, CountLevelsAndSpread) {
   }
   EXPECT_GE(max_level, 6);
   for (int q : quadrant) EXPECT_GT(q, 0.15 * kps.size());
+}
+
+// Keypoints of every level land where their corners are in the full image: the mean of a bright
+// square's four corner keypoints is the square's centre at every pyramid level. Mapping level
+// pixels with the nominal "x0 = x_level * 1.2^level" instead of pixel centres and each level's
+// actual (rounded) size put them up to 1.5 px up-left at the coarse levels, a different offset per
+// level, so a point seen at two levels disagreed with itself (issue #20; fixed: at most 0.2 px).
+TEST(OrbExtractor, KeypointsOfEveryLevelSitOnTheirCornersInLevel0Pixels) {
+  OrbConfig cfg;
+  cfg.n_features = 4000;
+  const OrbExtractor ex(cfg);
+  cv::Mat img(480, 640, CV_8UC1, cv::Scalar(40));
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> jitter(-6, 6);
+  std::vector<cv::Point2d> centres;
+  const int side = 40;
+  for (int y = 90; y <= 390; y += 100)
+    for (int x = 90; x <= 550; x += 92) {
+      const cv::Rect r(x - side / 2 + jitter(rng), y - side / 2 + jitter(rng), side, side);
+      cv::rectangle(img, r, cv::Scalar(220), cv::FILLED);
+      centres.emplace_back(r.x + (side - 1) / 2.0, r.y + (side - 1) / 2.0);  // pixel-centre coordinates
+    }
+  cv::GaussianBlur(img, img, cv::Size(3, 3), 0.7);  // FAST finds no perfectly sharp corner; symmetric
+  std::vector<cv::KeyPoint> kps;
+  cv::Mat desc;
+  ex.extract(img, kps, desc);
+  // Per level and square: the strongest keypoint in each quadrant around the centre (a corner).
+  const int n_levels = cfg.n_levels;
+  struct Corner {
+    float response = -1;
+    cv::Point2d pt;
+  };
+  std::vector<std::vector<std::array<Corner, 4>>> best(n_levels, std::vector<std::array<Corner, 4>>(centres.size()));
+  for (const auto& k : kps)
+    for (std::size_t c = 0; c < centres.size(); ++c) {
+      const double dx = k.pt.x - centres[c].x, dy = k.pt.y - centres[c].y;
+      if (std::abs(dx) > side || std::abs(dy) > side) continue;
+      Corner& q = best[k.octave][c][(dx > 0) + 2 * (dy > 0)];
+      if (k.response > q.response) q = {k.response, cv::Point2d(k.pt.x, k.pt.y)};
+    }
+  for (int l = 0; l < n_levels; ++l) {
+    cv::Point2d mean_err(0, 0);
+    int n = 0;
+    for (std::size_t c = 0; c < centres.size(); ++c) {
+      const auto& q = best[l][c];
+      if (q[0].response < 0 || q[1].response < 0 || q[2].response < 0 || q[3].response < 0) continue;
+      mean_err += (q[0].pt + q[1].pt + q[2].pt + q[3].pt) / 4.0 - centres[c];  // the four corners' mean
+      ++n;
+    }
+    ASSERT_GE(n, 8) << "level " << l;
+    mean_err /= n;
+    EXPECT_LT(std::abs(mean_err.x), 0.25) << "level " << l << " (" << n << " squares)";
+    EXPECT_LT(std::abs(mean_err.y), 0.25) << "level " << l << " (" << n << " squares)";
+  }
 }
 
 TEST(OrbMatcher, BruteForceFindsKnownShift) {

@@ -81,7 +81,8 @@ OrbExtractor::OrbExtractor(const OrbConfig& config)
                                    config_.ini_fast_threshold));
 }
 
-void OrbExtractor::process_level(const cv::Mat& img, int level, std::vector<cv::KeyPoint>& out, cv::Mat& desc) const {
+void OrbExtractor::process_level(const cv::Mat& img, int level, cv::Size2f to_level0, std::vector<cv::KeyPoint>& out,
+                                 cv::Mat& desc) const {
   out.clear();
   // 1. FAST with the low threshold over the usable area; the score tells which corners the high
   //    threshold would have found too.
@@ -115,11 +116,14 @@ void OrbExtractor::process_level(const cv::Mat& img, int level, std::vector<cv::
   }
   if (out.empty()) return;
   orb_[level]->compute(img, out, desc);  // keeps order; drops only points too close to the border
+  // Level pixel centres to level-0 pixels: cv::resize maps pixel centres, x0 + 0.5 = (xl + 0.5) * r,
+  // with r the level's actual size ratio per axis (rounded sizes: up to 0.2 % off the nominal
+  // scale). The nominal "x0 = xl * scale" put level-7 keypoints ~1.3 px up-left of their corners.
   const float s = static_cast<float>(pyramid_.scale[level]);
   for (auto& k : out) {
     k.octave = level;
     k.size = kPatchSize * s;
-    k.pt *= s;
+    k.pt = {(k.pt.x + 0.5f) * to_level0.width - 0.5f, (k.pt.y + 0.5f) * to_level0.height - 0.5f};
   }
 }
 
@@ -138,7 +142,10 @@ void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
   std::vector<std::vector<cv::KeyPoint>> per_level(n);
   std::vector<cv::Mat> per_level_desc(n);
   auto body = [&](const cv::Range& r) {
-    for (int l = r.start; l < r.end; ++l) process_level(levels[l], l, per_level[l], per_level_desc[l]);
+    for (int l = r.start; l < r.end; ++l) {
+      const cv::Size2f to_level0(float(gray.cols) / levels[l].cols, float(gray.rows) / levels[l].rows);
+      process_level(levels[l], l, to_level0, per_level[l], per_level_desc[l]);
+    }
   };
   if (config_.parallel_levels)
     cv::parallel_for_(cv::Range(0, n), body);

@@ -45,8 +45,10 @@ class OrbExtractor {
   const OrbConfig& config() const { return config_; }
 
  private:
-  // Keypoints of one level (level coordinates) with their descriptors.
-  void process_level(const cv::Mat& level_img, int level, std::vector<cv::KeyPoint>& kps, cv::Mat& desc) const;
+  // Keypoints of one level with their descriptors, in level-0 pixels; to_level0 = level-0 size /
+  // this level's size per axis.
+  void process_level(const cv::Mat& level_img, int level, cv::Size2f to_level0, std::vector<cv::KeyPoint>& kps,
+                     cv::Mat& desc) const;
 
   OrbConfig config_;
   ScalePyramid pyramid_;
