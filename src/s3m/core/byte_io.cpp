@@ -22,6 +22,7 @@ void ByteReader::fail(const std::string& problem) const { throw ParseError(path_
 void ByteReader::get_bytes(void* out, std::size_t n, const char* what) {
   if (n > remaining())
     fail("file truncated while reading " + std::string(what) + " at byte " + std::to_string(pos_));
+  if (n == 0) return;  // an empty vector's data() may be null, and memcpy(nullptr, ..., 0) is UB (UBSan)
   std::memcpy(out, bytes_.data() + pos_, n);
   pos_ += n;
 }
