@@ -73,7 +73,6 @@ inline RgbdFrame render_room(const Room& room, const PinholeCamera& cam, const S
   return f;
 }
 
-// A UAV-like flight: an ellipse at ~1.5 m height with gentle bobbing, yaw turning with the path.
 // The room tests' camera: Kinect-like 640x480 intrinsics, bf 40 px*m.
 inline PinholeCamera room_camera() {
   PinholeCamera c;
@@ -84,6 +83,7 @@ inline PinholeCamera room_camera() {
   return c;
 }
 
+// A UAV-like flight: an ellipse at ~1.5 m height with gentle bobbing, yaw turning with the path.
 inline SE3 uav_pose(int i, int n) {
   const double s = 2.0 * M_PI * i / n;
   const Vec3 pos(1.0 * std::cos(s), 0.7 * std::sin(s), 1.5 + 0.1 * std::sin(3 * s));
