@@ -1,6 +1,7 @@
 #pragma once
 // Messages between tracking and local mapping. The tracker never touches the Map: it sends a
 // KeyFrameRequest and receives LocalMapSnapshot copies of the map around the newest keyframe.
+#include <map>
 #include <memory>
 #include <unordered_map>
 #include <vector>
@@ -25,6 +26,7 @@ struct KeyFrameRequest {
   std::shared_ptr<const features::FrameFeatures> features;
   std::vector<PointId> points;            // per keypoint: tracked inlier map point or kNoId
   std::vector<PointVisibility> visibility;  // tracking statistics since the previous request
+  int submap = 0;  // the sub-map tracking was in (T_w_c is in its frame; Map::KeyFrame::submap)
 };
 
 struct SnapshotPoint {
@@ -47,7 +49,11 @@ struct LocalMapSnapshot {
   std::vector<SnapshotKeyFrame> keyframes;  // reference first, then its covisibility window
   std::vector<SnapshotPoint> points;       // every point those keyframes observe
   std::unordered_map<PointId, int> point_index;
-  int n_map_keyframes = 0;
+  int submap = 0;           // the reference keyframe's sub-map
+  int n_map_keyframes = 0;  // keyframes of that sub-map
+  // Sub-maps merged so far: merged -> (the sub-map it joined, T_into_from). A tracker still in a
+  // merged sub-map's frame follows the chain to this snapshot's (Tracker::set_snapshot).
+  std::map<int, std::pair<int, SE3>> merged_into;
   int ref_tracked_points = 0;  // reference keyframe points with enough observations (keyframe rule)
 
   const SnapshotPoint* find(PointId id) const {

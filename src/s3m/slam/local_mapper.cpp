@@ -45,6 +45,7 @@ KfId LocalMapper::insert_keyframe(const KeyFrameRequest& r) {
   k.T_w_c = r.T_w_c;
   k.features = r.features;
   k.points = r.points;
+  k.submap = r.submap;
   for (PointId& pid : k.points)
     if (pid != kNoId && !map_.has_point(pid)) pid = kNoId;  // culled while the request was queued
   const KfId id = map_.add_keyframe(std::move(k));

@@ -1,5 +1,7 @@
 #include "s3m/slam/loop_closer.hpp"
 
+#include <algorithm>
+
 #include "s3m/core/error.hpp"
 #include "s3m/features/orb_matcher.hpp"
 #include "s3m/slam/group_search.hpp"
@@ -21,6 +23,7 @@ void LoopConfig::validate() const {
   require(essential_min_weight >= 0, "loop_closing.essential_min_weight must be >= 0");
   pose_graph.validate();
   ba.validate();
+  merge.validate();
 }
 
 LoopCloser::LoopCloser(std::shared_ptr<const features::Vocabulary> vocabulary, const PinholeCamera& camera,
@@ -38,11 +41,17 @@ std::optional<LoopCorrection> LoopCloser::process(Map& map, KfId kf) {
   // 2. Candidates that have been consistent for several keyframes.
   const std::vector<KfId> candidates = detector_.detect(map, index_, kf);
   if (candidates.empty()) return std::nullopt;
-  // 3. Geometric verification.
-  const auto verified = verify(map, kf, candidates);
-  if (!verified) return std::nullopt;
-  // 4-6. Correction, fusion, pose graph, optional global BA.
-  LoopCorrection correction = correct(map, kf, *verified);
+  // 3. Geometric verification: candidates in another sub-map first (a merge, map_merge.cpp), then
+  //    loops within the keyframe's own sub-map.
+  std::vector<KfId> same, other;
+  for (KfId c : candidates) (map.keyframe(c).submap == map.keyframe(kf).submap ? same : other).push_back(c);
+  std::optional<LoopCorrection> correction = other.empty() ? std::nullopt : merge_at(map, kf, other);
+  if (!correction) {
+    const auto verified = same.empty() ? std::nullopt : verify(map, kf, same);
+    if (!verified) return std::nullopt;
+    // 4-6. Correction, fusion, pose graph, optional global BA.
+    correction = correct(map, kf, *verified);
+  }
   detector_.reset();
   last_loop_kf_ = kf;
   return correction;
@@ -90,15 +99,20 @@ std::vector<std::pair<int, PointId>> LoopCloser::search_loop_group(const Map& ma
   return match_covisible_group(*map.keyframe(cur_id).features, map, loop_kf, T_w_cur, camera_, p);
 }
 
-std::optional<LoopCloser::Verified> LoopCloser::verify(const Map& map, KfId cur_id,
-                                                       const std::vector<KfId>& candidates) const {
+std::optional<LoopCloser::Verified> LoopCloser::verify(const Map& map, KfId cur_id, const std::vector<KfId>& candidates,
+                                                       VerifyStats* stats) const {
   const KeyFrame& cur = map.keyframe(cur_id);
+  VerifyStats none;
+  VerifyStats& st = stats ? *stats : none;
   for (KfId cand : candidates) {
+    ++st.candidates;
     // 1. BoW matches -> SE3 by 3D-3D RANSAC.
     const auto T_w_cur = ransac_with_bow(map, cur_id, cand);
     if (!T_w_cur) continue;
+    ++st.bow_matched;
     // 2. Guided search for the loop group's points with that pose.
     auto matches = search_loop_group(map, cur_id, cand, *T_w_cur);
+    st.best_matches = std::max(st.best_matches, int(matches.size()));
     if (int(matches.size()) < config_.min_projection_matches) continue;
     // 3. Refine on every match with depth: loop-group points (world, loop side) vs the current
     //    keyframe's back-projected keypoints, then search again with the refined pose.
@@ -114,6 +128,7 @@ std::optional<LoopCloser::Verified> LoopCloser::verify(const Map& map, KfId cur_
     v.loop_kf = cand;
     v.T_w_cur = refined.success ? refined.T_a_b : *T_w_cur;
     v.matches = search_loop_group(map, cur_id, cand, v.T_w_cur);
+    st.best_matches = std::max(st.best_matches, int(v.matches.size()));
     if (int(v.matches.size()) < config_.min_projection_matches) continue;
     return v;
   }

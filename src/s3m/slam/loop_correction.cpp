@@ -15,27 +15,30 @@ std::map<KfId, SE3> keyframe_poses(const Map& map) {
   return poses;
 }
 
-// Essential graph (ORB-SLAM): spanning tree, strong covisibility edges and past loop edges keep
-// the shape measured before the correction (T_before); the new loop links carry the correction.
-std::vector<PoseGraphEdge> essential_graph(const Map& map, const std::map<KfId, SE3>& T_before,
+// Essential graph (ORB-SLAM) of one sub-map: spanning tree, strong covisibility edges and past
+// loop edges keep the shape measured before the correction (T_before); the new loop links carry
+// the correction.
+std::vector<PoseGraphEdge> essential_graph(const Map& map, int submap, const std::map<KfId, SE3>& T_before,
                                            const std::vector<std::pair<KfId, KfId>>& old_loops,
                                            const std::set<std::pair<KfId, KfId>>& new_links, int min_weight) {
   std::vector<PoseGraphEdge> edges;
   std::set<std::pair<KfId, KfId>> added;
+  auto member = [&](KfId k) { return map.has_keyframe(k) && map.keyframe(k).submap == submap; };
   auto add = [&](KfId a, KfId b, const SE3& T_w_a, const SE3& T_w_b, bool loop) {
-    if (a == b || !map.has_keyframe(a) || !map.has_keyframe(b)) return;
+    if (a == b || !member(a) || !member(b)) return;
     if (!added.insert({std::min(a, b), std::max(a, b)}).second) return;
     edges.push_back(relative_edge(int(a), int(b), T_w_a, T_w_b, 1.0, loop));
   };
   for (const auto& [a, b] : new_links) add(a, b, map.keyframe(a).T_w_c, map.keyframe(b).T_w_c, true);
   for (const auto& [id, kf] : map.keyframes()) {
+    if (kf.submap != submap) continue;
     if (kf.parent != kNoId && map.has_keyframe(kf.parent)) add(kf.parent, id, T_before.at(kf.parent), T_before.at(id), false);
     for (const auto& [n, w] : kf.covisibility) {
       if (w >= min_weight && map.has_keyframe(n)) add(id, n, T_before.at(id), T_before.at(n), false);
     }
   }
   for (const auto& [a, b] : old_loops) {
-    if (map.has_keyframe(a) && map.has_keyframe(b)) add(a, b, T_before.at(a), T_before.at(b), true);
+    if (member(a) && member(b)) add(a, b, T_before.at(a), T_before.at(b), true);
   }
   return edges;
 }
@@ -62,6 +65,19 @@ LoopCorrection LoopCloser::correct(Map& map, KfId cur_id, const Verified& v) {
   }
   map.apply_corrected_poses(corrected);
 
+  // 2-4. Fusion, links across the loop, essential graph.
+  weld(map, cur_id, v, group, neighbours_before, out.T_w_kf_before, {}, out);
+  loop_edges_.emplace_back(cur_id, v.loop_kf);
+
+  // 5. Optional global BA to polish points and poses together.
+  if (config_.global_ba) global_bundle_adjustment(map, camera_, config_.ba);
+  out.T_w_kf_after = keyframe_poses(map);
+  return out;
+}
+
+void LoopCloser::weld(Map& map, KfId cur_id, const Verified& v, const std::set<KfId>& group,
+                      const std::map<KfId, std::set<KfId>>& neighbours_before, const std::map<KfId, SE3>& T_before,
+                      const std::set<KfId>& fixed, LoopCorrection& out) {
   // 2. Fuse duplicates: the current keyframe's matches first (the loop side's point survives,
   //    it is the older, better-observed one), then the loop points projected into the group.
   std::vector<PointId> loop_points;
@@ -88,25 +104,26 @@ LoopCorrection LoopCloser::correct(Map& map, KfId cur_id, const Verified& v) {
     if (!map.has_keyframe(k)) continue;
     map.update_covisibility(k);
     for (const auto& [n, w] : map.keyframe(k).covisibility) {
-      if (!group.count(n) && !neighbours_before[k].count(n)) new_links.insert({k, n});
+      const auto before = neighbours_before.find(k);
+      if (!group.count(n) && (before == neighbours_before.end() || !before->second.count(n))) new_links.insert({k, n});
     }
   }
 
-  // 4. Essential-graph optimisation with the first keyframe fixed, then every keyframe (and the
-  //    points it created) moves to its optimised pose.
-  const auto edges = essential_graph(map, out.T_w_kf_before, loop_edges_, new_links, config_.essential_min_weight);
+  // 4. Essential-graph optimisation of the current keyframe's sub-map with its oldest keyframe
+  //    (and `fixed`) held, then every keyframe (and the points it created) moves to its optimised
+  //    pose.
+  const int submap = map.keyframe(cur_id).submap;
+  const auto edges = essential_graph(map, submap, T_before, loop_edges_, new_links, config_.essential_min_weight);
   std::map<int, SE3> nodes;
-  for (const auto& [id, kf] : map.keyframes()) nodes[int(id)] = kf.T_w_c;
-  optimize_pose_graph(nodes, edges, {nodes.begin()->first}, config_.pose_graph);
+  for (const auto& [id, kf] : map.keyframes())
+    if (kf.submap == submap) nodes[int(id)] = kf.T_w_c;
+  std::set<int> held{nodes.begin()->first};
+  for (KfId k : fixed)
+    if (nodes.count(int(k))) held.insert(int(k));
+  optimize_pose_graph(nodes, edges, held, config_.pose_graph);
   std::map<KfId, SE3> optimised;
   for (const auto& [id, T] : nodes) optimised[KfId(id)] = T;
   map.apply_corrected_poses(optimised);
-  loop_edges_.emplace_back(cur_id, v.loop_kf);
-
-  // 5. Optional global BA to polish points and poses together.
-  if (config_.global_ba) global_bundle_adjustment(map, camera_, config_.ba);
-  out.T_w_kf_after = keyframe_poses(map);
-  return out;
 }
 
 int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConfig& config) {
@@ -115,7 +132,7 @@ int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConf
   for (const auto& [id, kf] : map.keyframes()) {
     frame_of[id] = int(problem.T_c_w.size());
     problem.T_c_w.push_back(kf.T_w_c.inverse());
-    problem.fixed.push_back(problem.T_c_w.size() == 1 ? 1 : 0);
+    problem.fixed.push_back(kf.parent == kNoId ? 1 : 0);  // the root of each sub-map's tree
   }
   std::vector<PointId> point_ids;
   for (const auto& [pid, p] : map.points()) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "s3m/core/error.hpp"
 #include "s3m/features/orb_matcher.hpp"
@@ -151,19 +152,21 @@ void Map::update_covisibility(KfId id) {
     if (!edges.count(other)) keyframes_.at(other).covisibility.erase(id);
   for (const auto& [other, w] : edges) keyframes_.at(other).covisibility[id] = w;
   kf.covisibility = std::move(edges);
-  if (kf.parent == kNoId && id != keyframes_.begin()->first) {
-    for (KfId nb : kf.best_covisible())
-      if (nb < id) {
-        kf.parent = nb;
-        keyframes_.at(nb).children.insert(id);
-        break;
-      }
-    if (kf.parent == kNoId) {  // no older neighbour: hang it on the previous keyframe
-      auto it = keyframes_.find(id);
-      kf.parent = std::prev(it)->first;
-      std::prev(it)->second.children.insert(id);
+  if (kf.parent != kNoId) return;
+  for (KfId nb : kf.best_covisible())
+    if (nb < id && keyframes_.at(nb).submap == kf.submap) {
+      kf.parent = nb;
+      keyframes_.at(nb).children.insert(id);
+      return;
     }
-  }
+  // No older neighbour: hang it on the previous keyframe of its sub-map. The first keyframe of a
+  // sub-map (of the map) stays a root.
+  for (auto it = std::make_reverse_iterator(keyframes_.find(id)); it != keyframes_.rend(); ++it)
+    if (it->second.submap == kf.submap) {
+      kf.parent = it->first;
+      it->second.children.insert(id);
+      return;
+    }
 }
 
 void Map::update_point_appearance(PointId pid) {

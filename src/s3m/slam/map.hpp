@@ -44,6 +44,11 @@ struct KeyFrame {
   std::map<KfId, int> covisibility;   // neighbour -> number of shared map points
   KfId parent = kNoId;                // spanning tree (strongest covisible older keyframe)
   std::set<KfId> children;
+  // The sub-map (world frame) the keyframe belongs to: 0 is the world (the first map of the
+  // session, or the loaded one); a session that cannot relocalise starts sub-map 1, 2, ... in a
+  // frame of its own until a merge moves it into an older one (map_merge.hpp). Not saved: only the
+  // world is (Map::keep_only_submap).
+  int submap = 0;
 
   // Neighbours sorted by decreasing weight (ties: smaller id first), at most n (n < 0: all).
   std::vector<KfId> best_covisible(int n = -1, int min_weight = 1) const;
@@ -83,6 +88,25 @@ class Map {
 
   // Pose of keyframe id, following the culled-keyframe chain when it was erased.
   SE3 resolve_T_w_kf(KfId id) const;
+
+  // Sub-maps (map_submaps.cpp). The sub-map of a live or culled keyframe.
+  int submap_of(KfId id) const;
+  int n_keyframes_in(int submap) const;
+  // Merge: moves every keyframe and point of sub-map `from` by T_to_from (rigidly, into the frame
+  // of sub-map `to`) and makes them members of `to`.
+  void move_submap(int from, int to, const SE3& T_to_from);
+  // Hangs kf's spanning tree below new_parent: the path from kf up to its root is reversed, so kf's
+  // old root becomes an ordinary member of new_parent's tree.
+  void join_tree(KfId kf, KfId new_parent);
+  // Erases every keyframe (and the points only they observe) of the other sub-maps, and culled
+  // keyframes that no longer resolve. What is saved when a session ends with unmerged sub-maps.
+  void keep_only_submap(int submap);
+  // Copies every keyframe, point and culled keyframe of other into this map as sub-map `submap`,
+  // with ids shifted past this map's (offline merge of two saved runs). Returns the keyframe id
+  // offset (new id = old id + offset); point ids are shifted too.
+  KfId append(const Map& other, int submap);
+  // Erased keyframes -> (parent at the time, T_parent_kf).
+  const std::map<KfId, std::pair<KfId, SE3>>& culled() const { return culled_; }
 
   const KeyFrame& keyframe(KfId id) const { return keyframes_.at(id); }
   const MapPoint& point(PointId id) const { return points_.at(id); }

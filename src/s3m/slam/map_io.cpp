@@ -115,15 +115,18 @@ void save_slam_map(const std::string& path, const Map& map, const KeyFrameBowInd
   write_text_atomic(path, bytes);
 }
 
-LoadedSlamMap load_slam_map(const std::string& path, const PinholeCamera& camera,
-                            std::shared_ptr<const features::Vocabulary> vocabulary, int direct_level) {
+namespace {
+
+// camera: the session's, to check the map against; null: accept the map's own.
+LoadedSlamMap load(const std::string& path, const PinholeCamera* camera,
+                   std::shared_ptr<const features::Vocabulary> vocabulary, int direct_level) {
   require(vocabulary && !vocabulary->empty(), "load_slam_map: a vocabulary is needed to use a SLAM map");
   // 1. Framing: magic, version, size, checksum.
   const std::string bytes = read_binary_file(path, kFormat);
   ByteReader r(path, unframe_payload(path, bytes, kFormat), kFormat.expected);
   // 2. Session checks first: a map of another camera or vocabulary is useless however sound it is.
   const PinholeCamera map_camera = get_camera(r);
-  if (const std::string d = camera_mismatch(map_camera, camera); !d.empty())
+  if (const std::string d = camera ? camera_mismatch(map_camera, *camera) : ""; !d.empty())
     throw ParseError(path, 0, "the map was made with another camera: " + d, "the camera of this run");
   const auto vocab_sum = r.get<std::uint64_t>("vocabulary checksum");
   const auto vocab_words = r.get<std::uint64_t>("vocabulary size");
@@ -151,6 +154,18 @@ LoadedSlamMap load_slam_map(const std::string& path, const PinholeCamera& camera
   if (r.remaining() != 0) r.fail(fmt::format("{} unexpected bytes after the map", r.remaining()));
   out.index.sync(out.map);  // no-op unless the direct level differed
   return out;
+}
+
+}  // namespace
+
+LoadedSlamMap load_slam_map(const std::string& path, const PinholeCamera& camera,
+                            std::shared_ptr<const features::Vocabulary> vocabulary, int direct_level) {
+  return load(path, &camera, std::move(vocabulary), direct_level);
+}
+
+LoadedSlamMap load_slam_map(const std::string& path, std::shared_ptr<const features::Vocabulary> vocabulary,
+                            int direct_level) {
+  return load(path, nullptr, std::move(vocabulary), direct_level);
 }
 
 }  // namespace s3m::slam

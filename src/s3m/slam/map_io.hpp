@@ -48,5 +48,9 @@ void save_slam_map(const std::string& path, const Map& map, const KeyFrameBowInd
 // (checksum), inconsistent, made with another camera or another vocabulary.
 LoadedSlamMap load_slam_map(const std::string& path, const PinholeCamera& camera,
                             std::shared_ptr<const features::Vocabulary> vocabulary, int direct_level = 2);
+// The same with the map's own camera (no session to compare with: `s3m merge` loads the first run's
+// map this way and the second with the first's camera).
+LoadedSlamMap load_slam_map(const std::string& path, std::shared_ptr<const features::Vocabulary> vocabulary,
+                            int direct_level = 2);
 
 }  // namespace s3m::slam

@@ -68,14 +68,16 @@ PnpResult pnp(const features::FrameFeatures& f, const Map& map, const std::vecto
 }  // namespace
 
 RelocResult relocalise(const features::FrameFeatures& f, const Map& map, const KeyFrameBowIndex& index,
-                       const PinholeCamera& camera_in, const RelocConfig& config) {
+                       const PinholeCamera& camera_in, const RelocConfig& config, int submap) {
   config.validate();
   RelocResult result;
   if (f.size() == 0 || index.size() == 0) return result;
   const PinholeCamera camera = undistorted(camera_in);
   // 1-2. BoW of the frame and the best-scoring keyframes.
   const KeyFrameBow q = index.describe(f.descriptors);
-  const auto hits = index.database().query(q.bow, 0, [&](int id) { return map.has_keyframe(KfId(id)); });
+  const auto hits = index.database().query(q.bow, 0, [&](int id) {
+    return map.has_keyframe(KfId(id)) && (submap < 0 || map.keyframe(KfId(id)).submap == submap);
+  });
   if (hits.empty()) return result;
   for (const auto& h : hits) {
     if (result.n_candidates >= config.max_candidates || h.score < config.min_score_ratio * hits[0].score) break;

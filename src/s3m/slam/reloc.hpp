@@ -41,8 +41,10 @@ struct RelocResult {
 };
 
 // Relocalises frame features f against the map, using the keyframe BoW index (kept in sync
-// with the map by the loop closer or by the caller through index.sync(map)).
+// with the map by the loop closer or by the caller through index.sync(map)). submap >= 0: only
+// against that sub-map's keyframes (the one tracking was in; a pose in another sub-map's frame
+// would be in the wrong world).
 RelocResult relocalise(const features::FrameFeatures& f, const Map& map, const KeyFrameBowIndex& index,
-                       const PinholeCamera& camera, const RelocConfig& config = {});
+                       const PinholeCamera& camera, const RelocConfig& config = {}, int submap = -1);
 
 }  // namespace s3m::slam

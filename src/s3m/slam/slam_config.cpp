@@ -165,6 +165,15 @@ void read_reloc(const YAML::Node& n, RelocConfig& c, const std::string& ctx) {
   yaml_get(n, "snapshot_keyframes", c.snapshot_keyframes, ctx);
 }
 
+void read_merge(const YAML::Node& n, MergeConfig& c, const std::string& ctx) {
+  if (!n) return;
+  check_known_keys(n, {"enabled", "start_frames", "lost_frames", "global_ba"}, ctx);
+  yaml_get(n, "enabled", c.enabled, ctx);
+  yaml_get(n, "start_frames", c.start_frames, ctx);
+  yaml_get(n, "lost_frames", c.lost_frames, ctx);
+  yaml_get(n, "global_ba", c.global_ba, ctx);
+}
+
 SE3 read_pose(const YAML::Node& n, const std::string& ctx) {
   check_known_keys(n, {"t", "q"}, ctx);
   std::vector<double> t{0, 0, 0}, q{0, 0, 0, 1};
@@ -188,13 +197,14 @@ void LoopClosingConfig::validate() const {
 void read_loop_closing(const YAML::Node& n, LoopClosingConfig& c, const std::string& ctx) {
   if (!n) return;
   std::vector<std::string> keys = kLoopKeys;
-  keys.insert(keys.end(), {"enabled", "relocalisation", "vocabulary", "reloc"});
+  keys.insert(keys.end(), {"enabled", "relocalisation", "vocabulary", "reloc", "merge"});
   check_known_keys(n, keys, ctx);
   yaml_get(n, "enabled", c.enabled, ctx);
   yaml_get(n, "relocalisation", c.relocalisation, ctx);
   yaml_get(n, "vocabulary", c.vocabulary, ctx);
   read_loop(n, c.loop, ctx);
   read_reloc(n["reloc"], c.reloc, ctx);
+  read_merge(n["merge"], c.loop.merge, ctx);
 }
 
 void SlamConfig::validate() const {

@@ -8,9 +8,10 @@ namespace s3m::slam {
 LocalMapSnapshot make_snapshot(const Map& map, KfId ref, int max_keyframes) {
   LocalMapSnapshot s;
   s.reference_kf = ref;
-  s.n_map_keyframes = map.n_keyframes();
   const KeyFrame& ref_kf = map.keyframe(ref);
-  s.ref_tracked_points = ref_kf.n_tracked_points(map.n_keyframes() <= 2 ? 1 : 2, map.points());
+  s.submap = ref_kf.submap;
+  s.n_map_keyframes = map.n_keyframes_in(ref_kf.submap);
+  s.ref_tracked_points = ref_kf.n_tracked_points(s.n_map_keyframes <= 2 ? 1 : 2, map.points());
   // 1. Keyframes: ref, its neighbours, then the neighbours' best neighbours and the spanning tree.
   std::vector<KfId> order{ref};
   std::set<KfId> seen{ref};

@@ -36,17 +36,18 @@ System::~System() {
 }
 
 // The mapping stage for one keyframe: local mapping, loop closing, the snapshot for tracking.
-System::MappedKeyframe System::map_keyframe(const KeyFrameRequest& request) {
+System::MappedKeyframe System::map_keyframe(KeyFrameRequest request) {
+  follow_merges(request);
   const KfId kf = mapper_.process(request);
   MappedKeyframe out;
   // The BoW index stays in step with the map even when loop closing is off, so relocalisation
   // always sees every keyframe.
   if (closes_loops())
-    out.correction = closer_->process(map_, kf);
+    out.correction = note_correction(closer_->process(map_, kf));
   else if (closer_)
     closer_->index().sync(map_);
   if (observer_) observer_(map_, kf);
-  out.snapshot = std::make_shared<const LocalMapSnapshot>(make_snapshot(map_, kf, config_.mapper.snapshot_keyframes));
+  out.snapshot = snapshot(kf, config_.mapper.snapshot_keyframes);
   return out;
 }
 
@@ -62,7 +63,7 @@ void System::mapping_loop() {
       }
       continue;
     }
-    if (!mapped_.push(map_keyframe(*job->keyframe))) return;
+    if (!mapped_.push(map_keyframe(std::move(*job->keyframe)))) return;
   }
 }
 
@@ -137,7 +138,16 @@ void System::load_map(const std::string& path, bool localize_only) {
 void System::save_map(const std::string& path) const {
   require(closer_.has_value(), "System::save_map: needs place recognition (the map file holds the BoW index)");
   require(finished_ || !config_.threaded, "System::save_map: threaded mode, call finish() first");
-  save_slam_map(path, map_, closer_->index(), closer_->loop_edges(), camera_);
+  if (n_keyframes_outside_world() == 0) {
+    save_slam_map(path, map_, closer_->index(), closer_->loop_edges(), camera_);
+    return;
+  }
+  Map world = map_;
+  world.keep_only_submap(0);
+  LoopEdges edges;
+  for (const auto& [cur, loop] : closer_->loop_edges())
+    if (map_.submap_of(cur) == 0 && map_.submap_of(loop) == 0) edges.emplace_back(cur, loop);
+  save_slam_map(path, world, closer_->index(), edges, camera_);
 }
 
 // Localisation only: where tracking would have made a keyframe, it continues with the local map
@@ -146,8 +156,7 @@ void System::move_local_map(const std::vector<PointId>& tracked_points, int fram
   std::shared_ptr<const LocalMapSnapshot> snapshot;
   query_map([&](const Map& map) {
     const KfId best = best_covisible_keyframe(map, tracked_points);
-    if (best != kNoKeyframe)
-      snapshot = std::make_shared<const LocalMapSnapshot>(make_snapshot(map, best, config_.mapper.snapshot_keyframes));
+    if (best != kNoKeyframe) snapshot = this->snapshot(best, config_.mapper.snapshot_keyframes);
   });
   if (snapshot) tracker_.set_local_map(std::move(snapshot), frame_index);
 }
@@ -159,10 +168,12 @@ bool System::relocalise(const features::FrameFeatures& f, int frame_index, Track
   RelocResult reloc;
   std::shared_ptr<const LocalMapSnapshot> snapshot;
   SE3 T_w_kf = SE3::Identity();
+  const int submap = makes_submaps() ? tracker_.submap() : -1;  // only where tracking was
   query_map([&](const Map& map) {
-    reloc = slam::relocalise(f, map, closer_->index(), camera_, config_.loop_closing.reloc);
+    reloc = slam::relocalise(f, map, closer_->index(), camera_, config_.loop_closing.reloc,
+                             submap < 0 ? -1 : follow_merges(submap));
     if (!reloc.success) return;
-    snapshot = std::make_shared<const LocalMapSnapshot>(make_snapshot(map, reloc.keyframe, config_.loop_closing.reloc.snapshot_keyframes));
+    snapshot = this->snapshot(reloc.keyframe, config_.loop_closing.reloc.snapshot_keyframes);
     T_w_kf = map.keyframe(reloc.keyframe).T_w_c;
   });
   if (!reloc.success) return false;
@@ -206,8 +217,13 @@ TrackResult System::track(const RgbdFrame& frame) {
   r.n_inliers = out.n_inliers;
   r.keyframe = out.keyframe.has_value();
   r.anchor = {out.ref_kf, out.T_ref_c};
-  // 3. Relocalise a LOST frame against the whole map (with the features tracking computed).
-  if (out.state == TrackState::kLost && relocalises()) relocalise(*out.features, frame.index, r);
+  // 3. Relocalise a LOST frame against the map (with the features tracking computed); when that
+  //    keeps failing, start a new sub-map, merged later when place recognition finds the old one.
+  if (out.state == TrackState::kLost && relocalises())
+    recover(frame, out, r);
+  else
+    n_failed_relocalisations_ = 0;
+  r.submap = tracker_.submap();
   // 4. A keyframe goes to the mapping stage: inline, or queued for the mapping thread (in
   //    localisation only, a new local map from the frozen map instead). A keyframe
   //    the tracker needs although mapping is max_pending behind waits for one answer first, so at
@@ -219,7 +235,7 @@ TrackResult System::track(const RgbdFrame& frame) {
       send(MapperJob{std::move(*out.keyframe), {}, nullptr});
     } else {
       Stopwatch mw;
-      take(map_keyframe(*out.keyframe));
+      take(map_keyframe(std::move(*out.keyframe)));
       r.mapping_ms = mw.elapsed_ms();
     }
   }
@@ -257,7 +273,8 @@ std::vector<StampedPose> System::camera_trajectory() const {
   std::vector<StampedPose> out;
   out.reserve(records_.size());
   for (const auto& rec : records_)
-    out.push_back({rec.t_s, rec.frame_index, map_.resolve_T_w_kf(rec.anchor.keyframe) * rec.anchor.T_kf_c, rec.state});
+    if (map_.submap_of(rec.anchor.keyframe) == 0)
+      out.push_back({rec.t_s, rec.frame_index, map_.resolve_T_w_kf(rec.anchor.keyframe) * rec.anchor.T_kf_c, rec.state});
   return out;
 }
 
@@ -269,7 +286,8 @@ std::vector<StampedPose> System::robot_trajectory() const {
 
 std::vector<StampedPose> System::keyframe_trajectory() const {
   std::vector<StampedPose> out;
-  for (const auto& [id, kf] : map_.keyframes()) out.push_back({kf.t_s, kf.frame_index, kf.T_w_c, TrackState::kOk});
+  for (const auto& [id, kf] : map_.keyframes())
+    if (kf.submap == 0) out.push_back({kf.t_s, kf.frame_index, kf.T_w_c, TrackState::kOk});
   return out;
 }
 

@@ -13,6 +13,7 @@
 //   slam.finish();
 //   slam::write_tum_trajectory("trajectory_camera.txt", slam.camera_trajectory());
 #include <functional>
+#include <map>
 #include <future>
 #include <memory>
 #include <optional>
@@ -47,9 +48,14 @@ struct TrackResult {
   // The keyframe the pose is stored against (kNoKeyframe before the first one), and the pose
   // relative to it at tracking time (same world as T_w_c).
   KeyframeAnchor anchor;
-  // Loop closures the mapping stage finished since the previous frame, oldest first (in
-  // single-thread mode: the one this frame's keyframe closed).
+  // Loop closures (and merges) the mapping stage finished since the previous frame, oldest first
+  // (in single-thread mode: the one this frame's keyframe closed). They list world keyframes only
+  // (sub-map 0); a merge into the world lists the joined ones, culled ones included.
   std::vector<LoopCorrection> corrections;
+  // The sub-map the frame was tracked in (map_merge.hpp): 0 is the world; another is a new sub-map
+  // started after relocalisation kept failing, and T_w_c, T_w_r are in its own frame until a merge
+  // moves it into the world (camera_trajectory() then has the frame in the world).
+  int submap = 0;
 };
 
 // A read of the whole map for the tracking side. Runs where the Map may be touched: inline in
@@ -86,7 +92,8 @@ class System {
   const std::vector<LoopCorrection>& late_corrections() const { return late_corrections_; }
 
   // Every tracked frame (from the first keyframe on), each expressed relative to its reference
-  // keyframe's final pose — so BA and loop corrections reach every frame. Call after finish().
+  // keyframe's final pose — so BA, loop corrections and merges reach every frame. Call after
+  // finish(). Frames and keyframes of a sub-map that never joined the world are left out.
   std::vector<StampedPose> camera_trajectory() const;
   std::vector<StampedPose> robot_trajectory() const;    // robot_pose(camera_trajectory(), T_c_r)
   std::vector<StampedPose> keyframe_trajectory() const;  // live keyframes, camera poses
@@ -100,8 +107,9 @@ class System {
   // moves its local map between the loaded keyframes and LOST frames relocalise against them.
   // Needs place recognition with relocalisation (a vocabulary).
   void load_map(const std::string& path, bool localize_only = false);
-  // Writes the map with its BoW index and loop edges (map_io.hpp), atomically. Threaded mode:
-  // after finish(). Needs place recognition (the index).
+  // Writes the map with its BoW index and loop edges (map_io.hpp), atomically: the world only
+  // (sub-maps that never merged into it are left out). Threaded mode: after finish(). Needs place
+  // recognition (the index).
   void save_map(const std::string& path) const;
   bool localize_only() const { return localize_only_; }
 
@@ -118,6 +126,12 @@ class System {
   int n_lost_frames() const { return n_lost_; }
   int n_relocalised_frames() const { return n_relocalised_; }
   int n_loops() const { return closer_ ? int(closer_->loop_edges().size()) : 0; }  // threaded: after finish()
+  // Sub-maps (map_merge.hpp): whether this session starts them, how many it started, how many
+  // merges it made (threaded: after finish()) and the keyframes outside the world (after finish()).
+  bool makes_submaps() const;
+  int n_new_submaps() const { return next_submap_ - 1; }
+  int n_merges() const { return n_merges_; }
+  int n_keyframes_outside_world() const { return map_.n_keyframes() - map_.n_keyframes_in(0); }
 
  private:
   struct FrameRecord {
@@ -137,13 +151,22 @@ class System {
     std::shared_ptr<const LocalMapSnapshot> snapshot;
     std::optional<LoopCorrection> correction;
   };
-  MappedKeyframe map_keyframe(const KeyFrameRequest& request);  // the mapping stage, either thread
+  MappedKeyframe map_keyframe(KeyFrameRequest request);  // the mapping stage, either thread
   void take(MappedKeyframe mapped);
   void receive_mapped(int max_pending);
   void send(MapperJob job);
   bool relocalise(const features::FrameFeatures& f, int frame_index, TrackResult& r);
   void move_local_map(const std::vector<PointId>& tracked_points, int frame_index);
   void mapping_loop();
+  // Sub-maps (system_submaps.cpp). Tracking side: relocalise a LOST frame, else count the failure
+  // and start a new sub-map when there were enough.
+  void recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r);
+  // Mapping side: a request of a sub-map merged meanwhile is moved into the sub-map it joined; a
+  // correction is handed on for the world's keyframes only (none: a loop inside another sub-map).
+  int follow_merges(int submap) const;
+  std::shared_ptr<const LocalMapSnapshot> snapshot(KfId ref, int max_keyframes) const;  // with the merges
+  void follow_merges(KeyFrameRequest& request) const;
+  std::optional<LoopCorrection> note_correction(std::optional<LoopCorrection> c);
 
   PinholeCamera camera_;
   SlamConfig config_;
@@ -158,6 +181,11 @@ class System {
   std::vector<LoopCorrection> corrections_;  // received, not yet returned by track()
   std::vector<LoopCorrection> late_corrections_;
   int n_lost_ = 0, n_relocalised_ = 0;
+  int n_failed_relocalisations_ = 0;  // consecutive LOST frames that did not relocalise
+  int next_submap_ = 1;               // tracking side: the id a new sub-map gets
+  // Mapping side: merged sub-map -> (the sub-map it joined, T_into_from).
+  std::map<int, std::pair<int, SE3>> merged_into_;
+  int n_merges_ = 0;
   // Threaded mode.
   BoundedQueue<MapperJob> requests_;
   BoundedQueue<MappedKeyframe> mapped_;

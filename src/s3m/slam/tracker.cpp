@@ -34,6 +34,7 @@ Tracker::Tracker(const PinholeCamera& camera, const features::FeatureConfig& fea
 }
 
 void Tracker::set_snapshot(std::shared_ptr<const LocalMapSnapshot> snapshot) {
+  if (snapshot && !follow_merges(*snapshot)) return;  // a sub-map left behind
   // Keyframe poses may have moved (local BA, loop closure): move the last frame and its points
   // rigidly with the keyframe they are stored against, so the motion model stays consistent.
   if (snapshot && ref_kf_ != kNoId)
@@ -69,10 +70,46 @@ void Tracker::continue_map(KfId next_keyframe_id) {
   state_ = TrackState::kLost;
 }
 
+// Moves everything tracking holds in world coordinates by T_new_old when this sub-map was merged
+// into the snapshot's (the mapping stage moved the map rigidly by the same transform).
+bool Tracker::follow_merges(const LocalMapSnapshot& snapshot) {
+  SE3 T = SE3::Identity();
+  int s = submap_;
+  while (s != snapshot.submap) {
+    const auto it = snapshot.merged_into.find(s);
+    if (it == snapshot.merged_into.end()) return false;
+    T = it->second.second * T;
+    s = it->second.first;
+  }
+  if (s == submap_) return true;
+  last_.T_c_w = last_.T_c_w * T.inverse();
+  for (std::size_t i = 0; i < last_.p_w.size(); ++i)
+    if (last_.matched[i]) last_.p_w[i] = T * last_.p_w[i];
+  T_w_ref_ = T * T_w_ref_;
+  for (PendingKeyFrame& p : pending_)
+    for (Vec3& x : p.p_w) x = T * x;
+  submap_ = s;
+  return true;
+}
+
+void Tracker::start_new_map(int submap) {
+  require(!localize_only_, "Tracker::start_new_map: not in localisation only");
+  state_ = TrackState::kNotInitialized;
+  submap_ = submap;
+  snapshot_.reset();
+  pending_.clear();
+  visibility_.clear();
+  velocity_.reset();
+  resume_from_pose_ = false;
+  ref_kf_ = kNoId;
+  T_w_ref_ = SE3::Identity();
+}
+
 void Tracker::set_local_map(std::shared_ptr<const LocalMapSnapshot> snapshot, int frame_index) {
   require(snapshot && !snapshot->keyframes.empty(), "Tracker::set_local_map: empty local map");
   ref_kf_ = snapshot->reference_kf;
   T_w_ref_ = snapshot->keyframes.front().T_w_c;
+  submap_ = snapshot->submap;  // the caller's pose (set_pose) is in its frame
   last_keyframe_frame_ = frame_index;
   if (localize_only_) visibility_.clear();  // statistics only travel with keyframe requests
   snapshot_ = std::move(snapshot);
@@ -229,6 +266,7 @@ KeyFrameRequest Tracker::make_request(const Frame& cur, const RgbdFrame& frame) 
   r.t_s = frame.t_s;
   r.T_w_c = cur.T_c_w.inverse();
   r.features = cur.f;
+  r.submap = submap_;
   r.points.assign(cur.f->size(), kNoId);
   for (int i = 0; i < cur.f->size(); ++i)
     if (cur.matched[i]) r.points[i] = cur.pid[i];

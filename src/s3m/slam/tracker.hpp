@@ -73,6 +73,13 @@ class Tracker {
   void continue_map(KfId next_keyframe_id);
   // Localisation only: no keyframe requests (the map stays as it is, statistics included).
   void set_localize_only(bool on) { localize_only_ = on; }
+  // A new sub-map (issue 23: relocalisation keeps failing): the next frame with enough depth starts
+  // it in a frame of its own, as the first frame of a session does. A snapshot of another sub-map
+  // is taken only when this one was merged into it (its merged_into chain leads there): the last
+  // frame, the reference and pending keyframes move into its frame first. Snapshots of the
+  // abandoned sub-map still in flight are ignored.
+  void start_new_map(int submap);
+  int submap() const { return submap_; }
   // Makes snapshot (around an existing keyframe) the local map and its keyframe the reference,
   // as if that keyframe had just been made at frame_index (after relocalisation in a loaded map,
   // and for wants_local_map).
@@ -113,6 +120,7 @@ class Tracker {
   void remember_pending(const Frame& cur, const KeyFrameRequest& request);
   void prepare_last_frame(Frame cur);
   void note_visible(PointId id, int visible, int found);
+  bool follow_merges(const LocalMapSnapshot& snapshot);  // false: a sub-map this one never joined
 
   PinholeCamera camera_;
   features::FeatureConfig feature_config_;
@@ -123,6 +131,7 @@ class Tracker {
   Frame last_;
   bool resume_from_pose_ = false;  // set_pose() was called: the next frame tracks the local map from it
   bool localize_only_ = false;
+  int submap_ = 0;  // the sub-map being tracked (requests carry it; poses are in its frame)
   std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
   int last_keyframe_frame_ = 0;
   KfId n_requests_ = 0;          // keyframe ids are assigned by the Map in request order

@@ -1,0 +1,77 @@
+// slam::System and sub-maps (map_merge.hpp): when relocalisation keeps failing a new sub-map starts
+// (tracking side); merges found by the loop closer are remembered so requests still in flight
+// follow them, and corrections are handed on in the world's terms (mapping side).
+#include "s3m/slam/system.hpp"
+
+namespace s3m::slam {
+
+bool System::makes_submaps() const {
+  const LoopClosingConfig& lc = config_.loop_closing;
+  return closer_ && lc.enabled && lc.relocalisation && lc.loop.merge.enabled && !localize_only_;
+}
+
+// Step 3 of track() for a LOST frame. A session continuing in a loaded map that has tracked
+// nothing yet gives up after merge.start_frames frames, a session that lost tracking after
+// merge.lost_frames; this frame then starts the new sub-map (as its first keyframe, when it has
+// enough depth; otherwise the next frame with enough does).
+void System::recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r) {
+  if (relocalise(*out.features, frame.index, r)) {
+    n_failed_relocalisations_ = 0;
+    return;
+  }
+  ++n_failed_relocalisations_;
+  if (!makes_submaps()) return;
+  const bool at_start = r.anchor.keyframe == kNoKeyframe;
+  const MergeConfig& m = config_.loop_closing.loop.merge;
+  if (n_failed_relocalisations_ < (at_start ? m.start_frames : m.lost_frames)) return;
+  n_failed_relocalisations_ = 0;
+  tracker_.start_new_map(next_submap_++);
+  out = tracker_.retrack(frame, out.features, 0);
+  r.state = out.state;
+  r.T_w_c = out.T_w_c;
+  r.T_w_r = robot_pose(out.T_w_c, config_.T_c_r);
+  r.n_inliers = out.n_inliers;
+  r.keyframe = out.keyframe.has_value();
+  r.anchor = {out.ref_kf, out.T_ref_c};
+}
+
+std::shared_ptr<const LocalMapSnapshot> System::snapshot(KfId ref, int max_keyframes) const {
+  LocalMapSnapshot s = make_snapshot(map_, ref, max_keyframes);
+  s.merged_into = merged_into_;
+  return std::make_shared<const LocalMapSnapshot>(std::move(s));
+}
+
+int System::follow_merges(int submap) const {
+  for (auto it = merged_into_.find(submap); it != merged_into_.end(); it = merged_into_.find(submap))
+    submap = it->second.first;
+  return submap;
+}
+
+void System::follow_merges(KeyFrameRequest& request) const {
+  for (auto it = merged_into_.find(request.submap); it != merged_into_.end(); it = merged_into_.find(request.submap)) {
+    request.T_w_c = it->second.second * request.T_w_c;
+    request.submap = it->second.first;
+  }
+}
+
+std::optional<LoopCorrection> System::note_correction(std::optional<LoopCorrection> c) {
+  if (!c) return c;
+  if (c->is_merge()) {
+    merged_into_[c->merged_from] = {c->merged_into, c->T_into_from};
+    ++n_merges_;
+  }
+  if (map_.submap_of(c->current_kf) != 0) return std::nullopt;  // the world did not change
+  auto world_only = [&](std::map<KfId, SE3>& poses) {
+    for (auto it = poses.begin(); it != poses.end();) it = map_.submap_of(it->first) == 0 ? std::next(it) : poses.erase(it);
+  };
+  world_only(c->T_w_kf_before);
+  world_only(c->T_w_kf_after);
+  // A merge into the world: culled keyframes of the joined sub-map get their pose too (the pipeline
+  // anchored clouds to some of them while they were outside the world).
+  if (c->is_merge() && c->merged_into == 0)
+    for (const auto& [id, link] : map_.culled())
+      if (map_.submap_of(id) == 0) c->T_w_kf_after.emplace(id, map_.resolve_T_w_kf(id));
+  return c;
+}
+
+}  // namespace s3m::slam
