@@ -1,6 +1,8 @@
 // Kept clouds follow keyframe corrections, including keyframes SLAM has culled since.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "s3m/core/error.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
 
@@ -102,6 +104,24 @@ TEST(KeyframeStore, BudgetCountsTheMemoryCloudsHoldAndStoredCloudsHoldNoSpare) {
   s.add(0, at(0), 0, cloud_of(100));
   EXPECT_EQ(cloud_bytes(s.clouds().front().cloud), 1500u);
   EXPECT_EQ(s.bytes(), 1500 + sizeof(KeptCloud));
+}
+
+TEST(KeyframeStore, DetachedKeyframesJoinTheWorldWhenACorrectionListsThem) {
+  // Keyframe 2 is in a SLAM sub-map of its own (pose in that sub-map's frame): kept, not in the world.
+  KeyframeStore s;
+  s.note_keyframe(0, at(0));
+  s.note_keyframe(2, at(0), /*detached=*/true);
+  s.add(0, at(0), 0, {});
+  s.add(2, at(0.5), 4, {});  // rides on the detached keyframe
+  EXPECT_TRUE(s.in_world(s.clouds()[0]));
+  EXPECT_FALSE(s.in_world(s.clouds()[1]));
+  // A loop correction of the world alone leaves it outside.
+  s.update_poses({{0, at(0)}});
+  EXPECT_FALSE(s.in_world(2));
+  // The merge lists it in the world: its cloud comes in (an infinite shift asks for a rebuild).
+  EXPECT_EQ(s.update_poses({{0, at(0)}, {2, at(3, 1)}}), std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(s.in_world(2));
+  EXPECT_TRUE(near(s.T_w_c(s.clouds()[1]), at(3.5, 1)));
 }
 
 TEST(KeyframeStore, RefusesAnUnknownAnchor) {

@@ -55,6 +55,15 @@ TEST(SessionIo, KeptCloudsRoundTripExactly) {
     EXPECT_EQ(a.cloud.probs, b.cloud.probs);
     EXPECT_TRUE(s.T_w_c(a).isApprox(back.T_w_c(b), 0.0));
   }
+  // Keyframes outside the world (a SLAM sub-map that never merged) and their clouds are not saved.
+  s.note_keyframe(9, SE3::Identity(), /*detached=*/true);
+  s.add(9, SE3::Identity(), 9, cloud(2, 1, true));
+  save_kept_clouds(p.string(), s);
+  KeyframeStore world;
+  load_kept_clouds(p.string(), world);
+  EXPECT_EQ(world.size(), 2u);
+  EXPECT_EQ(world.keyframes().count(9), 0u);
+  save_kept_clouds(p.string(), back);
   // Truncated and foreign files name the file.
   std::string bytes;
   {

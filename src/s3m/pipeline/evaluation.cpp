@@ -88,10 +88,13 @@ SE3 align_poses(const std::vector<SE3>& T_w_est, const std::vector<SE3>& T_w_gt)
 }
 
 MapScore score_map(const MapIntegrator& map, const std::string& gt_path, const SE3& T_map_gt) {
+  return score_map(map.tree(), gt_path, T_map_gt);
+}
+
+MapScore score_map(const mapping::SemanticOcTree& tree, const std::string& gt_path, const SE3& T_map_gt) {
   io::GtVoxelMap gt = io::read_gt_voxels(gt_path);
   const Eigen::Isometry3f T = T_map_gt.cast<float>();
   for (auto& c : gt.centres_w) c = T * c;
-  const mapping::SemanticOcTree& tree = map.tree();
   MapScore s;
   s.gt_total = gt.centres_w.size();
   s.all = mapping::evaluate_map(tree, gt);

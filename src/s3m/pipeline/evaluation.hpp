@@ -47,5 +47,6 @@ struct MapScore {
 // the map look worse than the frames it was built from, so the headline numbers (`observed`) use only
 // ground-truth voxels whose cell the map knows (free or occupied, i.e. inside some camera's view).
 MapScore score_map(const MapIntegrator& map, const std::string& gt_voxel_map_path, const SE3& T_map_gt);
+MapScore score_map(const mapping::SemanticOcTree& tree, const std::string& gt_voxel_map_path, const SE3& T_map_gt);
 
 }  // namespace s3m::pipeline

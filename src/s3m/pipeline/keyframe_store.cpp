@@ -3,10 +3,19 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "s3m/core/error.hpp"
 
 namespace s3m::pipeline {
+
+void KeyframeStore::note_keyframe(KeyframeId id, const SE3& T_w_kf, bool detached) {
+  keyframes_.insert_or_assign(id, T_w_kf);
+  if (detached)
+    detached_.insert(id);
+  else
+    detached_.erase(id);
+}
 
 void KeyframeStore::add(KeyframeId keyframe, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud) {
   const auto it = keyframes_.find(keyframe);
@@ -58,6 +67,17 @@ void KeyframeStore::drop_most_redundant() {
 double KeyframeStore::update_poses(const std::map<KeyframeId, SE3>& T_w_kf) {
   if (T_w_kf.empty()) return 0.0;
   double max_shift_m = 0.0;
+  // Detached keyframes a correction lists have joined the world (their T_w_kf was in a sub-map's
+  // frame: no shift to measure, the clouds anchored to them enter the map now).
+  for (auto it = detached_.begin(); it != detached_.end();)
+    if (T_w_kf.count(*it)) {
+      const KeyframeId id = *it;
+      it = detached_.erase(it);
+      if (std::any_of(clouds_.begin(), clouds_.end(), [&](const KeptCloud& c) { return c.anchor.keyframe == id; }))
+        max_shift_m = std::numeric_limits<double>::infinity();
+    } else {
+      ++it;
+    }
   std::map<KeyframeId, SE3> updated;
   for (const auto& [id, T_old] : keyframes_) {
     SE3 T_new = T_old;

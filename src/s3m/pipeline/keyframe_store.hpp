@@ -12,6 +12,7 @@
 // place contribute their newest views. The map itself is bounded by the area, not by time.
 #include <cstdint>
 #include <map>
+#include <set>
 #include <vector>
 
 #include "s3m/core/keyframe_id.hpp"
@@ -32,8 +33,10 @@ class KeyframeStore {
   explicit KeyframeStore(std::size_t budget_bytes = 0) : budget_bytes_(budget_bytes) {}
 
   // Records a keyframe and its pose as SLAM created it (every keyframe, so that corrections of
-  // culled keyframes can be inferred from their neighbours).
-  void note_keyframe(KeyframeId id, const SE3& T_w_kf) { keyframes_.insert_or_assign(id, T_w_kf); }
+  // culled keyframes can be inferred from their neighbours). detached: the keyframe is in a SLAM
+  // sub-map outside the world (TrackOutput::detached), T_w_kf in that sub-map's frame; its clouds
+  // are kept but left out of the map until update_poses() lists it.
+  void note_keyframe(KeyframeId id, const SE3& T_w_kf, bool detached = false);
   // Keeps a cloud observed at T_w_c, anchored to the noted keyframe `keyframe`; then drops
   // redundant clouds while over budget (never the one just added).
   void add(KeyframeId keyframe, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud);
@@ -43,8 +46,12 @@ class KeyframeStore {
 
   // Moves anchors to new keyframe poses. Anchors not in the map (keyframes SLAM has culled since)
   // follow the correction of the nearest listed keyframe by id, which is the keyframe they were
-  // spatially closest to in time. Returns the largest anchor translation change [m].
+  // spatially closest to in time. Listed detached keyframes join the world. Returns the largest
+  // anchor translation change [m] (infinity when a keyframe holding clouds joined the world).
   double update_poses(const std::map<KeyframeId, SE3>& T_w_kf);
+  // Whether a cloud (its keyframe) is in the world: what a rebuild inserts and a session saves.
+  bool in_world(KeyframeId id) const { return detached_.count(id) == 0; }
+  bool in_world(const KeptCloud& c) const { return in_world(c.anchor.keyframe); }
 
   std::size_t size() const { return clouds_.size(); }
   std::size_t bytes() const { return bytes_; }
@@ -59,6 +66,7 @@ class KeyframeStore {
   void drop_most_redundant();
 
   std::map<KeyframeId, SE3> keyframes_;  // current T_w_kf of every keyframe noted
+  std::set<KeyframeId> detached_;        // noted keyframes outside the world (not listed yet)
   std::vector<KeptCloud> clouds_;      // insertion order (the order a rebuild re-inserts them)
   std::size_t budget_bytes_ = 0;
   std::size_t bytes_ = 0;

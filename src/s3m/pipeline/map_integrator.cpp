@@ -24,7 +24,8 @@ void MapIntegrator::insert(const mapping::LabeledCloud& cloud_c, const SE3& T_w_
 
 void MapIntegrator::rebuild(const KeyframeStore& store) {
   auto fresh = make_tree();
-  for (const KeptCloud& c : store.clouds()) inserter_.insert(transformed(c.cloud, store.T_w_c(c)), *fresh);
+  for (const KeptCloud& c : store.clouds())
+    if (store.in_world(c)) inserter_.insert(transformed(c.cloud, store.T_w_c(c)), *fresh);
   tree_ = std::move(fresh);
 }
 

@@ -22,7 +22,8 @@ class MapIntegrator {
   // Inserts cloud_c (camera frame, origin 0) observed from T_w_c; rays from the camera centre clear
   // free space.
   void insert(const mapping::LabeledCloud& cloud_c, const SE3& T_w_c);
-  // Replaces the map by one built from every kept cloud at its current pose, in the original order.
+  // Replaces the map by one built from every kept cloud in the world at its current pose, in the
+  // original order.
   void rebuild(const KeyframeStore& store);
   // map.ot (full semantics, atomic) and map.ply (occupied leaves: centre, colour, class, confidence).
   void save(const std::string& ot_path, const std::string& ply_path) const;

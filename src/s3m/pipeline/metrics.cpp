@@ -187,6 +187,9 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   m["wall_time_s"] = info.wall_time_s;
   m["fps"] = info.wall_time_s > 0 ? c.frames / info.wall_time_s : 0.0;
   m["tracking"] = tracking_json(p.frames());
+  const PoseSource::Submaps sub = p.poses().submaps();
+  m["tracking"]["submaps"] = {{"started", sub.started}, {"merges", sub.merges},
+                              {"keyframes_outside_world", sub.keyframes_outside_world}};
   m["timings_ms"] = timings_json(p.timings());
   const TrajectoryScore traj = evaluate_trajectory(p, source, config, paths);
   m["trajectory"] = traj.json;

@@ -104,14 +104,17 @@ void Pipeline::steps3to5_map(Work& w) {
     // keyframe before this step reaches it). The pose relative to the anchor is what tracking
     // measured; the anchor's pose is the store's, with every correction so far applied (this frame
     // may have been tracked before the latest one, in the uncorrected world).
+    // A keyframe outside the world (a SLAM sub-map not merged yet) keeps its clouds out of the map
+    // until a correction brings it in; one a merge already brought in is mapped at its world pose.
     const KeyframeAnchor& a = w.track.anchor;
-    if (!store_.keyframes().count(a.keyframe)) store_.note_keyframe(a.keyframe, w.track.T_w_c * a.T_kf_c.inverse());
+    if (!store_.keyframes().count(a.keyframe))
+      store_.note_keyframe(a.keyframe, w.track.T_w_c * a.T_kf_c.inverse(), w.track.detached);
     const SE3 T_w_c = store_.T_w_c(a);
-    map_->insert(cloud, T_w_c);
+    if (store_.in_world(a.keyframe)) map_->insert(cloud, T_w_c);
     store_.add(a.keyframe, T_w_c, f.index, std::move(cloud));
     timings_.add("map", sw.elapsed_ms());
   } else if (w.track.keyframe && !store_.keyframes().count(w.track.anchor.keyframe)) {
-    store_.note_keyframe(w.track.anchor.keyframe, w.track.T_w_c);
+    store_.note_keyframe(w.track.anchor.keyframe, w.track.T_w_c, w.track.detached);
   }
   // 5. record: outcome, counters, segmentation against ground-truth labels when the dataset has them.
   if (!w.labels.empty() && !f.labels.empty()) {
@@ -121,7 +124,7 @@ void Pipeline::steps3to5_map(Work& w) {
     ++eval_offered_;
   }
   FrameOutcome o{f.index, f.t_s, w.track.T_w_c, w.track.state, w.track.ok, w.track.keyframe,
-                 !w.labels.empty(), w.integrate};
+                 !w.labels.empty(), w.integrate, w.track.detached};
   counters_.frames++;
   counters_.tracked += o.tracked;
   counters_.keyframes += o.keyframe;

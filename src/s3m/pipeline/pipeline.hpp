@@ -43,7 +43,8 @@ struct FrameOutcome {
   bool tracked = false;     // pose usable
   bool keyframe = false;
   bool segmented = false;
-  bool integrated = false;  // its cloud went into the map
+  bool integrated = false;  // its cloud went into the map (or, detached, waits for its sub-map's merge)
+  bool detached = false;    // tracked in a SLAM sub-map outside the world: T_w_c is in that sub-map's frame
 };
 
 struct PipelineCounters {

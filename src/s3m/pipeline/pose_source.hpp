@@ -26,8 +26,14 @@ struct TrackOutput {
   // none yet), T_kf_c in the same world as T_w_c.
   KeyframeAnchor anchor;
   // Corrections made since the previous frame, oldest first. They travel with the frame, so the
-  // mapping stage applies them in tracking order (through the pipeline's frame queues).
+  // mapping stage applies them in tracking order (through the pipeline's frame queues). A
+  // correction lists world keyframes only; a keyframe listed for the first time joins the world
+  // (a merge of a sub-map, below).
   std::vector<KeyframePoses> corrections;
+  // The pose is in a sub-map of its own, not (yet) in the world: SLAM started a new map after
+  // relocalisation kept failing (slam/map_merge.hpp). Its keyframe clouds are kept, not mapped,
+  // until a correction lists their keyframes (the sub-map merged into the world).
+  bool detached = false;
 };
 
 class PoseSource {
@@ -50,6 +56,12 @@ class PoseSource {
     throw Error("--map " + path + ": poses from " + name() + " cannot continue in a saved SLAM map (use --poses slam)");
   }
   virtual bool save_map(const std::string& /*path*/) const { return false; }
+  // SLAM sub-maps (slam/map_merge.hpp), after finish(): started when relocalisation kept failing,
+  // merges made, and keyframes still outside the world (neither reported nor saved).
+  struct Submaps {
+    int started = 0, merges = 0, keyframes_outside_world = 0;
+  };
+  virtual Submaps submaps() const { return {}; }
 };
 
 // Ground-truth poses (T_w_c from the dataset). Keyframes are chosen by motion, like a SLAM

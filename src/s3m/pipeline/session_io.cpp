@@ -1,5 +1,7 @@
 #include "s3m/pipeline/session_io.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "s3m/core/atomic_file.hpp"
@@ -47,13 +49,20 @@ mapping::LabeledCloud get_cloud(ByteReader& r) {
 
 void save_kept_clouds(const std::string& path, const KeyframeStore& store) {
   ByteWriter w;
-  w.put<std::uint32_t>(std::uint32_t(store.keyframes().size()));
+  // The world only: keyframes of a SLAM sub-map that never joined it are not in slam_map.bin either.
+  const auto n_keyframes = std::count_if(store.keyframes().begin(), store.keyframes().end(),
+                                         [&](const auto& kv) { return store.in_world(kv.first); });
+  w.put<std::uint32_t>(std::uint32_t(n_keyframes));
   for (const auto& [id, T] : store.keyframes()) {
+    if (!store.in_world(id)) continue;
     w.put<std::int64_t>(id);
     put_pose(w, T);
   }
-  w.put<std::uint32_t>(std::uint32_t(store.clouds().size()));
+  const auto n_clouds = std::count_if(store.clouds().begin(), store.clouds().end(),
+                                      [&](const KeptCloud& k) { return store.in_world(k); });
+  w.put<std::uint32_t>(std::uint32_t(n_clouds));
   for (const KeptCloud& k : store.clouds()) {
+    if (!store.in_world(k)) continue;
     w.put<std::int64_t>(k.anchor.keyframe);
     put_pose(w, k.anchor.T_kf_c);
     w.put<std::int32_t>(k.frame_index);

@@ -38,8 +38,10 @@ class SlamPoses final : public PoseSource {
     const slam::TrackResult r = system_.track(frame);
     TrackOutput out;
     out.T_w_c = r.T_w_c;
-    out.state = slam::to_string(r.state);
     out.ok = r.state == slam::TrackState::kOk || r.state == slam::TrackState::kRelocalised;
+    out.detached = r.submap != 0;
+    // Tracked in a sub-map that has not joined the world (yet): said as such in frames.txt.
+    out.state = out.detached && out.ok ? "SUBMAP" : slam::to_string(r.state);
     out.keyframe = r.keyframe;
     out.anchor = r.anchor;
     out.corrections = corrected_poses(r.corrections);
@@ -54,7 +56,8 @@ class SlamPoses final : public PoseSource {
   io::Trajectory keyframe_trajectory() const override { return to_io(system_.keyframe_trajectory()); }
   KeyframePoses keyframe_poses() const override {
     KeyframePoses out;
-    for (const auto& [id, kf] : system_.map().keyframes()) out.emplace(id, kf.T_w_c);
+    for (const auto& [id, kf] : system_.map().keyframes())
+      if (kf.submap == 0) out.emplace(id, kf.T_w_c);  // the world only
     return out;
   }
   void load_map(const std::string& path, bool localize_only) override {
@@ -65,8 +68,14 @@ class SlamPoses final : public PoseSource {
   }
   bool save_map(const std::string& path) const override {
     if (!system_.relocalises() && !system_.closes_loops()) return false;  // no BoW index to save
+    if (const int n = system_.n_keyframes_outside_world(); n > 0)
+      spdlog::warn("SLAM: {} keyframes of {} sub-map(s) never met the world and are not saved in {}", n,
+                   system_.n_new_submaps() - system_.n_merges(), path);
     system_.save_map(path);
     return true;
+  }
+  Submaps submaps() const override {
+    return {system_.n_new_submaps(), system_.n_merges(), system_.n_keyframes_outside_world()};
   }
   std::string name() const override {
     if (system_.localize_only()) return "s3m SLAM, localisation only in a loaded map";
