@@ -30,6 +30,10 @@ void print_summary(const pipeline::RunResult& r, const std::string& out) {
     const auto& t = m["tracking"];
     std::cout << "tracking: " << t["states"].value("LOST", 0) << " frames LOST, " << t["relocalised_frames"].size()
               << " RELOCALISED, " << m.value("corrections", 0) << " loop corrections applied to the map\n";
+    if (t.contains("submaps") && t["submaps"].value("started", 0) > 0)
+      std::cout << "sub-maps: " << t["submaps"]["started"] << " started after relocalisation failed ("
+                << t["states"].value("SUBMAP", 0) << " frames tracked in them), " << t["submaps"]["merges"]
+                << " merged, " << t["submaps"]["keyframes_outside_world"] << " keyframes never met the map\n";
   }
   if (m.contains("trajectory") && m["trajectory"].contains("ate_rmse_m"))
     std::cout << "ATE RMSE: " << m["trajectory"]["ate_rmse_m"].get<double>() << " m\n";

@@ -15,5 +15,6 @@ void register_export(CLI::App& app);   // map export (PLY, ColorOcTree, .bt)
 void register_vocab(CLI::App& app);    // bag-of-words vocabulary training
 void register_tum2bag(CLI::App& app);  // TUM directory -> ROS1 bag (ROS builds)
 void register_view(CLI::App& app);     // interactive 3-D map viewer (HTML)
+void register_merge(CLI::App& app);    // merge two saved sessions
 
 }  // namespace s3m::apps
