@@ -1,5 +1,7 @@
 #include "node.hpp"
 
+#include <filesystem>
+
 #include <boost/bind/bind.hpp>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/sync_policies/exact_time.h>
@@ -16,6 +18,7 @@
 #include "s3m/io/camera_yaml.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/outputs.hpp"
+#include "s3m/pipeline/session_io.hpp"
 
 namespace s3m::ros1 {
 namespace {
@@ -74,7 +77,13 @@ NodeParams read_node_params(const ros::NodeHandle& pnh) {
   pnh.param("camera_bf", p.camera_bf, p.camera_bf);
   pnh.param("output_dir", p.output_dir, p.output_dir);
   pnh.param("save_on_exit", p.save_on_exit, p.save_on_exit);
+  pnh.param("map", p.map, p.map);
+  pnh.param("localize_only", p.localize_only, p.localize_only);
   require(p.queue_size > 0, "~queue_size must be > 0");
+  require(!p.localize_only || !p.map.empty(), "~localize_only needs ~map (the saved run to localise in)");
+  require(p.map.empty() || std::filesystem::is_regular_file(std::filesystem::path(p.map) / pipeline::kSlamMapFile),
+          "~map: '" + p.map + "' holds no " + pipeline::kSlamMapFile +
+              " (expected a folder s3m run --out, ~save_map or save_on_exit wrote)");
   require(p.map_every_n_frames > 0, "~map_every_n_frames must be > 0");
   return p;
 }
@@ -162,8 +171,17 @@ void S3mNode::start(const CameraInfo& info, const std::string& camera_frame) {
   auto segmenter = pipeline::make_segmenter(choice, c, params_.use_labels);
   const std::string segmenter_name = segmenter ? segmenter->name() : "none";
   auto map = std::make_unique<pipeline::MapIntegrator>(c.map);
-  pipeline_ = std::make_unique<pipeline::Pipeline>(c, camera, pipeline::make_slam_poses(camera, c),
-                                                   std::move(segmenter), std::move(map));
+  auto poses = pipeline::make_slam_poses(camera, c);
+  const std::filesystem::path saved(params_.map);
+  if (!params_.map.empty()) poses->load_map((saved / pipeline::kSlamMapFile).string(), params_.localize_only);
+  pipeline_ = std::make_unique<pipeline::Pipeline>(c, camera, std::move(poses), std::move(segmenter), std::move(map));
+  if (!params_.map.empty()) {
+    if (std::filesystem::exists(saved / pipeline::kKeptCloudsFile))
+      pipeline_->load_session_clouds((saved / pipeline::kKeptCloudsFile).string());
+    // The saved run's `map` frame: its robot at its first keyframe (the SLAM world's origin).
+    T_map_w_ = c.slam.T_c_r.inverse();
+    ROS_INFO("s3m_node: continuing in %s%s", params_.map.c_str(), params_.localize_only ? " (localisation only)" : "");
+  }
   pipeline_->set_frame_listener([this](const pipeline::FrameOutcome& o, const RgbdFrame&,
                                        const semantics::LabelMap& l) { on_outcome(o, l); });
   ROS_INFO("s3m_node: started (%dx%d, fx %.1f, segmenter %s (%s), config %s)", camera.width, camera.height,
@@ -179,6 +197,10 @@ void S3mNode::on_outcome(const pipeline::FrameOutcome& o, const semantics::Label
   }
   if (!o.tracked) {
     ROS_WARN_THROTTLE(2.0, "s3m_node: frame %d not tracked (%s)", o.index, o.state.c_str());
+    return;
+  }
+  if (o.detached) {  // a SLAM sub-map's own frame, not the map's: nothing to publish until it merges
+    ROS_WARN_THROTTLE(2.0, "s3m_node: frame %d tracked in a new sub-map, not merged into the map yet", o.index);
     return;
   }
   publish_poses(o.T_w_c, stamp_);

@@ -7,7 +7,8 @@
 // arrive while one is being processed wait in the subscriber queues (~queue_size); older ones drop.
 //
 // Frames: `map` is the robot body frame at the first tracked frame (x forward, z up for a level
-// start, REP 103); the SLAM world (the first keyframe's camera frame) is T_map_w from it.
+// start, REP 103); the SLAM world (the first keyframe's camera frame) is T_map_w from it. With ~map
+// it is the saved run's `map` frame (the robot at its first keyframe), so sessions share one frame.
 #include <memory>
 #include <optional>
 #include <string>
@@ -40,6 +41,12 @@ struct NodeParams {
   double camera_bf = 40.0;         // virtual stereo bf [px m] when CameraInfo's P[3] does not carry it
   std::string output_dir;          // ~save_map and save_on_exit write here ("" = nowhere)
   bool save_on_exit = true;
+  // A saved run to continue in (a folder `s3m run --out`, ~save_map or save_on_exit wrote:
+  // slam_map.bin + kept_clouds.bin): relocalise in it, extend it (or, with localize_only, leave the
+  // SLAM map as it is); `map` is then the saved run's map frame. "" = start from nothing. ~map as a
+  // string; as a dictionary it stays the preset's `map:` section override (ros_params.hpp).
+  std::string map;
+  bool localize_only = false;
 };
 NodeParams read_node_params(const ros::NodeHandle& pnh);
 

@@ -59,6 +59,8 @@ pipeline::PipelineConfig config_from_params(const ros::NodeHandle& pnh) {
   for (const char* section : kSections) {
     XmlRpc::XmlRpcValue v;
     if (!pnh.getParam(section, v)) continue;
+    // ~map as a string is the saved run to continue in (node.hpp), not the map section.
+    if (std::string(section) == "map" && v.getType() == XmlRpc::XmlRpcValue::TypeString) continue;
     try {
       overrides[section] = to_yaml(v);
     } catch (const Error& e) {

@@ -3,7 +3,8 @@
 // built-in defaults) and any preset section given as a private parameter (`~slam`, `~cloud`, `~map`,
 // `~segmenter`, `~flow`, `~threads`, `~dataset`, `~eval`, e.g. from <rosparam> in a launch file)
 // overrides the preset key by key. The merged document goes through the same parser as `s3m run
-// --config`, so unknown keys and bad values are refused with the same messages.
+// --config`, so unknown keys and bad values are refused with the same messages. `~map` given as a
+// string is not the section but the saved run to continue in (NodeParams::map).
 #include <string>
 
 #include <ros/node_handle.h>
