@@ -1,7 +1,7 @@
 // Back-projection of labelled pixels, range filtering, voxel downsampling; segmentation confusion.
 #include <gtest/gtest.h>
 
-#include "s3m/pipeline/labelled_cloud.hpp"
+#include "s3m/pipeline/cloud_from_frame.hpp"
 #include "s3m/pipeline/progress.hpp"
 
 namespace s3m::pipeline {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/pipeline/cloud_from_frame.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
 
 namespace s3m::pipeline {

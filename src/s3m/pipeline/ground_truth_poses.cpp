@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "s3m/core/error.hpp"
 #include "s3m/pipeline/pose_source.hpp"

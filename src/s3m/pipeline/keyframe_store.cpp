@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "s3m/core/error.hpp"
+#include "s3m/pipeline/cloud_from_frame.hpp"
 
 namespace s3m::pipeline {
 

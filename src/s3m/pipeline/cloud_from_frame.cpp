@@ -1,4 +1,4 @@
-#include "s3m/pipeline/labelled_cloud.hpp"
+#include "s3m/pipeline/cloud_from_frame.hpp"
 
 #include <cmath>
 #include <unordered_set>
