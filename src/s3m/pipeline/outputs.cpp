@@ -56,7 +56,7 @@ OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config
     if (pipeline.poses().save_map(out_dir + "/" + kSlamMapFile)) p.slam_map = out_dir + "/" + kSlamMapFile;
     if (pipeline.map() && !p.slam_map.empty()) {
       p.kept_clouds = out_dir + "/" + kKeptCloudsFile;
-      save_kept_clouds(p.kept_clouds, pipeline.kept_clouds());
+      save_kept_clouds(p.kept_clouds, pipeline.keyframe_store());
     }
   }
   return p;
