@@ -186,8 +186,8 @@ void S3mNode::on_outcome(const pipeline::FrameOutcome& o, const semantics::Label
 
 void S3mNode::publish_poses(const SE3& T_w_c, const ros::Time& t) {
   const SE3& T_c_r = params_.config.slam.T_c_r;
-  if (!T_map_w_) T_map_w_ = (T_w_c * T_c_r).inverse();
-  const SE3 T_map_c = *T_map_w_ * T_w_c, T_map_r = T_map_c * T_c_r;
+  if (!T_map_w_) T_map_w_ = robot_pose(T_w_c, T_c_r).inverse();
+  const SE3 T_map_c = *T_map_w_ * T_w_c, T_map_r = robot_pose(T_map_c, T_c_r);
   const std::string& map = params_.map_frame;
   cam_odom_.publish(odometry(T_map_c, t, map, camera_frame_));
   robot_odom_.publish(odometry(T_map_r, t, map, params_.base_frame));

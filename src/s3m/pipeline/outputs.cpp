@@ -14,7 +14,7 @@ namespace s3m::pipeline {
 io::Trajectory robot_trajectory(const io::Trajectory& camera, const SE3& T_c_r) {
   io::Trajectory out;
   out.reserve(camera.size());
-  for (const auto& p : camera) out.push_back({p.t_s, p.T_w_x * T_c_r});
+  for (const auto& p : camera) out.push_back({p.t_s, robot_pose(p.T_w_x, T_c_r)});
   return out;
 }
 

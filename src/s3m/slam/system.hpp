@@ -167,10 +167,6 @@ class System {
   int n_global_ba_outliers_ = 0;
 };
 
-// The paper's calibration equation: robot-to-world from camera-to-world and the robot-to-camera
-// calibration T_c_r (maps robot-frame points into the camera frame).
-inline SE3 robot_pose(const SE3& T_w_c, const SE3& T_c_r) { return T_w_c * T_c_r; }
-
 // TUM format: "t tx ty tz qx qy qz qw" per line, with a header comment. Throws s3m::Error when
 // the file cannot be written.
 void write_tum_trajectory(const std::string& path, const std::vector<StampedPose>& poses);
