@@ -114,7 +114,7 @@ TEST(SlamSystem, ThreadedModeSurvivesASlowMapper) {
   int n_paced = 0;
   const RunResult r = run(
       cfg,
-      [&](const Map& map, KfId kf) {
+      [&](const Map& map, KeyframeId kf) {
         const int target = map.keyframe(kf).frame_index + kLagFrames;
         int last = tracked.load(), still_ms = 0;
         while (tracked.load() < target && tracked.load() < kFrames && still_ms < 150) {

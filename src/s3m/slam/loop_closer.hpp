@@ -42,13 +42,13 @@ struct LoopConfig {
 
 // What a loop closure changed; whoever built something from keyframe poses re-integrates it.
 struct LoopCorrection {
-  KfId current_kf = kNoId;
-  KfId loop_kf = kNoId;
+  KeyframeId current_kf = kNoId;
+  KeyframeId loop_kf = kNoId;
   SE3 T_loop_current = SE3::Identity();  // verified relative pose (current camera -> loop camera)
   int n_matches = 0;                     // current keypoints matched to loop-group points
   int n_fused = 0;                       // duplicated points merged or re-observed
-  std::map<KfId, SE3> T_w_kf_before;     // every keyframe, before the correction
-  std::map<KfId, SE3> T_w_kf_after;      // every keyframe, after pose graph (and global BA)
+  std::map<KeyframeId, SE3> T_w_kf_before;     // every keyframe, before the correction
+  std::map<KeyframeId, SE3> T_w_kf_after;      // every keyframe, after pose graph (and global BA)
 };
 
 class LoopCloser {
@@ -57,32 +57,34 @@ class LoopCloser {
              const LoopConfig& config = {});
 
   // Processes a new keyframe; returns what changed when a loop was closed.
-  std::optional<LoopCorrection> process(Map& map, KfId kf);
+  std::optional<LoopCorrection> process(Map& map, KeyframeId kf);
   // The BoW index of all keyframes seen so far (relocalisation searches it too).
   const KeyFrameBowIndex& index() const { return index_; }
   KeyFrameBowIndex& index() { return index_; }
-  const std::vector<std::pair<KfId, KfId>>& loop_edges() const { return loop_edges_; }
+  const std::vector<std::pair<KeyframeId, KeyframeId>>& loop_edges() const { return loop_edges_; }
   // A loaded map's loop edges (its index goes in through index()), before the first process().
-  void restore_loop_edges(std::vector<std::pair<KfId, KfId>> edges) { loop_edges_ = std::move(edges); }
+  void restore_loop_edges(std::vector<std::pair<KeyframeId, KeyframeId>> edges) {
+    loop_edges_ = std::move(edges);
+  }
 
  private:
   struct Verified {
-    KfId loop_kf = kNoId;
+    KeyframeId loop_kf = kNoId;
     SE3 T_w_cur = SE3::Identity();                // corrected pose of the current keyframe
     std::vector<std::pair<int, PointId>> matches;  // current keypoint -> loop-group point
   };
-  std::optional<Verified> verify(const Map& map, KfId cur, const std::vector<KfId>& candidates) const;
-  std::optional<SE3> ransac_with_bow(const Map& map, KfId cur, KfId cand) const;
-  std::vector<std::pair<int, PointId>> search_loop_group(const Map& map, KfId cur, KfId loop_kf,
+  std::optional<Verified> verify(const Map& map, KeyframeId cur, const std::vector<KeyframeId>& candidates) const;
+  std::optional<SE3> ransac_with_bow(const Map& map, KeyframeId cur, KeyframeId cand) const;
+  std::vector<std::pair<int, PointId>> search_loop_group(const Map& map, KeyframeId cur, KeyframeId loop_kf,
                                                          const SE3& T_w_cur) const;
-  LoopCorrection correct(Map& map, KfId cur, const Verified& v);
+  LoopCorrection correct(Map& map, KeyframeId cur, const Verified& v);
 
   PinholeCamera camera_;
   LoopConfig config_;
   KeyFrameBowIndex index_;
   LoopDetector detector_;
-  std::vector<std::pair<KfId, KfId>> loop_edges_;  // (current, loop) of every closed loop
-  KfId last_loop_kf_ = kNoId;
+  std::vector<std::pair<KeyframeId, KeyframeId>> loop_edges_;  // (current, loop) of every closed loop
+  KeyframeId last_loop_kf_ = kNoId;
 };
 
 // Full bundle adjustment of every keyframe and point (first keyframe fixed), written back into

@@ -35,7 +35,7 @@ System::~System() {
 
 // The mapping stage for one keyframe: local mapping, loop closing, the snapshot for tracking.
 System::MappedKeyframe System::map_keyframe(const KeyFrameRequest& request) {
-  const KfId kf = mapper_.process(request);
+  const KeyframeId kf = mapper_.process(request);
   MappedKeyframe out;
   // The BoW index stays in step with the map even when loop closing is off, so relocalisation
   // always sees every keyframe.
@@ -143,7 +143,7 @@ void System::save_map(const std::string& path) const {
 void System::move_local_map(const std::vector<PointId>& tracked_points, int frame_index) {
   std::shared_ptr<const LocalMapSnapshot> snapshot;
   query_map([&](const Map& map) {
-    const KfId best = best_covisible_keyframe(map, tracked_points);
+    const KeyframeId best = best_covisible_keyframe(map, tracked_points);
     if (best != kNoKeyframe)
       snapshot = std::make_shared<const LocalMapSnapshot>(make_snapshot(map, best, config_.mapper.snapshot_keyframes));
   });

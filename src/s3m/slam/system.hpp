@@ -58,7 +58,7 @@ struct TrackResult {
 using MapQuery = std::function<void(const Map&)>;
 // Read-only look at the map after each keyframe's mapping stage (tests pace local mapping with
 // it); runs on the mapping thread in threaded mode.
-using MappingObserver = std::function<void(const Map&, KfId)>;
+using MappingObserver = std::function<void(const Map&, KeyframeId)>;
 
 // One frame of a final trajectory: its time and pose (camera, robot or keyframe, after BA and loop
 // closure; core's StampedPose, which io::write_tum_trajectory writes), which frame it is and how
