@@ -14,6 +14,7 @@
 #include "ros_params.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/io/camera_yaml.hpp"
+#include "s3m/pipeline/cost_estimate.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/outputs.hpp"
 
@@ -74,6 +75,7 @@ NodeParams read_node_params(const ros::NodeHandle& pnh) {
   pnh.param("camera_bf", p.camera_bf, p.camera_bf);
   pnh.param("output_dir", p.output_dir, p.output_dir);
   pnh.param("save_on_exit", p.save_on_exit, p.save_on_exit);
+  pnh.param("force", p.force, p.force);
   require(p.queue_size > 0, "~queue_size must be > 0");
   require(p.map_every_n_frames > 0, "~map_every_n_frames must be > 0");
   return p;
@@ -148,6 +150,9 @@ void S3mNode::start(const CameraInfo& info, const std::string& camera_frame) {
   pipeline::PipelineConfig& c = params_.config;
   const PinholeCamera camera = c.dataset.camera.empty() ? camera_from_info(info, params_.camera_bf)
                                                         : io::load_camera(c.dataset.camera);
+  // As s3m run does before its first frame: refuse settings that would take seconds per frame and
+  // outgrow the memory (ROS_FATAL and exit 1 from on_frame), unless ~force.
+  pipeline::check_cost(c, camera, params_.force, "~force:=true");
   camera_frame_ = camera_frame.empty() ? "camera" : camera_frame;
   if (params_.T_c_r_from_tf) {
     const auto T_r_c = tf_buffer_.lookupTransform(params_.base_frame, camera_frame_, ros::Time(0), ros::Duration(2.0));

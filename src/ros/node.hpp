@@ -40,6 +40,7 @@ struct NodeParams {
   double camera_bf = 40.0;         // virtual stereo bf [px m] when CameraInfo's P[3] does not carry it
   std::string output_dir;          // ~save_map and save_on_exit write here ("" = nowhere)
   bool save_on_exit = true;
+  bool force = false;              // run even when the map's cost is over the limit (s3m run --force)
 };
 NodeParams read_node_params(const ros::NodeHandle& pnh);
 
