@@ -36,7 +36,7 @@ struct SimData {
 LabeledCloud to_cloud(const RgbdFrame& f, const semantics::LabelMap& lm, const PinholeCamera& cam, const SE3& T_w_c) {
   LabeledCloud c;
   c.k = lm.k();
-  c.origin_w = T_w_c.translation().cast<float>();
+  c.origin = T_w_c.translation().cast<float>();
   const Eigen::Isometry3f T = T_w_c.cast<float>();
   for (int v = 0; v < f.depth_m.rows; ++v)
     for (int u = 0; u < f.depth_m.cols; ++u) {
@@ -135,8 +135,8 @@ void BM_SimInsertOursVsStock(benchmark::State& state) {
     stock = std::make_unique<octomap::OcTree>(res);
     for (const auto& c : data().clouds) {
       octomap::Pointcloud pc;
-      for (const auto& p : c.points_w) pc.push_back(p.x(), p.y(), p.z());
-      stock->insertPointCloud(pc, octomap::point3d(c.origin_w.x(), c.origin_w.y(), c.origin_w.z()), 4.0, false, true);
+      for (const auto& p : c.points) pc.push_back(p.x(), p.y(), p.z());
+      stock->insertPointCloud(pc, octomap::point3d(c.origin.x(), c.origin.y(), c.origin.z()), 4.0, false, true);
     }
     stock_ms = std::min(stock_ms, sw.elapsed_ms());
   }

@@ -64,7 +64,7 @@ LabeledCloud make_cloud(const cv::Mat& depth_mm, const cv::Mat& bgr, const Eigen
   constexpr float fx = 585.f, fy = 585.f, cx = 320.f, cy = 240.f;
   LabeledCloud c;
   c.k = 3;
-  c.origin_w = T_w_c.translation();
+  c.origin = T_w_c.translation();
   c.reserve(std::size_t(depth_mm.rows * depth_mm.cols));
   for (int v = 0; v < depth_mm.rows; ++v)
     for (int u = 0; u < depth_mm.cols; ++u) {
@@ -134,8 +134,8 @@ std::unique_ptr<octomap::OcTree> build_stock(double res) {
   for (const auto& c : frames().clouds) {
     octomap::Pointcloud pc;
     pc.reserve(c.size());
-    for (const auto& p : c.points_w) pc.push_back(p.x(), p.y(), p.z());
-    tree->insertPointCloud(pc, octomap::point3d(c.origin_w.x(), c.origin_w.y(), c.origin_w.z()), 4.0, false, true);
+    for (const auto& p : c.points) pc.push_back(p.x(), p.y(), p.z());
+    tree->insertPointCloud(pc, octomap::point3d(c.origin.x(), c.origin.y(), c.origin.z()), 4.0, false, true);
   }
   return tree;
 }

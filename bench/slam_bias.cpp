@@ -130,7 +130,7 @@ void run_slam(const Args& a, const sim::Simulation& simu) {
   // points re-optimised: which poses do the measurements prefer?
   for (int use_gt = 0; use_gt < 2; ++use_gt) {
     slam::BaProblem P;
-    std::map<slam::KfId, int> fi;
+    std::map<KeyframeId, int> fi;
     const SE3 T_0w = simu.trajectory().samples[sys.map().keyframes().begin()->second.frame_index].T_w_c.inverse();
     for (const auto& [id, kf] : sys.map().keyframes()) {
       fi[id] = static_cast<int>(P.T_c_w.size());

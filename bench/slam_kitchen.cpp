@@ -63,11 +63,8 @@ Args parse_args(int argc, char** argv) {
   return a;
 }
 
-io::Trajectory to_io(const std::vector<slam::StampedPose>& poses) {
-  io::Trajectory t;
-  for (const auto& p : poses) t.push_back({p.t_s, p.T_w_x});
-  return t;
-}
+// Every frame SLAM reports, LOST ones included (s3m run leaves those out).
+io::Trajectory to_io(const std::vector<slam::FramePose>& frames) { return {frames.begin(), frames.end()}; }
 
 struct RunStats {
   std::vector<double> track_ms, cpu_ms, total_ms;
@@ -121,9 +118,9 @@ int main(int argc, char** argv) {
     io::Trajectory est = to_io(a.robot ? slam.robot_trajectory() : traj);
     if (!a.out.empty()) {
       std::filesystem::create_directories(a.out);
-      slam::write_tum_trajectory(a.out + "/trajectory_camera.txt", traj);
-      slam::write_tum_trajectory(a.out + "/trajectory_robot.txt", slam.robot_trajectory());
-      slam::write_tum_trajectory(a.out + "/keyframes.txt", slam.keyframe_trajectory());
+      io::write_tum_trajectory(a.out + "/trajectory_camera.txt", to_io(traj));
+      io::write_tum_trajectory(a.out + "/trajectory_robot.txt", to_io(slam.robot_trajectory()));
+      io::write_tum_trajectory(a.out + "/keyframes.txt", to_io(slam.keyframe_trajectory()));
       // Evaluate exactly what s3m eval would read.
       est = io::read_tum_trajectory(a.out + (a.robot ? "/trajectory_robot.txt" : "/trajectory_camera.txt"));
     }

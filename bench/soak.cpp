@@ -114,7 +114,7 @@ int run(const Options& o) {
       csv << ",,,,,,\n";
     } else {
       const auto& tree = p.map()->tree();
-      csv << p.kept_clouds().size() << ',' << p.kept_clouds().bytes() / 1e6 << ','
+      csv << p.keyframe_store().size() << ',' << p.keyframe_store().bytes() / 1e6 << ','
           << p.poses().keyframe_poses().size() << ',' << tree.getNumLeafNodes() << ','
           << tree.memoryUsage() / 1e6 << ',' << p.counters().tracked << ',' << p.last_state() << '\n';
     }
@@ -126,7 +126,8 @@ int run(const Options& o) {
   nlohmann::json s = {{"frames", o.frames}, {"threaded", o.threaded}, {"lap", o.lap}, {"trajectory", o.trajectory}, {"scene", o.scene},
                       {"tracked", p.counters().tracked}, {"keyframes_created", p.counters().keyframes},
                       {"integrated", p.counters().integrated}, {"rebuilds", p.counters().rebuilds},
-                      {"kept_clouds", p.kept_clouds().size()}, {"kept_mb", p.kept_clouds().bytes() / 1e6},
+                      {"kept_clouds", p.keyframe_store().size()},
+                      {"kept_mb", p.keyframe_store().bytes() / 1e6},
                       {"slam_keyframes", p.poses().keyframe_poses().size()},
                       {"map_leaves", p.map()->tree().getNumLeafNodes()}, {"rss_mb_end", rss_mb()},
                       {"cpu_s", cpu_s()}, {"csv", o.csv}};

@@ -131,7 +131,7 @@ class BagFrameSource final : public pipeline::FrameSource {
       groundtruth_.push_back({to_seconds(p->header.stamp), from_pose(p->pose)});
     }
     std::stable_sort(groundtruth_.begin(), groundtruth_.end(),
-                     [](const io::StampedPose& a, const io::StampedPose& b) { return a.t_s < b.t_s; });
+                     [](const StampedPose& a, const StampedPose& b) { return a.t_s < b.t_s; });
   }
 
   void pair(double max_dt_s) {

@@ -41,7 +41,7 @@ std::size_t write_tum_to_bag(const std::string& dataset_dir, const std::string& 
     }
   }
   if (!o.topics.groundtruth.empty()) {
-    for (const io::StampedPose& p : ds.groundtruth()) {
+    for (const StampedPose& p : ds.groundtruth()) {
       geometry_msgs::PoseStamped m;
       m.header.stamp = to_ros_time(p.t_s);
       m.header.frame_id = o.world_frame;

@@ -16,6 +16,7 @@
 #include "ros_params.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/io/camera_yaml.hpp"
+#include "s3m/pipeline/cost_estimate.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/outputs.hpp"
 #include "s3m/pipeline/session_io.hpp"
@@ -79,6 +80,7 @@ NodeParams read_node_params(const ros::NodeHandle& pnh) {
   pnh.param("save_on_exit", p.save_on_exit, p.save_on_exit);
   pnh.param("map", p.map, p.map);
   pnh.param("localize_only", p.localize_only, p.localize_only);
+  pnh.param("force", p.force, p.force);
   require(p.queue_size > 0, "~queue_size must be > 0");
   require(!p.localize_only || !p.map.empty(), "~localize_only needs ~map (the saved run to localise in)");
   require(p.map.empty() || std::filesystem::is_regular_file(std::filesystem::path(p.map) / pipeline::kSlamMapFile),
@@ -157,6 +159,9 @@ void S3mNode::start(const CameraInfo& info, const std::string& camera_frame) {
   pipeline::PipelineConfig& c = params_.config;
   const PinholeCamera camera = c.dataset.camera.empty() ? camera_from_info(info, params_.camera_bf)
                                                         : io::load_camera(c.dataset.camera);
+  // As s3m run does before its first frame: refuse settings that would take seconds per frame and
+  // outgrow the memory (ROS_FATAL and exit 1 from on_frame), unless ~force.
+  pipeline::check_cost(c, camera, params_.force, "~force:=true");
   camera_frame_ = camera_frame.empty() ? "camera" : camera_frame;
   if (params_.T_c_r_from_tf) {
     const auto T_r_c = tf_buffer_.lookupTransform(params_.base_frame, camera_frame_, ros::Time(0), ros::Duration(2.0));
@@ -208,8 +213,8 @@ void S3mNode::on_outcome(const pipeline::FrameOutcome& o, const semantics::Label
 
 void S3mNode::publish_poses(const SE3& T_w_c, const ros::Time& t) {
   const SE3& T_c_r = params_.config.slam.T_c_r;
-  if (!T_map_w_) T_map_w_ = (T_w_c * T_c_r).inverse();
-  const SE3 T_map_c = *T_map_w_ * T_w_c, T_map_r = T_map_c * T_c_r;
+  if (!T_map_w_) T_map_w_ = robot_pose(T_w_c, T_c_r).inverse();
+  const SE3 T_map_c = *T_map_w_ * T_w_c, T_map_r = robot_pose(T_map_c, T_c_r);
   const std::string& map = params_.map_frame;
   cam_odom_.publish(odometry(T_map_c, t, map, camera_frame_));
   robot_odom_.publish(odometry(T_map_r, t, map, params_.base_frame));

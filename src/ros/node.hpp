@@ -47,6 +47,7 @@ struct NodeParams {
   // string; as a dictionary it stays the preset's `map:` section override (ros_params.hpp).
   std::string map;
   bool localize_only = false;
+  bool force = false;              // run even when the map's cost is over the limit (s3m run --force)
 };
 NodeParams read_node_params(const ros::NodeHandle& pnh);
 

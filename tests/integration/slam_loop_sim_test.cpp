@@ -24,7 +24,7 @@ std::shared_ptr<const features::Vocabulary> vocabulary() {
 }
 
 struct LoopRun {
-  std::vector<slam::StampedPose> traj;
+  std::vector<slam::FramePose> traj;
   std::map<int, slam::TrackState> states;  // by frame index (= simulator frame)
   int loops = 0, relocalisations = 0, corrections_heard = 0;
 };
@@ -69,7 +69,7 @@ LoopRun run(bool loop_closing, Mode mode, bool outage) {
 }
 
 // Camera position RMSE after SE3 alignment (TUM's ATE) over the frames SLAM did not mark LOST.
-double ate_rmse(const std::vector<slam::StampedPose>& traj) {
+double ate_rmse(const std::vector<slam::FramePose>& traj) {
   const auto& gt_poses = loop_simulation().trajectory().samples;
   std::vector<Vec3> est, gt;
   for (const auto& p : traj) {

@@ -73,7 +73,8 @@ class Child {
     if (pid_ == 0) {
       ::setpgid(0, 0);
       const std::string out = log.string();
-      if (!freopen(out.c_str(), "w", stdout) || !freopen(out.c_str(), "a", stderr)) _exit(126);
+      // One open file for both (dup2): with two, stdout's own offset overwrote what stderr appended.
+      if (!freopen(out.c_str(), "w", stdout) || ::dup2(fileno(stdout), STDERR_FILENO) < 0) _exit(126);
       std::vector<char*> args;
       for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
       args.push_back(nullptr);

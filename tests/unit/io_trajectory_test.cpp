@@ -1,6 +1,9 @@
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include "io_test_util.hpp"
+#include "s3m/core/error.hpp"
 #include "s3m/io/association.hpp"
 #include "s3m/io/trajectory.hpp"
 
@@ -31,6 +34,21 @@ TEST(IoTrajectory, TumRoundTripKeepsPosesToPrintedPrecision) {
     EXPECT_NEAR(back[i].t_s, traj[i].t_s, 1e-6);  // %.6f time
     EXPECT_LT((back[i].T_w_x.matrix() - traj[i].T_w_x.matrix()).cwiseAbs().maxCoeff(), 1e-8);
   }
+}
+
+TEST(IoTrajectory, TumWriterLineFormatAndUnwritablePath) {
+  // The one TUM writer (s3m run's trajectories, the benches'; slam's own writer is gone, issue 19):
+  // a header comment, then t as %.6f and the pose as %.9g.
+  const auto dir = fresh_temp_dir();
+  const std::string path = (dir / "t.txt").string();
+  write_tum_trajectory(path, {{1.5, make_se3(Vec3(1, 2, 3), Quat::Identity())}});
+  std::ifstream f(path);
+  std::string header, line;
+  std::getline(f, header);
+  std::getline(f, line);
+  EXPECT_EQ(header, "# t tx ty tz qx qy qz qw");
+  EXPECT_EQ(line, "1.500000 1 2 3 0 0 0 1");
+  EXPECT_THROW(write_tum_trajectory("/nonexistent_dir/x.txt", {}), Error);
 }
 
 TEST(IoTrajectory, TumReaderAcceptsCommentsTabsAndCommas) {

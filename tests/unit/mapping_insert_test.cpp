@@ -21,7 +21,7 @@ LabeledCloud room_cloud(const Eigen::Vector3f& origin, int w, int h, unsigned se
   std::mt19937 rng(seed);
   std::normal_distribution<float> noise(0.0f, 0.005f);
   LabeledCloud c;
-  c.origin_w = origin;
+  c.origin = origin;
   c.k = 2;
   for (int v = 0; v < h; ++v)
     for (int u = 0; u < w; ++u) {
@@ -98,7 +98,7 @@ TEST(MappingInsert, MatchesStockOctoMapExactly) {
       const LabeledCloud cloud = room_cloud(origin, 80, 60, 10 + f);
       inserter.insert(cloud, ours);
       octomap::Pointcloud pc;
-      for (const auto& p : cloud.points_w) pc.push_back(p.x(), p.y(), p.z());
+      for (const auto& p : cloud.points) pc.push_back(p.x(), p.y(), p.z());
       stock.insertPointCloud(pc, octomap::point3d(origin.x(), origin.y(), origin.z()), 4.0, false, true);
     }
     const auto a = leaf_values(ours), b = leaf_values(stock);
@@ -133,7 +133,7 @@ TEST(MappingInsert, FusesLabelsAndColourPerVoxel) {
   SemanticOcTree tree(0.1);
   Inserter inserter(stock_equivalent());
   LabeledCloud c;
-  c.origin_w = {0, 0, 0};
+  c.origin = {0, 0, 0};
   c.k = 2;
   // Two points in the same voxel (centre 1.05, 0.05, 0.05): labels average, colours average.
   const ClassId l1[2] = {cls::kChair, cls::kSofa}, l2[2] = {cls::kChair, cls::kTable};
@@ -158,7 +158,7 @@ TEST(MappingInsert, FusesLabelsAndColourPerVoxel) {
   // map {chair .7, sofa .2, table .1} (sum 1), obs {sofa .9}. Q2 += chair .05 (p-bar .1),
   // table .025; Q1 already has sofa. products chair .035, sofa .18, table .0025.
   LabeledCloud c2;
-  c2.origin_w = {0, 0, 0};
+  c2.origin = {0, 0, 0};
   c2.k = 1;
   const ClassId l3[1] = {cls::kSofa};
   const float p3[1] = {0.9f};
@@ -224,7 +224,7 @@ TEST(MappingInsert, OutlierRemoval) {
 TEST(MappingInsert, BadInputIsRefused) {
   LabeledCloud c;
   c.k = 2;
-  c.points_w.push_back({1, 0, 0});
+  c.points.push_back({1, 0, 0});
   SemanticOcTree tree(0.1);
   Inserter inserter;
   EXPECT_THROW(inserter.insert(c, tree), Error);  // labels missing for k = 2

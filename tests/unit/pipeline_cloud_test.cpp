@@ -1,7 +1,7 @@
 // Back-projection of labelled pixels, range filtering, voxel downsampling; segmentation confusion.
 #include <gtest/gtest.h>
 
-#include "s3m/pipeline/labelled_cloud.hpp"
+#include "s3m/pipeline/cloud_from_frame.hpp"
 #include "s3m/pipeline/progress.hpp"
 
 namespace s3m::pipeline {
@@ -32,8 +32,8 @@ TEST(Backproject, KeepsInRangePixelsWithColourAndLabels) {
   ASSERT_EQ(c.size(), 12u);  // 16 pixels minus the 4 of row 0
   ASSERT_EQ(c.k, 2);
   EXPECT_NO_THROW(c.validate());
-  EXPECT_EQ(c.origin_w, Eigen::Vector3f::Zero());  // camera frame
-  const auto& last = c.points_w.back();  // pixel (u=3, v=3) at z = 2: x = (3 - 1.5) * 2 / 2 = 1.5
+  EXPECT_EQ(c.origin, Eigen::Vector3f::Zero());  // camera frame
+  const auto& last = c.points.back();  // pixel (u=3, v=3) at z = 2: x = (3 - 1.5) * 2 / 2 = 1.5
   EXPECT_FLOAT_EQ(last.x(), 1.5f);
   EXPECT_FLOAT_EQ(last.y(), 1.5f);
   EXPECT_FLOAT_EQ(last.z(), 2.0f);
@@ -55,8 +55,8 @@ TEST(Transformed, MovesPointsAndOrigin) {
   c.push_back({1, 0, 0}, 1, 2, 3);
   const SE3 T_w_c = make_se3(Vec3(0, 0, 1), Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ())));
   const mapping::LabeledCloud w = transformed(c, T_w_c);
-  EXPECT_TRUE(w.points_w[0].isApprox(Eigen::Vector3f(0, 1, 1), 1e-6f));
-  EXPECT_TRUE(w.origin_w.isApprox(Eigen::Vector3f(0, 0, 1), 1e-6f));
+  EXPECT_TRUE(w.points[0].isApprox(Eigen::Vector3f(0, 1, 1), 1e-6f));
+  EXPECT_TRUE(w.origin.isApprox(Eigen::Vector3f(0, 0, 1), 1e-6f));
   EXPECT_EQ(w.rgb, c.rgb);
 }
 

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "s3m/core/error.hpp"
+#include "s3m/pipeline/cloud_from_frame.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
 
 namespace s3m::pipeline {
@@ -97,7 +98,7 @@ TEST(KeyframeStore, BudgetCountsTheMemoryCloudsHoldAndStoredCloudsHoldNoSpare) {
   // 100 push_backs leave spare capacity (vector growth); the budget is about memory, so the
   // count is by capacity, and a stored cloud is shrunk to its 100 points: 1,500 bytes.
   const mapping::LabeledCloud built = cloud_of(100);
-  ASSERT_GT(built.points_w.capacity(), built.points_w.size());
+  ASSERT_GT(built.points.capacity(), built.points.size());
   EXPECT_GT(cloud_bytes(built), exact_bytes(100));
   KeyframeStore s;
   s.note_keyframe(0, at(0));

@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 mapping::LabeledCloud cloud(int n, int k, bool colour) {
   mapping::LabeledCloud c;
-  c.origin_w = Eigen::Vector3f(0.5f, -1, 2);
+  c.origin = Eigen::Vector3f(0.5f, -1, 2);
   c.k = k;
   std::vector<ClassId> labels(static_cast<std::size_t>(k));
   std::vector<float> probs(static_cast<std::size_t>(k));
@@ -47,8 +47,8 @@ TEST(SessionIo, KeptCloudsRoundTripExactly) {
     EXPECT_EQ(a.anchor.keyframe, b.anchor.keyframe);
     EXPECT_TRUE(a.anchor.T_kf_c.isApprox(b.anchor.T_kf_c, 0.0));
     EXPECT_EQ(a.frame_index, b.frame_index);
-    EXPECT_EQ(a.cloud.points_w, b.cloud.points_w);
-    EXPECT_EQ(a.cloud.origin_w, b.cloud.origin_w);
+    EXPECT_EQ(a.cloud.points, b.cloud.points);
+    EXPECT_EQ(a.cloud.origin, b.cloud.origin);
     EXPECT_EQ(a.cloud.rgb, b.cloud.rgb);
     EXPECT_EQ(a.cloud.k, b.cloud.k);
     EXPECT_EQ(a.cloud.labels, b.cloud.labels);

@@ -38,7 +38,7 @@ std::shared_ptr<features::FrameFeatures> features_at(const std::vector<Eigen::Ve
 struct GroupMap {
   PinholeCamera cam;
   Map map;
-  KfId a = kNoId, b = kNoId;
+  KeyframeId a = kNoId, b = kNoId;
   std::vector<PointId> pid;  // point i: descriptor i
   std::vector<Vec3> p_w;
 };

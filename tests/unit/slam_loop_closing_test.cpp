@@ -47,7 +47,7 @@ std::shared_ptr<const features::Vocabulary> vocabulary() {
 }
 
 struct RunResult {
-  std::vector<StampedPose> traj;
+  std::vector<FramePose> traj;
   std::vector<TrackState> states;
   int loops = 0, relocalisations = 0, corrections_heard = 0;
   size_t keyframes_in_last_correction = 0;
@@ -81,7 +81,7 @@ RunResult run(bool loop_closing, const std::set<int>& blank = {}) {
 
 // Camera position RMSE against ground truth in the first camera's frame (the SLAM world), so no
 // alignment hides the drift; frames marked LOST are left out.
-double ate_rmse(const std::vector<StampedPose>& traj) {
+double ate_rmse(const std::vector<FramePose>& traj) {
   const SE3 T_0_w = test::uav_pose(0, kLoopFrames).inverse();
   double s = 0;
   int n = 0;
@@ -143,7 +143,7 @@ TEST(Relocalisation, TenBlankFramesAreMarkedLostAndTrackingRecovers) {
 // expectations below hold under any load (free-running, the keyframes a loaded machine inserts
 // moved the result from 1.4-3.1 cm to 5.1 cm once; free-running threads are covered by
 // SlamSystem.ThreadedMode* and LoopOnSimulator.OutageIsBridgedThreadedFreeRunning).
-std::vector<StampedPose> expect_kidnapped_camera_relocalised(bool threaded) {
+std::vector<FramePose> expect_kidnapped_camera_relocalised(bool threaded) {
   std::vector<int> source;  // room frame shown at each step; -1: blank
   for (int i = 0; i < 120; ++i) source.push_back(i);
   for (int i = 0; i < 10; ++i) source.push_back(-1);

@@ -232,7 +232,7 @@ const std::string& session_a_file() {
 
 struct SessionB {
   std::vector<TrackResult> results;
-  std::vector<StampedPose> traj;
+  std::vector<FramePose> traj;
   int keyframes_before = 0, keyframes_after = 0, keyframes_made = 0;
 };
 

@@ -23,7 +23,7 @@ std::shared_ptr<const features::FrameFeatures> fake_features(int n) {
   return f;
 }
 
-KfId add_kf(Map& m, int n, const SE3& T_w_c) {
+KeyframeId add_kf(Map& m, int n, const SE3& T_w_c) {
   KeyFrame k;
   k.features = fake_features(n);
   k.points.assign(n, kNoId);
@@ -33,8 +33,8 @@ KfId add_kf(Map& m, int n, const SE3& T_w_c) {
 
 TEST(Map, ObservationsAndCovisibility) {
   Map m;
-  const KfId a = add_kf(m, 40, SE3::Identity());
-  const KfId b = add_kf(m, 40, make_se3(Vec3(0.1, 0, 0), Quat::Identity()));
+  const KeyframeId a = add_kf(m, 40, SE3::Identity());
+  const KeyframeId b = add_kf(m, 40, make_se3(Vec3(0.1, 0, 0), Quat::Identity()));
   std::vector<PointId> pts;
   for (int i = 0; i < 20; ++i) pts.push_back(m.add_point(Vec3(0.1 * i, 0, 2), a, i));
   for (int i = 0; i < 16; ++i) m.add_observation(pts[i], b, i + 5);
@@ -53,8 +53,8 @@ TEST(Map, ObservationsAndCovisibility) {
 
 TEST(Map, ReplacePointMergesObservations) {
   Map m;
-  const KfId a = add_kf(m, 10, SE3::Identity());
-  const KfId b = add_kf(m, 10, SE3::Identity());
+  const KeyframeId a = add_kf(m, 10, SE3::Identity());
+  const KeyframeId b = add_kf(m, 10, SE3::Identity());
   const PointId p = m.add_point(Vec3(0, 0, 2), a, 1);
   const PointId q = m.add_point(Vec3(0, 0, 2.01), b, 2);
   m.replace_point(q, p);
@@ -68,7 +68,7 @@ TEST(Map, ErasedKeyframePoseStillResolves) {
   Map m;
   const SE3 T0 = SE3::Identity(), T1 = make_se3(Vec3(1, 0, 0), Quat::Identity()),
             T2 = make_se3(Vec3(2, 0, 0), Quat(Eigen::AngleAxisd(0.3, Vec3::UnitZ())));
-  const KfId a = add_kf(m, 30, T0), b = add_kf(m, 30, T1), c = add_kf(m, 30, T2);
+  const KeyframeId a = add_kf(m, 30, T0), b = add_kf(m, 30, T1), c = add_kf(m, 30, T2);
   for (int i = 0; i < 20; ++i) {
     const PointId p = m.add_point(Vec3(i, 0, 3), a, i);
     m.add_observation(p, b, i);

@@ -75,7 +75,7 @@ const std::string& session_a() {
 
 struct SessionB {
   std::vector<TrackResult> results;
-  std::vector<StampedPose> traj;
+  std::vector<FramePose> traj;
   int merges = 0, new_submaps = 0, outside_world = 0, keyframes = 0;
   std::vector<LoopCorrection> merge_corrections;
 };
@@ -104,7 +104,7 @@ SessionB run_b(const SlamConfig& cfg, const std::string& save_to = "") {
 }
 
 // Worst camera position error in A's world over B's frames [from, to).
-double worst_error_m(const std::vector<StampedPose>& traj, int from = 0, int to = kBFrames) {
+double worst_error_m(const std::vector<FramePose>& traj, int from = 0, int to = kBFrames) {
   double worst = 0;
   for (const auto& p : traj)
     if (p.frame_index >= from && p.frame_index < to)

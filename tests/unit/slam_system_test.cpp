@@ -5,7 +5,6 @@
 #include <cmath>
 #include <filesystem>
 #include <chrono>
-#include <fstream>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -30,7 +29,7 @@ const std::vector<RgbdFrame>& room_frames(int count = kFrames) {
 }
 
 struct RunResult {
-  std::vector<StampedPose> traj;
+  std::vector<FramePose> traj;
   std::vector<TrackResult> results;
   int lost = 0, keyframes = 0;
 };
@@ -52,7 +51,7 @@ RunResult run(const SlamConfig& cfg, MappingObserver observer = {}, std::atomic<
 
 // RMSE of camera positions against ground truth expressed in the first camera's frame (the
 // SLAM world), so no alignment can hide errors.
-double ate_rmse(const std::vector<StampedPose>& traj) {
+double ate_rmse(const std::vector<FramePose>& traj) {
   const SE3 T_0_w = test::uav_pose(0, 2 * kFrames).inverse();
   double s = 0;
   for (const auto& p : traj) {
@@ -115,7 +114,7 @@ TEST(SlamSystem, ThreadedModeSurvivesASlowMapper) {
   int n_paced = 0;
   const RunResult r = run(
       cfg,
-      [&](const Map& map, KfId kf) {
+      [&](const Map& map, KeyframeId kf) {
         const int target = map.keyframe(kf).frame_index + kLagFrames;
         int last = tracked.load(), still_ms = 0;
         while (tracked.load() < target && tracked.load() < kFrames && still_ms < 150) {
@@ -221,17 +220,6 @@ TEST(SlamConfig, QueueCapacityMustHoldEveryUnansweredKeyframe) {
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("queue_capacity: 4"), "t.yaml"), ParseError);
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("queue_capacity: 5\ntracker: {max_pending_keyframes: 4}"), "t.yaml"),
                ParseError);
-}
-
-TEST(SlamSystem, WritesTumTrajectory) {
-  const std::string path = ::testing::TempDir() + "/slam_traj.txt";
-  write_tum_trajectory(path, {{1.5, 0, make_se3(Vec3(1, 2, 3), Quat::Identity()), TrackState::kOk}});
-  std::ifstream f(path);
-  std::string header, line;
-  std::getline(f, header);
-  std::getline(f, line);
-  EXPECT_EQ(line, "1.500000 1.0000000 2.0000000 3.0000000 0.0000000 0.0000000 0.0000000 1.0000000");
-  EXPECT_THROW(write_tum_trajectory("/nonexistent_dir/x.txt", {}), Error);
 }
 
 }  // namespace

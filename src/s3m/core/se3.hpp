@@ -34,4 +34,15 @@ SE3 interpolate(const SE3& T0, const SE3& T1, double s);
 // Skew-symmetric matrix [v]x.
 Mat3 skew(const Vec3& v);
 
+// One entry of a trajectory: a pose and its time stamp.
+struct StampedPose {
+  double t_s = 0.0;             // [s]
+  SE3 T_w_x = SE3::Identity();  // x = camera, robot or keyframe frame, w = the trajectory's world frame [m]
+};
+
+// The paper's calibration equation, the one place the robot pose is composed: robot-to-world
+// T_w_r from camera-to-world T_w_c and the robot-to-camera calibration T_c_r (maps robot-frame
+// points into the camera frame; `slam.T_c_r` in a preset). Any world works: T_map_r from T_map_c.
+inline SE3 robot_pose(const SE3& T_w_c, const SE3& T_c_r) { return T_w_c * T_c_r; }
+
 }  // namespace s3m

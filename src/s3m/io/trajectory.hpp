@@ -9,11 +9,7 @@
 
 namespace s3m::io {
 
-struct StampedPose {
-  double t_s = 0.0;
-  SE3 T_w_x = SE3::Identity();  // x = camera or robot frame, w = the trajectory's world frame
-};
-using Trajectory = std::vector<StampedPose>;
+using Trajectory = std::vector<StampedPose>;  // core/se3.hpp
 
 // Throws ParseError(file, line, ...) on missing file, wrong column count, unparsable or non-finite
 // numbers, a quaternion whose norm is not ~1 (|n-1| > 0.01), or timestamps that do not strictly increase.

@@ -55,7 +55,7 @@ InsertStats Inserter::insert(const LabeledCloud& cloud, SemanticOcTree& tree) {
   stats.points = cloud.size();
   const Stopwatch total;
   const KeyCoder coder(tree.getResolution());
-  const octomap::point3d origin(cloud.origin_w.x(), cloud.origin_w.y(), cloud.origin_w.z());
+  const octomap::point3d origin(cloud.origin.x(), cloud.origin.y(), cloud.origin.z());
   octomap::OcTreeKey origin_key;
   if (!coder.key_checked(origin, origin_key)) throw Error("insert: sensor origin is outside the map's key range");
   tbb::task_arena arena(cfg_.num_threads > 0 ? cfg_.num_threads : tbb::task_arena::automatic);

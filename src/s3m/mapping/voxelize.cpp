@@ -83,7 +83,7 @@ namespace {
 // usually carry the same label list, so this skips the linear search.
 void accumulate(Voxel& v, const LabeledCloud& cloud, std::size_t i, int* slot_cache) {
   ++v.count;
-  v.sum_w += cloud.points_w[i];
+  v.sum_w += cloud.points[i];
   if (!cloud.rgb.empty()) {
     v.rgb_sum[0] += cloud.rgb[3 * i], v.rgb_sum[1] += cloud.rgb[3 * i + 1], v.rgb_sum[2] += cloud.rgb[3 * i + 2];
   }
@@ -123,7 +123,7 @@ void voxelize_range(const LabeledCloud& cloud, std::size_t begin, std::size_t en
   std::uint32_t last_idx = 0;
   int slot_cache[kMaxLabels] = {};
   for (std::size_t i = begin; i < end; ++i) {
-    const Eigen::Vector3f& p = cloud.points_w[i];
+    const Eigen::Vector3f& p = cloud.points[i];
     // Same value as OcTreeBaseImpl::coordToKeyChecked (float coordinate promoted to double).
     const double sx = inv_res * double(p.x()), sy = inv_res * double(p.y()), sz = inv_res * double(p.z());
     if (!(std::fabs(sx) < kMaxVal - 1 && std::fabs(sy) < kMaxVal - 1 && std::fabs(sz) < kMaxVal - 1)) {

@@ -64,18 +64,20 @@ std::string describe(const PipelineConfig& config, const PinholeCamera& camera, 
 
 }  // namespace
 
-void check_cost(const PipelineConfig& config, const PinholeCamera& camera, bool force) {
+void check_cost(const PipelineConfig& config, const PinholeCamera& camera, bool force,
+                const std::string& force_option) {
   const CostEstimate e = estimate_cost(config, camera);
   const std::string what = describe(config, camera, e);
   if (e.voxel_updates > kMaxVoxelUpdates && !force)
     throw Error(fmt::format("run: {} exceeds the limit of {:.0e} (a frame would take seconds and the map could "
                             "outgrow the memory). Raise cloud.pixel_stride or map.resolution_m, lower "
-                            "cloud.max_depth_m or map.insert.max_range_m, or pass --force to run anyway",
-                            what, kMaxVoxelUpdates));
+                            "cloud.max_depth_m or map.insert.max_range_m, or pass {} to run anyway",
+                            what, kMaxVoxelUpdates, force_option));
   if (e.voxel_updates > kWarnVoxelUpdates)
     spdlog::warn("run: {}{}: expect slow frames and a large map", what,
-                 e.voxel_updates > kMaxVoxelUpdates ? fmt::format(", above the limit of {:.0e} (--force)", kMaxVoxelUpdates)
-                                                    : fmt::format(", allowed up to {:.0e}", kMaxVoxelUpdates));
+                 e.voxel_updates > kMaxVoxelUpdates
+                     ? fmt::format(", above the limit of {:.0e} ({})", kMaxVoxelUpdates, force_option)
+                     : fmt::format(", allowed up to {:.0e}", kMaxVoxelUpdates));
   if (config.cloud.kept_clouds_budget_mb > 0 && e.kept_clouds < 1)
     spdlog::warn("run: cloud.kept_clouds_budget_mb {:g} holds no cloud of up to {:.1f} MB: loop corrections will "
                  "re-integrate few or no clouds (raise the budget or cloud.keyframe_voxel_m)",

@@ -4,6 +4,8 @@
 // front with the keys to change (issue 24: `cloud.pixel_stride: 1`, `map.resolution_m: 0.005`,
 // `cloud.max_depth_m: 100` ran until killed). Every number is an upper bound for open space; a
 // room ends the rays at its walls (measured: 8-12x below the bound, cost_estimate.cpp).
+#include <string>
+
 #include "s3m/core/camera.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 
@@ -30,7 +32,9 @@ CostEstimate estimate_cost(const PipelineConfig& config, const PinholeCamera& ca
 
 // Throws s3m::Error naming the keys, the estimate and the limit when voxel_updates > kMaxVoxelUpdates
 // and not `force`; logs one warning line when the estimate is large (> kWarnVoxelUpdates, or forced)
-// or when the kept-cloud budget holds less than one cloud. Call before the first frame.
-void check_cost(const PipelineConfig& config, const PinholeCamera& camera, bool force);
+// or when the kept-cloud budget holds less than one cloud. Call before the first frame (s3m run,
+// s3m_node). force_option: how the user forces, named in the messages (s3m_node: "~force:=true").
+void check_cost(const PipelineConfig& config, const PinholeCamera& camera, bool force,
+                const std::string& force_option = "--force");
 
 }  // namespace s3m::pipeline

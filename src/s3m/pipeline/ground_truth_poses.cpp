@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "s3m/core/error.hpp"
 #include "s3m/pipeline/pose_source.hpp"
@@ -43,8 +44,8 @@ class GroundTruthPoses final : public PoseSource {
  private:
   std::optional<SE3> lookup(double t_s) const {
     auto it = std::lower_bound(gt_.begin(), gt_.end(), t_s,
-                               [](const io::StampedPose& p, double t) { return p.t_s < t; });
-    const io::StampedPose* best = nullptr;
+                               [](const StampedPose& p, double t) { return p.t_s < t; });
+    const StampedPose* best = nullptr;
     if (it != gt_.end()) best = &*it;
     if (it != gt_.begin() && (!best || t_s - std::prev(it)->t_s < best->t_s - t_s)) best = &*std::prev(it);
     if (!best || std::abs(best->t_s - t_s) > config_.max_dt_s) return std::nullopt;

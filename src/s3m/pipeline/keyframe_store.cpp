@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "s3m/core/error.hpp"
+#include "s3m/pipeline/cloud_from_frame.hpp"
 
 namespace s3m::pipeline {
 

@@ -17,7 +17,7 @@
 
 #include "s3m/core/keyframe_id.hpp"
 #include "s3m/core/se3.hpp"
-#include "s3m/pipeline/labelled_cloud.hpp"
+#include "s3m/mapping/labeled_cloud.hpp"
 
 namespace s3m::pipeline {
 

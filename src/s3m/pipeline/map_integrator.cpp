@@ -5,7 +5,7 @@
 #include "s3m/core/error.hpp"
 #include "s3m/mapping/export.hpp"
 #include "s3m/mapping/map_io.hpp"
-#include "s3m/pipeline/labelled_cloud.hpp"
+#include "s3m/pipeline/cloud_from_frame.hpp"
 
 namespace s3m::pipeline {
 

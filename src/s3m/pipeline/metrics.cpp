@@ -105,9 +105,9 @@ json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& da
   const PipelineCounters& c = p.counters();
   json j = map->describe();
   j["class_voxels"] = class_voxels_json(map->tree());
-  j["kept_clouds"] = p.kept_clouds().size();
-  j["kept_clouds_mb"] = p.kept_clouds().bytes() / 1e6;
-  j["kept_clouds_dropped"] = p.kept_clouds().dropped();  // over cloud.kept_clouds_budget_mb
+  j["kept_clouds"] = p.keyframe_store().size();
+  j["kept_clouds_mb"] = p.keyframe_store().bytes() / 1e6;
+  j["kept_clouds_dropped"] = p.keyframe_store().dropped();  // over cloud.kept_clouds_budget_mb
   j["inserted_points"] = c.inserted_points;
   j["rebuilds"] = c.rebuilds;
   // Raw cloud = every in-range depth pixel of the integrated frames, with colour and k labels.

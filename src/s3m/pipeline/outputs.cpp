@@ -14,7 +14,7 @@ namespace s3m::pipeline {
 io::Trajectory robot_trajectory(const io::Trajectory& camera, const SE3& T_c_r) {
   io::Trajectory out;
   out.reserve(camera.size());
-  for (const auto& p : camera) out.push_back({p.t_s, p.T_w_x * T_c_r});
+  for (const auto& p : camera) out.push_back({p.t_s, robot_pose(p.T_w_x, T_c_r)});
   return out;
 }
 
@@ -56,7 +56,7 @@ OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config
     if (pipeline.poses().save_map(out_dir + "/" + kSlamMapFile)) p.slam_map = out_dir + "/" + kSlamMapFile;
     if (pipeline.map() && !p.slam_map.empty()) {
       p.kept_clouds = out_dir + "/" + kKeptCloudsFile;
-      save_kept_clouds(p.kept_clouds, pipeline.kept_clouds());
+      save_kept_clouds(p.kept_clouds, pipeline.keyframe_store());
     }
   }
   return p;

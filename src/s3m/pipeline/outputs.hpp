@@ -18,7 +18,7 @@ struct OutputPaths {
   std::string metrics;
 };
 
-// T_w_r = T_w_c * T_c_r for every pose (the paper's camera-to-robot calibration).
+// robot_pose(T_w_c, T_c_r) = T_w_c * T_c_r for every pose (core/se3.hpp).
 io::Trajectory robot_trajectory(const io::Trajectory& camera, const SE3& T_c_r);
 
 // frames.txt: "index t_s state tracked keyframe integrated" for every frame that went through the

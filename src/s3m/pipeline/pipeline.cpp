@@ -4,6 +4,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
+#include "s3m/pipeline/cloud_from_frame.hpp"
 #include "s3m/pipeline/session_io.hpp"
 
 namespace s3m::pipeline {

@@ -88,7 +88,7 @@ class Pipeline {
   const std::vector<FrameOutcome>& frames() const { return outcomes_; }
   const PoseSource& poses() const { return *poses_; }
   const MapIntegrator* map() const { return map_.get(); }
-  const KeyframeStore& kept_clouds() const { return store_; }
+  const KeyframeStore& keyframe_store() const { return store_; }  // the kept clouds (kept_clouds.bin)
   const StageTimings& timings() const { return timings_; }
   const PipelineCounters& counters() const { return counters_; }
   const semantics::ConfusionMatrix& confusion() const { return confusion_; }

@@ -16,9 +16,9 @@ const BinaryFormat kFormat{"S3MCLDS\0", "S3MCLEND", 1, "kept-clouds",
                            "the kept clouds of an s3m run (kept_clouds.bin written by 's3m run --out')"};
 
 void put_cloud(ByteWriter& w, const mapping::LabeledCloud& c) {
-  w.put_bytes(c.origin_w.data(), sizeof(Eigen::Vector3f));
+  w.put_bytes(c.origin.data(), sizeof(Eigen::Vector3f));
   w.put<std::uint32_t>(std::uint32_t(c.size()));
-  w.put_bytes(c.points_w.data(), c.points_w.size() * sizeof(Eigen::Vector3f));
+  w.put_bytes(c.points.data(), c.points.size() * sizeof(Eigen::Vector3f));
   w.put<std::uint8_t>(c.rgb.empty() ? 0 : 1);
   w.put_bytes(c.rgb.data(), c.rgb.size());
   w.put<std::int32_t>(c.k);
@@ -28,10 +28,10 @@ void put_cloud(ByteWriter& w, const mapping::LabeledCloud& c) {
 
 mapping::LabeledCloud get_cloud(ByteReader& r) {
   mapping::LabeledCloud c;
-  r.get_bytes(c.origin_w.data(), sizeof(Eigen::Vector3f), "cloud origin");
+  r.get_bytes(c.origin.data(), sizeof(Eigen::Vector3f), "cloud origin");
   const std::uint32_t n = r.get_count("cloud size", sizeof(Eigen::Vector3f));
-  c.points_w.resize(n);
-  r.get_bytes(c.points_w.data(), n * sizeof(Eigen::Vector3f), "cloud points");
+  c.points.resize(n);
+  r.get_bytes(c.points.data(), n * sizeof(Eigen::Vector3f), "cloud points");
   if (r.get<std::uint8_t>("cloud colour flag")) {
     c.rgb.resize(3 * std::size_t(n));
     r.get_bytes(c.rgb.data(), c.rgb.size(), "cloud colours");

@@ -6,8 +6,8 @@
 //                    map is rebuilt from them (not read from map.ot), so a later run that moves
 //                    the loaded keyframes (loop closure, BA) re-integrates the old clouds too.
 // kept_clouds.bin, version 1 (core/byte_io.hpp frame): u32 keyframes x {i64 id, pose T_w_kf},
-// u32 clouds x {i64 keyframe, pose T_kf_c, i32 frame index, 3 f32 origin, u32 n, n x 3 f32 point,
-// u8 has colour, (3 n B colour), i32 k, n k x u16 label, n k x f32 probability}.
+// u32 clouds x {i64 keyframe, pose T_kf_c, i32 frame index, 3 f32 origin, u32 n, n x 3 f32 point
+// (origin and points in the camera frame), u8 has colour, (3 n B colour), i32 k, n k x u16 label, n k x f32 probability}.
 #include <string>
 
 #include "s3m/pipeline/keyframe_store.hpp"

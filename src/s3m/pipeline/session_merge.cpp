@@ -53,7 +53,7 @@ KeyframeStore load_store(const std::string& path) {
 }
 
 // Both runs' clouds in one store (B's keyframe ids shifted), anchors at the merged keyframe poses.
-KeyframeStore merged_store(const KeyframeStore& a, const KeyframeStore& b, slam::KfId b_offset, const slam::Map& map) {
+KeyframeStore merged_store(const KeyframeStore& a, const KeyframeStore& b, KeyframeId b_offset, const slam::Map& map) {
   KeyframeStore s;
   for (const auto& [id, T] : a.keyframes()) s.note_keyframe(id, T);
   for (const auto& [id, T] : b.keyframes()) s.note_keyframe(id + b_offset, T);

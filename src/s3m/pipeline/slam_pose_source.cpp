@@ -14,11 +14,11 @@ namespace {
 
 // Frames SLAM marked LOST have only a motion-model guess for a pose: they are left out of the
 // trajectory (as ORB-SLAM's trajectory files do) and listed in metrics.json instead.
-io::Trajectory to_io(const std::vector<slam::StampedPose>& poses) {
+io::Trajectory without_lost(const std::vector<slam::FramePose>& frames) {
   io::Trajectory out;
-  out.reserve(poses.size());
-  for (const auto& p : poses)
-    if (p.state != slam::TrackState::kLost) out.push_back({p.t_s, p.T_w_x});
+  out.reserve(frames.size());
+  for (const slam::FramePose& p : frames)
+    if (p.state != slam::TrackState::kLost) out.push_back(p);  // its StampedPose
   return out;
 }
 
@@ -52,8 +52,8 @@ class SlamPoses final : public PoseSource {
     system_.finish();
     return corrected_poses(system_.late_corrections());
   }
-  io::Trajectory camera_trajectory() const override { return to_io(system_.camera_trajectory()); }
-  io::Trajectory keyframe_trajectory() const override { return to_io(system_.keyframe_trajectory()); }
+  io::Trajectory camera_trajectory() const override { return without_lost(system_.camera_trajectory()); }
+  io::Trajectory keyframe_trajectory() const override { return without_lost(system_.keyframe_trajectory()); }
   KeyframePoses keyframe_poses() const override {
     KeyframePoses out;
     for (const auto& [id, kf] : system_.map().keyframes())

@@ -28,7 +28,7 @@ Mat3 uav_attitude(const Vec3& acc_w, double yaw_rad) {
   return R;
 }
 
-SE3 robot_pose(const detail::PathFn& path, double s, double duration_s, bool uav) {
+SE3 robot_pose_on_path(const detail::PathFn& path, double s, double duration_s, bool uav) {
   const detail::Kinematic k = path(s);
   SE3 T = SE3::Identity();
   T.translation() = k.p_w;
@@ -140,7 +140,7 @@ Trajectory make_trajectory(const Scene& scene, const TrajectoryConfig& cfg, std:
     const double s = (i / cfg.fps) / duration_s;
     TrajectorySample smp;
     smp.t_s = cfg.start_time_s + i / cfg.fps;
-    smp.T_w_r = robot_pose(path, s, duration_s, uav);
+    smp.T_w_r = robot_pose_on_path(path, s, duration_s, uav);
     smp.T_w_c = smp.T_w_r * T_r_c;
     // 3. Safety: the robot must stay in the room and clear of furniture.
     const Vec3 p = smp.T_w_r.translation();

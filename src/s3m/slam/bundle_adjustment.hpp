@@ -51,6 +51,7 @@ struct LocalBaStats {
 // Local BA around keyframe kf: kf and its best covisible keyframes are optimised with all points
 // they observe; other keyframes observing those points are held fixed. Outlier observations are
 // erased from the map.
-LocalBaStats local_bundle_adjustment(Map& map, KfId kf, const PinholeCamera& camera, const BaConfig& config);
+LocalBaStats local_bundle_adjustment(Map& map, KeyframeId kf, const PinholeCamera& camera,
+                                     const BaConfig& config);
 
 }  // namespace s3m::slam

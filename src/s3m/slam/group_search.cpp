@@ -8,15 +8,15 @@
 
 namespace s3m::slam {
 
-std::vector<std::pair<int, PointId>> match_covisible_group(const features::FrameFeatures& f, const Map& map, KfId kf,
+std::vector<std::pair<int, PointId>> match_covisible_group(const features::FrameFeatures& f, const Map& map, KeyframeId kf,
                                                            const SE3& T_w_c, const PinholeCamera& camera,
                                                            const GroupSearchParams& params) {
-  std::vector<KfId> group = map.keyframe(kf).best_covisible(params.group_size);
+  std::vector<KeyframeId> group = map.keyframe(kf).best_covisible(params.group_size);
   group.push_back(kf);
   std::set<PointId> seen;
   std::vector<PointId> ids;
   std::vector<features::ProjectionQuery> queries;
-  for (KfId g : group)
+  for (KeyframeId g : group)
     for (PointId pid : map.keyframe(g).points) {
       if (pid == kNoId || !map.has_point(pid) || !seen.insert(pid).second) continue;
       const MapPoint& p = map.point(pid);

@@ -18,11 +18,11 @@ struct GroupSearchParams {
   int levels_above = 0;        // a predicted level L matches keypoints of levels [L-1, L+levels_above]
   int max_distance = 50;       // Hamming
   double ratio = 0.9;          // best / second-best distance
-  KfId skip_observed_by = kNoId;  // leave out points this keyframe already observes
+  KeyframeId skip_observed_by = kNoId;  // leave out points this keyframe already observes
 };
 
 // (keypoint index in f, map point) pairs; every point and every keypoint appears at most once.
-std::vector<std::pair<int, PointId>> match_covisible_group(const features::FrameFeatures& f, const Map& map, KfId kf,
+std::vector<std::pair<int, PointId>> match_covisible_group(const features::FrameFeatures& f, const Map& map, KeyframeId kf,
                                                            const SE3& T_w_c, const PinholeCamera& camera,
                                                            const GroupSearchParams& params);
 

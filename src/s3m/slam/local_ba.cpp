@@ -5,30 +5,31 @@
 
 namespace s3m::slam {
 
-LocalBaStats local_bundle_adjustment(Map& map, KfId kf_id, const PinholeCamera& camera, const BaConfig& config) {
+LocalBaStats local_bundle_adjustment(Map& map, KeyframeId kf_id, const PinholeCamera& camera, const BaConfig& config) {
   LocalBaStats st;
   // 1. The window: the keyframe and its strongest covisible neighbours.
-  std::map<KfId, int> frame_index;  // keyframe -> BaProblem frame
+  std::map<KeyframeId, int> frame_index;  // keyframe -> BaProblem frame
   BaProblem P;
-  auto add_frame = [&](KfId id, bool fixed) {
+  auto add_frame = [&](KeyframeId id, bool fixed) {
     frame_index[id] = static_cast<int>(P.T_c_w.size());
     P.T_c_w.push_back(map.keyframe(id).T_w_c.inverse());
     P.fixed.push_back(fixed ? 1 : 0);
   };
   add_frame(kf_id, false);
-  for (KfId nb : map.keyframe(kf_id).best_covisible(config.max_local_keyframes - 1)) add_frame(nb, false);
+  for (KeyframeId nb : map.keyframe(kf_id).best_covisible(config.max_local_keyframes - 1))
+    add_frame(nb, false);
   st.n_local_keyframes = static_cast<int>(frame_index.size());
   // 2. Points seen by the window; 3. the other keyframes that see them are held fixed.
   std::map<PointId, int> point_index;
   std::vector<PointId> point_ids;
-  for (const auto& [id, f] : std::map<KfId, int>(frame_index))
+  for (const auto& [id, f] : std::map<KeyframeId, int>(frame_index))
     for (PointId pid : map.keyframe(id).points)
       if (pid != kNoId && !point_index.count(pid)) {
         point_index[pid] = static_cast<int>(P.p_w.size());
         P.p_w.push_back(map.point(pid).p_w);
         point_ids.push_back(pid);
       }
-  std::vector<std::pair<PointId, KfId>> obs_keys;
+  std::vector<std::pair<PointId, KeyframeId>> obs_keys;
   for (PointId pid : point_ids)
     for (const auto& [kf, idx] : map.point(pid).observations) {
       if (!frame_index.count(kf)) add_frame(kf, true);

@@ -38,14 +38,14 @@ struct SnapshotPoint {
 };
 
 struct SnapshotKeyFrame {
-  KfId id = kNoId;
+  KeyframeId id = kNoId;
   SE3 T_w_c = SE3::Identity();
   std::shared_ptr<const features::FrameFeatures> features;
   std::vector<PointId> points;
 };
 
 struct LocalMapSnapshot {
-  KfId reference_kf = kNoId;               // the newest keyframe; keyframes[0]
+  KeyframeId reference_kf = kNoId;               // the newest keyframe; keyframes[0]
   std::vector<SnapshotKeyFrame> keyframes;  // reference first, then its covisibility window
   std::vector<SnapshotPoint> points;       // every point those keyframes observe
   std::unordered_map<PointId, int> point_index;
@@ -64,10 +64,10 @@ struct LocalMapSnapshot {
 
 // Copies the map around keyframe ref: ref, its best covisible keyframes and their neighbours, up
 // to max_keyframes, with all their points.
-LocalMapSnapshot make_snapshot(const Map& map, KfId ref, int max_keyframes);
+LocalMapSnapshot make_snapshot(const Map& map, KeyframeId ref, int max_keyframes);
 
 // The keyframe observing most of points (ties: the smaller id); kNoId when none does. ORB-SLAM's
 // choice of the reference keyframe for a frame's local map.
-KfId best_covisible_keyframe(const Map& map, const std::vector<PointId>& points);
+KeyframeId best_covisible_keyframe(const Map& map, const std::vector<PointId>& points);
 
 }  // namespace s3m::slam

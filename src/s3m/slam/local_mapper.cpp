@@ -22,12 +22,12 @@ LocalMapper::LocalMapper(Map& map, const PinholeCamera& camera, const MapperConf
   config_.validate();
 }
 
-KfId LocalMapper::process(const KeyFrameRequest& request) {
+KeyframeId LocalMapper::process(const KeyFrameRequest& request) {
   Stopwatch sw;
   stats_ = {};
   // 1. Keyframe with tracking's matches; 2. new points from depth; 3. cull weak recent points;
   // 4. fuse duplicates with the neighbours; 5. local BA; 6. drop redundant keyframes.
-  const KfId kf = insert_keyframe(request);
+  const KeyframeId kf = insert_keyframe(request);
   create_points(kf);
   cull_recent_points(kf);
   fuse_with_neighbours(kf);
@@ -37,7 +37,7 @@ KfId LocalMapper::process(const KeyFrameRequest& request) {
   return kf;
 }
 
-KfId LocalMapper::insert_keyframe(const KeyFrameRequest& r) {
+KeyframeId LocalMapper::insert_keyframe(const KeyFrameRequest& r) {
   for (const auto& v : r.visibility) map_.count_visible(v.id, v.n_visible, v.n_found);
   KeyFrame k;
   k.frame_index = r.frame_index;
@@ -48,14 +48,14 @@ KfId LocalMapper::insert_keyframe(const KeyFrameRequest& r) {
   k.submap = r.submap;
   for (PointId& pid : k.points)
     if (pid != kNoId && !map_.has_point(pid)) pid = kNoId;  // culled while the request was queued
-  const KfId id = map_.add_keyframe(std::move(k));
+  const KeyframeId id = map_.add_keyframe(std::move(k));
   for (PointId pid : map_.keyframe(id).points)
     if (pid != kNoId) map_.update_point_appearance(pid);
   map_.update_covisibility(id);
   return id;
 }
 
-void LocalMapper::create_points(KfId id) {
+void LocalMapper::create_points(KeyframeId id) {
   const KeyFrame& kf = map_.keyframe(id);
   const auto& F = *kf.features;
   const auto chosen = depth_point_keypoints(F, [&](int i) { return kf.points[i] == kNoId; },
@@ -68,12 +68,12 @@ void LocalMapper::create_points(KfId id) {
   stats_.n_new_points = static_cast<int>(chosen.size());
 }
 
-void LocalMapper::cull_recent_points(KfId current) {
-  std::deque<std::pair<PointId, KfId>> keep;
+void LocalMapper::cull_recent_points(KeyframeId current) {
+  std::deque<std::pair<PointId, KeyframeId>> keep;
   for (const auto& [pid, created] : recent_points_) {
     if (!map_.has_point(pid)) continue;
     const MapPoint& p = map_.point(pid);
-    const KfId age = current - created;
+    const KeyframeId age = current - created;
     if (p.found_ratio() < config_.min_found_ratio || (age >= 2 && p.observations.size() < 2)) {
       map_.erase_point(pid);
       ++stats_.n_culled_points;
@@ -84,14 +84,14 @@ void LocalMapper::cull_recent_points(KfId current) {
   recent_points_.swap(keep);
 }
 
-void LocalMapper::fuse_with_neighbours(KfId id) {
+void LocalMapper::fuse_with_neighbours(KeyframeId id) {
   // Neighbours and their best neighbours (ORB-SLAM's second ring).
-  std::vector<KfId> targets = map_.keyframe(id).best_covisible(config_.fuse_neighbours);
+  std::vector<KeyframeId> targets = map_.keyframe(id).best_covisible(config_.fuse_neighbours);
   const std::size_t first = targets.size();
   for (std::size_t i = 0; i < first; ++i)
-    for (KfId nb2 : map_.keyframe(targets[i]).best_covisible(5))
+    for (KeyframeId nb2 : map_.keyframe(targets[i]).best_covisible(5))
       if (nb2 != id && std::find(targets.begin(), targets.end(), nb2) == targets.end()) targets.push_back(nb2);
-  auto valid_points = [&](KfId k) {
+  auto valid_points = [&](KeyframeId k) {
     std::vector<PointId> v;
     for (PointId pid : map_.keyframe(k).points)
       if (pid != kNoId) v.push_back(pid);
@@ -99,9 +99,9 @@ void LocalMapper::fuse_with_neighbours(KfId id) {
   };
   // 1. This keyframe's points into the neighbours, 2. the neighbours' points into this keyframe.
   const std::vector<PointId> own = valid_points(id);
-  for (KfId t : targets) stats_.n_fused += fuse_points(map_, t, own, camera_, config_.fusion);
+  for (KeyframeId t : targets) stats_.n_fused += fuse_points(map_, t, own, camera_, config_.fusion);
   std::vector<PointId> theirs;
-  for (KfId t : targets) {
+  for (KeyframeId t : targets) {
     auto v = valid_points(t);
     theirs.insert(theirs.end(), v.begin(), v.end());
   }
@@ -110,14 +110,14 @@ void LocalMapper::fuse_with_neighbours(KfId id) {
   stats_.n_fused += fuse_points(map_, id, theirs, camera_, config_.fusion);
   for (PointId pid : valid_points(id)) map_.update_point_appearance(pid);
   map_.update_covisibility(id);
-  for (KfId t : targets)
+  for (KeyframeId t : targets)
     if (map_.has_keyframe(t)) map_.update_covisibility(t);
 }
 
-void LocalMapper::cull_keyframes(KfId id) {
+void LocalMapper::cull_keyframes(KeyframeId id) {
   // A neighbour is redundant when most of its close points are seen by >= 3 other keyframes at
   // the same or a finer scale: it adds nothing to BA but cost.
-  for (KfId nb : map_.keyframe(id).best_covisible()) {
+  for (KeyframeId nb : map_.keyframe(id).best_covisible()) {
     const KeyFrame& k = map_.keyframe(nb);
     if (k.parent == kNoId) continue;  // the root stays
     const auto& F = *k.features;

@@ -41,20 +41,20 @@ class LocalMapper {
  public:
   LocalMapper(Map& map, const PinholeCamera& camera, const MapperConfig& config);
   // Returns the new keyframe's id (make_snapshot(map, id, ...) is what tracking continues with).
-  KfId process(const KeyFrameRequest& request);
+  KeyframeId process(const KeyFrameRequest& request);
   const MapperStats& last_stats() const { return stats_; }
 
  private:
-  KfId insert_keyframe(const KeyFrameRequest& r);
-  void create_points(KfId kf);
-  void cull_recent_points(KfId kf);
-  void fuse_with_neighbours(KfId kf);
-  void cull_keyframes(KfId kf);
+  KeyframeId insert_keyframe(const KeyFrameRequest& r);
+  void create_points(KeyframeId kf);
+  void cull_recent_points(KeyframeId kf);
+  void fuse_with_neighbours(KeyframeId kf);
+  void cull_keyframes(KeyframeId kf);
 
   Map& map_;
   PinholeCamera camera_;
   MapperConfig config_;
-  std::deque<std::pair<PointId, KfId>> recent_points_;  // (point, keyframe that created it)
+  std::deque<std::pair<PointId, KeyframeId>> recent_points_;  // (point, keyframe that created it)
   MapperStats stats_;
 };
 

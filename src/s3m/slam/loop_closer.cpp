@@ -32,19 +32,19 @@ LoopCloser::LoopCloser(std::shared_ptr<const features::Vocabulary> vocabulary, c
   config_.validate();
 }
 
-std::optional<LoopCorrection> LoopCloser::process(Map& map, KfId kf) {
+std::optional<LoopCorrection> LoopCloser::process(Map& map, KeyframeId kf) {
   // 1. Keep the BoW index in step with the map (new keyframe in, culled keyframes out).
   index_.sync(map);
   if (!map.has_keyframe(kf) || !index_.find(kf)) return std::nullopt;
   if (map.n_keyframes() < config_.min_keyframes) return std::nullopt;
   if (last_loop_kf_ != kNoId && kf - last_loop_kf_ < config_.min_keyframes_since_loop) return std::nullopt;
   // 2. Candidates that have been consistent for several keyframes.
-  const std::vector<KfId> candidates = detector_.detect(map, index_, kf);
+  const std::vector<KeyframeId> candidates = detector_.detect(map, index_, kf);
   if (candidates.empty()) return std::nullopt;
   // 3. Geometric verification: candidates in another sub-map first (a merge, map_merge.cpp), then
   //    loops within the keyframe's own sub-map.
-  std::vector<KfId> same, other;
-  for (KfId c : candidates) (map.keyframe(c).submap == map.keyframe(kf).submap ? same : other).push_back(c);
+  std::vector<KeyframeId> same, other;
+  for (KeyframeId c : candidates) (map.keyframe(c).submap == map.keyframe(kf).submap ? same : other).push_back(c);
   std::optional<LoopCorrection> correction = other.empty() ? std::nullopt : merge_at(map, kf, other);
   if (!correction) {
     const auto verified = same.empty() ? std::nullopt : verify(map, kf, same);
@@ -57,7 +57,7 @@ std::optional<LoopCorrection> LoopCloser::process(Map& map, KfId kf) {
   return correction;
 }
 
-std::optional<SE3> LoopCloser::ransac_with_bow(const Map& map, KfId cur_id, KfId cand_id) const {
+std::optional<SE3> LoopCloser::ransac_with_bow(const Map& map, KeyframeId cur_id, KeyframeId cand_id) const {
   const KeyFrame& cur = map.keyframe(cur_id);
   const KeyFrame& cand = map.keyframe(cand_id);
   std::vector<bool> has_point(cand.points.size());
@@ -88,7 +88,8 @@ std::optional<SE3> LoopCloser::ransac_with_bow(const Map& map, KfId cur_id, KfId
   return cand.T_w_c * r.T_a_b;  // T_w_cur as seen from the loop side
 }
 
-std::vector<std::pair<int, PointId>> LoopCloser::search_loop_group(const Map& map, KfId cur_id, KfId loop_kf,
+std::vector<std::pair<int, PointId>> LoopCloser::search_loop_group(const Map& map, KeyframeId cur_id,
+                                                                   KeyframeId loop_kf,
                                                                    const SE3& T_w_cur) const {
   GroupSearchParams p;
   p.group_size = config_.loop_group_size;
@@ -99,12 +100,12 @@ std::vector<std::pair<int, PointId>> LoopCloser::search_loop_group(const Map& ma
   return match_covisible_group(*map.keyframe(cur_id).features, map, loop_kf, T_w_cur, camera_, p);
 }
 
-std::optional<LoopCloser::Verified> LoopCloser::verify(const Map& map, KfId cur_id, const std::vector<KfId>& candidates,
+std::optional<LoopCloser::Verified> LoopCloser::verify(const Map& map, KeyframeId cur_id, const std::vector<KeyframeId>& candidates,
                                                        VerifyStats* stats) const {
   const KeyFrame& cur = map.keyframe(cur_id);
   VerifyStats none;
   VerifyStats& st = stats ? *stats : none;
-  for (KfId cand : candidates) {
+  for (KeyframeId cand : candidates) {
     ++st.candidates;
     // 1. BoW matches -> SE3 by 3D-3D RANSAC.
     const auto T_w_cur = ransac_with_bow(map, cur_id, cand);

@@ -59,13 +59,13 @@ struct LoopConfig {
 
 // What a loop closure changed; whoever built something from keyframe poses re-integrates it.
 struct LoopCorrection {
-  KfId current_kf = kNoId;
-  KfId loop_kf = kNoId;
+  KeyframeId current_kf = kNoId;
+  KeyframeId loop_kf = kNoId;
   SE3 T_loop_current = SE3::Identity();  // verified relative pose (current camera -> loop camera)
   int n_matches = 0;                     // current keypoints matched to loop-group points
   int n_fused = 0;                       // duplicated points merged or re-observed
-  std::map<KfId, SE3> T_w_kf_before;     // every keyframe, before the correction
-  std::map<KfId, SE3> T_w_kf_after;      // every keyframe, after pose graph (and global BA)
+  std::map<KeyframeId, SE3> T_w_kf_before;     // every keyframe, before the correction
+  std::map<KeyframeId, SE3> T_w_kf_after;      // every keyframe, after pose graph (and global BA)
   // A merge of two sub-maps (map_merge.cpp) rather than a loop: sub-map merged_from moved into
   // merged_into's frame by T_into_from before fusion and optimisation (T_w_kf_before holds its
   // keyframes in their old frame). -1: a loop closure.
@@ -87,55 +87,57 @@ class LoopCloser {
              const LoopConfig& config = {});
 
   // Processes a new keyframe; returns what changed when a loop was closed or two sub-maps merged.
-  std::optional<LoopCorrection> process(Map& map, KfId kf);
+  std::optional<LoopCorrection> process(Map& map, KeyframeId kf);
   // Merging (map_merge.cpp): verifies candidates in other sub-maps than kf's and, when one holds,
   // merges the two sub-maps (the younger moves into the older one's frame: SE3 from 3D-3D matches,
   // point fusion, welding BA at the seam, essential graph over both). process() calls it with the
   // detector's candidates; the offline merge of two saved maps with BoW candidates directly.
-  std::optional<LoopCorrection> merge_at(Map& map, KfId kf, const std::vector<KfId>& candidates,
+  std::optional<LoopCorrection> merge_at(Map& map, KeyframeId kf, const std::vector<KeyframeId>& candidates,
                                          VerifyStats* stats = nullptr);
   // Geometric verification alone, the map unchanged: the first candidate that holds, keyframe kf's
   // pose in that candidate's frame and the projection matches that support it.
   struct Recognition {
-    KfId loop_kf = kNoId;
+    KeyframeId loop_kf = kNoId;
     SE3 T_w_cur = SE3::Identity();
     int n_matches = 0;
   };
-  std::optional<Recognition> recognise(const Map& map, KfId kf, const std::vector<KfId>& candidates,
+  std::optional<Recognition> recognise(const Map& map, KeyframeId kf, const std::vector<KeyframeId>& candidates,
                                        VerifyStats* stats = nullptr) const;
   // The BoW index of all keyframes seen so far (relocalisation searches it too).
   const KeyFrameBowIndex& index() const { return index_; }
   KeyFrameBowIndex& index() { return index_; }
-  const std::vector<std::pair<KfId, KfId>>& loop_edges() const { return loop_edges_; }
+  const std::vector<std::pair<KeyframeId, KeyframeId>>& loop_edges() const { return loop_edges_; }
   // A loaded map's loop edges (its index goes in through index()), before the first process().
-  void restore_loop_edges(std::vector<std::pair<KfId, KfId>> edges) { loop_edges_ = std::move(edges); }
+  void restore_loop_edges(std::vector<std::pair<KeyframeId, KeyframeId>> edges) {
+    loop_edges_ = std::move(edges);
+  }
 
  private:
   struct Verified {
-    KfId loop_kf = kNoId;
+    KeyframeId loop_kf = kNoId;
     SE3 T_w_cur = SE3::Identity();                // corrected pose of the current keyframe
     std::vector<std::pair<int, PointId>> matches;  // current keypoint -> loop-group point
   };
-  std::optional<Verified> verify(const Map& map, KfId cur, const std::vector<KfId>& candidates,
+  std::optional<Verified> verify(const Map& map, KeyframeId cur, const std::vector<KeyframeId>& candidates,
                                  VerifyStats* stats = nullptr) const;
-  std::optional<SE3> ransac_with_bow(const Map& map, KfId cur, KfId cand) const;
-  std::vector<std::pair<int, PointId>> search_loop_group(const Map& map, KfId cur, KfId loop_kf,
+  std::optional<SE3> ransac_with_bow(const Map& map, KeyframeId cur, KeyframeId cand) const;
+  std::vector<std::pair<int, PointId>> search_loop_group(const Map& map, KeyframeId cur, KeyframeId loop_kf,
                                                          const SE3& T_w_cur) const;
-  LoopCorrection correct(Map& map, KfId cur, const Verified& v);
-  LoopCorrection merge(Map& map, KfId cur, const Verified& v);
+  LoopCorrection correct(Map& map, KeyframeId cur, const Verified& v);
+  LoopCorrection merge(Map& map, KeyframeId cur, const Verified& v);
   // Steps shared by loops and merges once the current side sits on the loop side: fuse duplicated
   // points, link the two sides, optimise the essential graph of cur's sub-map (T_before: the
   // shape to keep; fixed: keyframes held, besides the sub-map's oldest).
-  void weld(Map& map, KfId cur, const Verified& v, const std::set<KfId>& group,
-            const std::map<KfId, std::set<KfId>>& neighbours_before, const std::map<KfId, SE3>& T_before,
-            const std::set<KfId>& fixed, LoopCorrection& out);
+  void weld(Map& map, KeyframeId cur, const Verified& v, const std::set<KeyframeId>& group,
+            const std::map<KeyframeId, std::set<KeyframeId>>& neighbours_before, const std::map<KeyframeId, SE3>& T_before,
+            const std::set<KeyframeId>& fixed, LoopCorrection& out);
 
   PinholeCamera camera_;
   LoopConfig config_;
   KeyFrameBowIndex index_;
   LoopDetector detector_;
-  std::vector<std::pair<KfId, KfId>> loop_edges_;  // (current, loop) of every closed loop
-  KfId last_loop_kf_ = kNoId;
+  std::vector<std::pair<KeyframeId, KeyframeId>> loop_edges_;  // (current, loop) of every closed loop
+  KeyframeId last_loop_kf_ = kNoId;
 };
 
 // Full bundle adjustment of every keyframe and point (the root of each sub-map fixed), written back into

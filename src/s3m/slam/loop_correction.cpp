@@ -9,8 +9,8 @@ namespace s3m::slam {
 
 namespace {
 
-std::map<KfId, SE3> keyframe_poses(const Map& map) {
-  std::map<KfId, SE3> poses;
+std::map<KeyframeId, SE3> keyframe_poses(const Map& map) {
+  std::map<KeyframeId, SE3> poses;
   for (const auto& [id, kf] : map.keyframes()) poses[id] = kf.T_w_c;
   return poses;
 }
@@ -18,13 +18,13 @@ std::map<KfId, SE3> keyframe_poses(const Map& map) {
 // Essential graph (ORB-SLAM) of one sub-map: spanning tree, strong covisibility edges and past
 // loop edges keep the shape measured before the correction (T_before); the new loop links carry
 // the correction.
-std::vector<PoseGraphEdge> essential_graph(const Map& map, int submap, const std::map<KfId, SE3>& T_before,
-                                           const std::vector<std::pair<KfId, KfId>>& old_loops,
-                                           const std::set<std::pair<KfId, KfId>>& new_links, int min_weight) {
+std::vector<PoseGraphEdge> essential_graph(const Map& map, int submap, const std::map<KeyframeId, SE3>& T_before,
+                                           const std::vector<std::pair<KeyframeId, KeyframeId>>& old_loops,
+                                           const std::set<std::pair<KeyframeId, KeyframeId>>& new_links, int min_weight) {
   std::vector<PoseGraphEdge> edges;
-  std::set<std::pair<KfId, KfId>> added;
-  auto member = [&](KfId k) { return map.has_keyframe(k) && map.keyframe(k).submap == submap; };
-  auto add = [&](KfId a, KfId b, const SE3& T_w_a, const SE3& T_w_b, bool loop) {
+  std::set<std::pair<KeyframeId, KeyframeId>> added;
+  auto member = [&](KeyframeId k) { return map.has_keyframe(k) && map.keyframe(k).submap == submap; };
+  auto add = [&](KeyframeId a, KeyframeId b, const SE3& T_w_a, const SE3& T_w_b, bool loop) {
     if (a == b || !member(a) || !member(b)) return;
     if (!added.insert({std::min(a, b), std::max(a, b)}).second) return;
     edges.push_back(relative_edge(int(a), int(b), T_w_a, T_w_b, 1.0, loop));
@@ -45,7 +45,7 @@ std::vector<PoseGraphEdge> essential_graph(const Map& map, int submap, const std
 
 }  // namespace
 
-LoopCorrection LoopCloser::correct(Map& map, KfId cur_id, const Verified& v) {
+LoopCorrection LoopCloser::correct(Map& map, KeyframeId cur_id, const Verified& v) {
   LoopCorrection out;
   out.current_kf = cur_id;
   out.loop_kf = v.loop_kf;
@@ -54,12 +54,12 @@ LoopCorrection LoopCloser::correct(Map& map, KfId cur_id, const Verified& v) {
   out.T_loop_current = map.keyframe(v.loop_kf).T_w_c.inverse() * v.T_w_cur;
 
   // 1. Move the current keyframe and its covisible neighbours rigidly onto the loop side.
-  std::set<KfId> group{cur_id};
+  std::set<KeyframeId> group{cur_id};
   for (const auto& [n, w] : map.keyframe(cur_id).covisibility) group.insert(n);
   const SE3 correction = v.T_w_cur * map.keyframe(cur_id).T_w_c.inverse();
-  std::map<KfId, SE3> corrected;
-  std::map<KfId, std::set<KfId>> neighbours_before;
-  for (KfId k : group) {
+  std::map<KeyframeId, SE3> corrected;
+  std::map<KeyframeId, std::set<KeyframeId>> neighbours_before;
+  for (KeyframeId k : group) {
     corrected[k] = correction * map.keyframe(k).T_w_c;
     for (const auto& [n, w] : map.keyframe(k).covisibility) neighbours_before[k].insert(n);
   }
@@ -75,9 +75,9 @@ LoopCorrection LoopCloser::correct(Map& map, KfId cur_id, const Verified& v) {
   return out;
 }
 
-void LoopCloser::weld(Map& map, KfId cur_id, const Verified& v, const std::set<KfId>& group,
-                      const std::map<KfId, std::set<KfId>>& neighbours_before, const std::map<KfId, SE3>& T_before,
-                      const std::set<KfId>& fixed, LoopCorrection& out) {
+void LoopCloser::weld(Map& map, KeyframeId cur_id, const Verified& v, const std::set<KeyframeId>& group,
+                      const std::map<KeyframeId, std::set<KeyframeId>>& neighbours_before, const std::map<KeyframeId, SE3>& T_before,
+                      const std::set<KeyframeId>& fixed, LoopCorrection& out) {
   // 2. Fuse duplicates: the current keyframe's matches first (the loop side's point survives,
   //    it is the older, better-observed one), then the loop points projected into the group.
   std::vector<PointId> loop_points;
@@ -94,13 +94,13 @@ void LoopCloser::weld(Map& map, KfId cur_id, const Verified& v, const std::set<K
     }
     ++out.n_fused;
   }
-  for (KfId k : group) {
+  for (KeyframeId k : group) {
     if (map.has_keyframe(k)) out.n_fused += fuse_points(map, k, loop_points, camera_);
   }
 
   // 3. New covisibility links across the loop become loop edges of the essential graph.
-  std::set<std::pair<KfId, KfId>> new_links{{cur_id, v.loop_kf}};
-  for (KfId k : group) {
+  std::set<std::pair<KeyframeId, KeyframeId>> new_links{{cur_id, v.loop_kf}};
+  for (KeyframeId k : group) {
     if (!map.has_keyframe(k)) continue;
     map.update_covisibility(k);
     for (const auto& [n, w] : map.keyframe(k).covisibility) {
@@ -118,17 +118,17 @@ void LoopCloser::weld(Map& map, KfId cur_id, const Verified& v, const std::set<K
   for (const auto& [id, kf] : map.keyframes())
     if (kf.submap == submap) nodes[int(id)] = kf.T_w_c;
   std::set<int> held{nodes.begin()->first};
-  for (KfId k : fixed)
+  for (KeyframeId k : fixed)
     if (nodes.count(int(k))) held.insert(int(k));
   optimize_pose_graph(nodes, edges, held, config_.pose_graph);
-  std::map<KfId, SE3> optimised;
-  for (const auto& [id, T] : nodes) optimised[KfId(id)] = T;
+  std::map<KeyframeId, SE3> optimised;
+  for (const auto& [id, T] : nodes) optimised[KeyframeId(id)] = T;
   map.apply_corrected_poses(optimised);
 }
 
 int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConfig& config) {
   BaProblem problem;
-  std::map<KfId, int> frame_of;
+  std::map<KeyframeId, int> frame_of;
   for (const auto& [id, kf] : map.keyframes()) {
     frame_of[id] = int(problem.T_c_w.size());
     problem.T_c_w.push_back(kf.T_w_c.inverse());

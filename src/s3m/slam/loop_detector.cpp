@@ -15,7 +15,8 @@ void LoopDetectorConfig::validate() const {
 
 LoopDetector::LoopDetector(const LoopDetectorConfig& config) : config_(config) { config_.validate(); }
 
-std::vector<KfId> LoopDetector::detect(const Map& map, const KeyFrameBowIndex& index, KfId kf_id) {
+std::vector<KeyframeId> LoopDetector::detect(const Map& map, const KeyFrameBowIndex& index,
+                                             KeyframeId kf_id) {
   const KeyFrame& kf = map.keyframe(kf_id);
   const KeyFrameBow* q = index.find(kf_id);
   require(q != nullptr, "LoopDetector::detect: keyframe not in the BoW index");
@@ -29,20 +30,20 @@ std::vector<KfId> LoopDetector::detect(const Map& map, const KeyFrameBowIndex& i
 
   // 2. Database candidates: not the keyframe itself nor covisible with it, enough common words.
   const auto hits = index.database().query(q->bow, 0, [&](int id) {
-    return KfId(id) != kf_id && kf.covisibility.count(KfId(id)) == 0 && map.has_keyframe(KfId(id));
+    return KeyframeId(id) != kf_id && kf.covisibility.count(KeyframeId(id)) == 0 && map.has_keyframe(KeyframeId(id));
   });
   int max_common = 0;
   for (const auto& h : hits) max_common = std::max(max_common, h.common_words);
-  std::unordered_map<KfId, double> score;
+  std::unordered_map<KeyframeId, double> score;
   for (const auto& h : hits) {
     if (h.common_words >= config_.min_common_words_ratio * max_common && h.score >= min_score)
-      score[KfId(h.entry_id)] = h.score;
+      score[KeyframeId(h.entry_id)] = h.score;
   }
 
   // 3. Accumulate each candidate's score over its covisible neighbours that are candidates too;
   //    the group's best-scoring member represents it.
   struct Acc {
-    KfId best;
+    KeyframeId best;
     double total;
   };
   std::vector<Acc> groups;
@@ -50,7 +51,7 @@ std::vector<KfId> LoopDetector::detect(const Map& map, const KeyFrameBowIndex& i
   for (const auto& [id, s] : score) {
     Acc a{id, s};
     double best_member = s;
-    for (KfId n : map.keyframe(id).best_covisible(config_.group_neighbours)) {
+    for (KeyframeId n : map.keyframe(id).best_covisible(config_.group_neighbours)) {
       const auto it = score.find(n);
       if (it == score.end()) continue;
       a.total += it->second;
@@ -62,7 +63,7 @@ std::vector<KfId> LoopDetector::detect(const Map& map, const KeyFrameBowIndex& i
   std::sort(groups.begin(), groups.end(), [](const Acc& a, const Acc& b) {
     return a.total != b.total ? a.total > b.total : a.best < b.best;
   });
-  std::vector<KfId> candidates;
+  std::vector<KeyframeId> candidates;
   for (const Acc& a : groups) {
     if (a.total >= config_.group_score_ratio * best_total &&
         std::find(candidates.begin(), candidates.end(), a.best) == candidates.end())
@@ -72,18 +73,18 @@ std::vector<KfId> LoopDetector::detect(const Map& map, const KeyFrameBowIndex& i
   return consistent(map, candidates);
 }
 
-std::vector<KfId> LoopDetector::consistent(const Map& map, const std::vector<KfId>& candidates) {
+std::vector<KeyframeId> LoopDetector::consistent(const Map& map, const std::vector<KeyframeId>& candidates) {
   std::vector<Group> next;
   std::vector<char> extended(groups_.size(), 0);
-  std::vector<KfId> accepted;
-  for (KfId c : candidates) {
+  std::vector<KeyframeId> accepted;
+  for (KeyframeId c : candidates) {
     Group g;
     g.members.insert(c);
     for (const auto& [n, w] : map.keyframe(c).covisibility) g.members.insert(n);
     bool continues = false;
     for (size_t i = 0; i < groups_.size(); ++i) {
       const bool overlap = std::any_of(g.members.begin(), g.members.end(),
-                                       [&](KfId m) { return groups_[i].members.count(m) > 0; });
+                                       [&](KeyframeId m) { return groups_[i].members.count(m) > 0; });
       if (!overlap) continue;
       continues = true;
       const int count = groups_[i].consistency + 1;

@@ -23,15 +23,15 @@ class LoopDetector {
   explicit LoopDetector(const LoopDetectorConfig& config = {});
   // Candidates for keyframe kf (must be in map and index), best first. Updates the consistency
   // state, so call it once per new keyframe, in order.
-  std::vector<KfId> detect(const Map& map, const KeyFrameBowIndex& index, KfId kf);
+  std::vector<KeyframeId> detect(const Map& map, const KeyFrameBowIndex& index, KeyframeId kf);
   void reset() { groups_.clear(); }
 
  private:
   struct Group {
-    std::set<KfId> members;
+    std::set<KeyframeId> members;
     int consistency = 0;
   };
-  std::vector<KfId> consistent(const Map& map, const std::vector<KfId>& candidates);
+  std::vector<KeyframeId> consistent(const Map& map, const std::vector<KeyframeId>& candidates);
 
   LoopDetectorConfig config_;
   std::vector<Group> groups_;

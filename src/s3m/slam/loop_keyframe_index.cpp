@@ -33,12 +33,12 @@ void KeyFrameBowIndex::sync(const Map& map) {
   }
 }
 
-void KeyFrameBowIndex::restore(KfId id, KeyFrameBow bow) {
+void KeyFrameBowIndex::restore(KeyframeId id, KeyFrameBow bow) {
   db_.add(int(id), bow.bow);
   entries_[id] = std::move(bow);
 }
 
-const KeyFrameBow* KeyFrameBowIndex::find(KfId id) const {
+const KeyFrameBow* KeyFrameBowIndex::find(KeyframeId id) const {
   const auto it = entries_.find(id);
   return it == entries_.end() ? nullptr : &it->second;
 }

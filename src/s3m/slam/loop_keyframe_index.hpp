@@ -24,11 +24,11 @@ class KeyFrameBowIndex {
   // Adds keyframes the index has not seen and removes those no longer in the map.
   void sync(const Map& map);
   // Indexes keyframe id with a BoW computed earlier (a loaded map) instead of recomputing it.
-  void restore(KfId id, KeyFrameBow bow);
+  void restore(KeyframeId id, KeyFrameBow bow);
   // BoW of any descriptor set (a frame being relocalised).
   KeyFrameBow describe(const cv::Mat& descriptors) const;
 
-  const KeyFrameBow* find(KfId id) const;
+  const KeyFrameBow* find(KeyframeId id) const;
   const features::BowDatabase& database() const { return db_; }
   const features::Vocabulary& vocabulary() const { return *vocabulary_; }
   int direct_level() const { return direct_level_; }
@@ -37,7 +37,7 @@ class KeyFrameBowIndex {
  private:
   std::shared_ptr<const features::Vocabulary> vocabulary_;
   int direct_level_;
-  std::map<KfId, KeyFrameBow> entries_;
+  std::map<KeyframeId, KeyFrameBow> entries_;
   features::BowDatabase db_;
 };
 

@@ -16,12 +16,12 @@ const std::uint8_t* kf_descriptor(const KeyFrame& kf, int idx) { return kf.featu
 
 }  // namespace
 
-std::vector<KfId> KeyFrame::best_covisible(int n, int min_weight) const {
-  std::vector<std::pair<int, KfId>> v;
+std::vector<KeyframeId> KeyFrame::best_covisible(int n, int min_weight) const {
+  std::vector<std::pair<int, KeyframeId>> v;
   for (const auto& [id, w] : covisibility)
     if (w >= min_weight) v.emplace_back(-w, id);
   std::sort(v.begin(), v.end());
-  std::vector<KfId> out;
+  std::vector<KeyframeId> out;
   for (const auto& p : v) {
     if (n >= 0 && static_cast<int>(out.size()) >= n) break;
     out.push_back(p.second);
@@ -42,14 +42,14 @@ int predict_level(double dist_m, double max_dist_m, const features::ScalePyramid
   return std::clamp(level, 0, pyr.n_levels() - 1);
 }
 
-KfId Map::add_keyframe(KeyFrame kf) {
+KeyframeId Map::add_keyframe(KeyFrame kf) {
   require(kf.features != nullptr && static_cast<int>(kf.points.size()) == kf.features->size(),
           "Map::add_keyframe: keyframe needs features and one point slot per keypoint");
   kf.id = next_kf_id_++;
   kf.covisibility.clear();
   kf.children.clear();
   kf.parent = kNoId;
-  const KfId id = kf.id;
+  const KeyframeId id = kf.id;
   std::vector<PointId> slots = std::move(kf.points);
   kf.points.assign(slots.size(), kNoId);
   keyframes_.emplace(id, std::move(kf));
@@ -59,7 +59,7 @@ KfId Map::add_keyframe(KeyFrame kf) {
   return id;
 }
 
-PointId Map::add_point(const Vec3& p_w, KfId kf, int idx) {
+PointId Map::add_point(const Vec3& p_w, KeyframeId kf, int idx) {
   MapPoint p;
   p.id = next_point_id_++;
   p.p_w = p_w;
@@ -71,14 +71,14 @@ PointId Map::add_point(const Vec3& p_w, KfId kf, int idx) {
   return id;
 }
 
-void Map::add_observation(PointId pid, KfId kf, int idx) {
+void Map::add_observation(PointId pid, KeyframeId kf, int idx) {
   auto& k = keyframes_.at(kf);
   require(k.points[idx] == kNoId || k.points[idx] == pid, "Map::add_observation: keypoint slot already taken");
   k.points[idx] = pid;
   points_.at(pid).observations[kf] = idx;
 }
 
-void Map::erase_observation(PointId pid, KfId kf) {
+void Map::erase_observation(PointId pid, KeyframeId kf) {
   auto& p = points_.at(pid);
   const auto it = p.observations.find(kf);
   if (it == p.observations.end()) return;
@@ -116,7 +116,7 @@ void Map::erase_point(PointId pid) {
   points_.erase(it);
 }
 
-void Map::erase_keyframe(KfId id) {
+void Map::erase_keyframe(KeyframeId id) {
   KeyFrame& kf = keyframes_.at(id);
   require(kf.parent != kNoId, "Map::erase_keyframe: the root keyframe cannot be erased");
   for (PointId pid : std::vector<PointId>(kf.points))
@@ -124,7 +124,7 @@ void Map::erase_keyframe(KfId id) {
   for (const auto& [nb, w] : kf.covisibility) keyframes_.at(nb).covisibility.erase(id);
   auto& parent = keyframes_.at(kf.parent);
   parent.children.erase(id);
-  for (KfId c : kf.children) {
+  for (KeyframeId c : kf.children) {
     keyframes_.at(c).parent = kf.parent;
     parent.children.insert(c);
   }
@@ -132,16 +132,16 @@ void Map::erase_keyframe(KfId id) {
   keyframes_.erase(id);
 }
 
-void Map::update_covisibility(KfId id) {
+void Map::update_covisibility(KeyframeId id) {
   KeyFrame& kf = keyframes_.at(id);
-  std::map<KfId, int> counts;
+  std::map<KeyframeId, int> counts;
   for (PointId pid : kf.points) {
     if (pid == kNoId) continue;
     for (const auto& [other, idx] : points_.at(pid).observations)
       if (other != id) ++counts[other];
   }
-  std::map<KfId, int> edges;
-  KfId best = kNoId;
+  std::map<KeyframeId, int> edges;
+  KeyframeId best = kNoId;
   int best_w = 0;
   for (const auto& [other, w] : counts) {
     if (w >= kCovisibilityMinWeight) edges[other] = w;
@@ -153,7 +153,7 @@ void Map::update_covisibility(KfId id) {
   for (const auto& [other, w] : edges) keyframes_.at(other).covisibility[id] = w;
   kf.covisibility = std::move(edges);
   if (kf.parent != kNoId) return;
-  for (KfId nb : kf.best_covisible())
+  for (KeyframeId nb : kf.best_covisible())
     if (nb < id && keyframes_.at(nb).submap == kf.submap) {
       kf.parent = nb;
       keyframes_.at(nb).children.insert(id);
@@ -206,7 +206,7 @@ void Map::count_visible(PointId pid, int n_visible, int n_found) {
   it->second.n_found += n_found;
 }
 
-void Map::apply_corrected_poses(const std::map<KfId, SE3>& T_w_c_corrected) {
+void Map::apply_corrected_poses(const std::map<KeyframeId, SE3>& T_w_c_corrected) {
   for (auto& [pid, p] : points_) {
     const auto it = T_w_c_corrected.find(p.ref_kf);
     if (it == T_w_c_corrected.end()) continue;
@@ -216,7 +216,7 @@ void Map::apply_corrected_poses(const std::map<KfId, SE3>& T_w_c_corrected) {
   for (const auto& [pid, p] : points_) update_point_appearance(pid);
 }
 
-SE3 Map::resolve_T_w_kf(KfId id) const {
+SE3 Map::resolve_T_w_kf(KeyframeId id) const {
   const auto it = keyframes_.find(id);
   if (it != keyframes_.end()) return it->second.T_w_c;
   const auto c = culled_.find(id);

@@ -26,8 +26,8 @@ struct MapPoint {
   Descriptor descriptor{};            // most representative (median) descriptor of its observations
   Vec3 normal_w = Vec3::UnitZ();      // mean viewing direction (unit)
   double min_dist_m = 0, max_dist_m = 0;  // distance range in which ORB can re-detect it
-  std::map<KfId, int> observations;   // keyframe -> keypoint index
-  KfId ref_kf = kNoId;                // keyframe it was created from (moves with it on correction)
+  std::map<KeyframeId, int> observations;   // keyframe -> keypoint index
+  KeyframeId ref_kf = kNoId;                // keyframe it was created from (moves with it on correction)
   int n_visible = 1, n_found = 1;     // times predicted in view / actually matched by tracking
   bool bad = false;
 
@@ -35,15 +35,15 @@ struct MapPoint {
 };
 
 struct KeyFrame {
-  KfId id = kNoId;
+  KeyframeId id = kNoId;
   int frame_index = 0;                // index of the source frame in the sequence
   double t_s = 0;                     // timestamp [s]
   SE3 T_w_c = SE3::Identity();        // camera-to-world
   std::shared_ptr<const features::FrameFeatures> features;  // immutable, shared with other stages
   std::vector<PointId> points;        // per keypoint: observed map point or kNoId
-  std::map<KfId, int> covisibility;   // neighbour -> number of shared map points
-  KfId parent = kNoId;                // spanning tree (strongest covisible older keyframe)
-  std::set<KfId> children;
+  std::map<KeyframeId, int> covisibility;   // neighbour -> number of shared map points
+  KeyframeId parent = kNoId;                // spanning tree (strongest covisible older keyframe)
+  std::set<KeyframeId> children;
   // The sub-map (world frame) the keyframe belongs to: 0 is the world (the first map of the
   // session, or the loaded one); a session that cannot relocalise starts sub-map 1, 2, ... in a
   // frame of its own until a merge moves it into an older one (map_merge.hpp). Not saved: only the
@@ -51,7 +51,7 @@ struct KeyFrame {
   int submap = 0;
 
   // Neighbours sorted by decreasing weight (ties: smaller id first), at most n (n < 0: all).
-  std::vector<KfId> best_covisible(int n = -1, int min_weight = 1) const;
+  std::vector<KeyframeId> best_covisible(int n = -1, int min_weight = 1) const;
   int n_tracked_points(int min_obs, const std::map<PointId, MapPoint>& points) const;
 };
 
@@ -59,71 +59,71 @@ class Map {
  public:
   // Adds a keyframe (its points vector must be sized to its features, entries kNoId or existing
   // points, which get the observation). Returns the new id.
-  KfId add_keyframe(KeyFrame kf);
+  KeyframeId add_keyframe(KeyFrame kf);
   // Creates a point observed at keyframe kf, keypoint idx. Returns the new id.
-  PointId add_point(const Vec3& p_w, KfId kf, int idx);
+  PointId add_point(const Vec3& p_w, KeyframeId kf, int idx);
 
-  void add_observation(PointId pid, KfId kf, int idx);
-  void erase_observation(PointId pid, KfId kf);  // erases the point when too few observations remain
+  void add_observation(PointId pid, KeyframeId kf, int idx);
+  void erase_observation(PointId pid, KeyframeId kf);  // erases the point when too few observations remain
   // Merges `old_id` into `keep_id` (fusion of duplicates): observations move to keep_id.
   void replace_point(PointId old_id, PointId keep_id);
   void erase_point(PointId pid);
   // Removes a redundant keyframe; its children are re-parented; its pose relative to the parent is
   // remembered so frame poses referencing it can still be resolved.
-  void erase_keyframe(KfId id);
+  void erase_keyframe(KeyframeId id);
 
   // Recomputes kf's covisibility edges (and the neighbours' reverse edges); sets the spanning-tree
   // parent of a new keyframe.
-  void update_covisibility(KfId id);
+  void update_covisibility(KeyframeId id);
   // Recomputes descriptor, normal and distance range of a point from its observations.
   void update_point_appearance(PointId pid);
 
-  void set_keyframe_pose(KfId id, const SE3& T_w_c) { keyframes_.at(id).T_w_c = T_w_c; }
+  void set_keyframe_pose(KeyframeId id, const SE3& T_w_c) { keyframes_.at(id).T_w_c = T_w_c; }
   void set_point_position(PointId pid, const Vec3& p_w) { points_.at(pid).p_w = p_w; }
   void count_visible(PointId pid, int n_visible, int n_found);
 
   // Loop-closure correction: sets the given keyframe poses and moves every point rigidly with its
   // reference keyframe (if that keyframe was corrected).
-  void apply_corrected_poses(const std::map<KfId, SE3>& T_w_c_corrected);
+  void apply_corrected_poses(const std::map<KeyframeId, SE3>& T_w_c_corrected);
 
   // Pose of keyframe id, following the culled-keyframe chain when it was erased.
-  SE3 resolve_T_w_kf(KfId id) const;
+  SE3 resolve_T_w_kf(KeyframeId id) const;
 
   // Sub-maps (map_submaps.cpp). The sub-map of a live or culled keyframe.
-  int submap_of(KfId id) const;
+  int submap_of(KeyframeId id) const;
   int n_keyframes_in(int submap) const;
   // Merge: moves every keyframe and point of sub-map `from` by T_to_from (rigidly, into the frame
   // of sub-map `to`) and makes them members of `to`.
   void move_submap(int from, int to, const SE3& T_to_from);
   // Hangs kf's spanning tree below new_parent: the path from kf up to its root is reversed, so kf's
   // old root becomes an ordinary member of new_parent's tree.
-  void join_tree(KfId kf, KfId new_parent);
+  void join_tree(KeyframeId kf, KeyframeId new_parent);
   // Erases every keyframe (and the points only they observe) of the other sub-maps, and culled
   // keyframes that no longer resolve. What is saved when a session ends with unmerged sub-maps.
   void keep_only_submap(int submap);
   // Copies every keyframe, point and culled keyframe of other into this map as sub-map `submap`,
   // with ids shifted past this map's (offline merge of two saved runs). Returns the keyframe id
   // offset (new id = old id + offset); point ids are shifted too.
-  KfId append(const Map& other, int submap);
+  KeyframeId append(const Map& other, int submap);
   // Erased keyframes -> (parent at the time, T_parent_kf).
-  const std::map<KfId, std::pair<KfId, SE3>>& culled() const { return culled_; }
+  const std::map<KeyframeId, std::pair<KeyframeId, SE3>>& culled() const { return culled_; }
 
-  const KeyFrame& keyframe(KfId id) const { return keyframes_.at(id); }
+  const KeyFrame& keyframe(KeyframeId id) const { return keyframes_.at(id); }
   const MapPoint& point(PointId id) const { return points_.at(id); }
-  bool has_keyframe(KfId id) const { return keyframes_.count(id) > 0; }
+  bool has_keyframe(KeyframeId id) const { return keyframes_.count(id) > 0; }
   bool has_point(PointId id) const { return points_.count(id) > 0; }
-  const std::map<KfId, KeyFrame>& keyframes() const { return keyframes_; }
+  const std::map<KeyframeId, KeyFrame>& keyframes() const { return keyframes_; }
   const std::map<PointId, MapPoint>& points() const { return points_; }
   int n_keyframes() const { return static_cast<int>(keyframes_.size()); }
   int n_points() const { return static_cast<int>(points_.size()); }
-  KfId last_keyframe_id() const { return next_kf_id_ - 1; }
+  KeyframeId last_keyframe_id() const { return next_kf_id_ - 1; }
 
  private:
   friend class MapIo;  // map_io.cpp: a loaded map gets back its ids, culled chain and id counters
-  std::map<KfId, KeyFrame> keyframes_;
+  std::map<KeyframeId, KeyFrame> keyframes_;
   std::map<PointId, MapPoint> points_;
-  std::map<KfId, std::pair<KfId, SE3>> culled_;  // erased keyframe -> (parent, T_parent_kf)
-  KfId next_kf_id_ = 0;
+  std::map<KeyframeId, std::pair<KeyframeId, SE3>> culled_;  // erased keyframe -> (parent, T_parent_kf)
+  KeyframeId next_kf_id_ = 0;
   PointId next_point_id_ = 0;
 };
 

@@ -63,7 +63,7 @@ void put_keyframe(ByteWriter& w, const KeyFrame& kf) {
   for (const auto& [nb, weight] : kf.covisibility) w.put<std::int64_t>(nb), w.put<std::int32_t>(weight);
   w.put<std::int64_t>(kf.parent);
   w.put<std::uint32_t>(std::uint32_t(kf.children.size()));
-  for (KfId c : kf.children) w.put<std::int64_t>(c);
+  for (KeyframeId c : kf.children) w.put<std::int64_t>(c);
 }
 
 KeyFrame get_keyframe(ByteReader& r, const PinholeCamera& camera) {
@@ -122,9 +122,9 @@ MapPoint get_point(ByteReader& r) {
 }
 
 // Both sides of every observation, graph edges to existing keyframes, ids below the counters.
-void check_consistency(const std::map<KfId, KeyFrame>& kfs, const std::map<PointId, MapPoint>& pts,
-                       const std::map<KfId, std::pair<KfId, SE3>>& culled, KfId next_kf, PointId next_pt,
-                       ByteReader& r) {
+void check_consistency(const std::map<KeyframeId, KeyFrame>& kfs, const std::map<PointId, MapPoint>& pts,
+                       const std::map<KeyframeId, std::pair<KeyframeId, SE3>>& culled, KeyframeId next_kf,
+                       PointId next_pt, ByteReader& r) {
   auto bad = [&](const std::string& what) { r.fail("inconsistent map: " + what); };
   for (const auto& [id, kf] : kfs) {
     if (id < 0 || id >= next_kf) bad(fmt::format("keyframe id {} outside [0, {})", id, next_kf));
@@ -138,7 +138,7 @@ void check_consistency(const std::map<KfId, KeyFrame>& kfs, const std::map<Point
     for (const auto& [nb, w] : kf.covisibility)
       if (!kfs.count(nb) || w < 1) bad(fmt::format("keyframe {} has covisibility edge to {} ({})", id, nb, w));
     if (kf.parent != kNoId && !kfs.count(kf.parent)) bad(fmt::format("keyframe {} has unknown parent {}", id, kf.parent));
-    for (KfId c : kf.children)
+    for (KeyframeId c : kf.children)
       if (!kfs.count(c) || kfs.at(c).parent != id) bad(fmt::format("keyframe {} lists {} as child", id, c));
   }
   for (const auto& [pid, p] : pts) {
@@ -180,7 +180,7 @@ Map MapIo::decode(ByteReader& r, const PinholeCamera& camera) {
   };
   for (std::uint32_t n = r.get_count("keyframe count", 100); n > 0; --n) {
     KeyFrame kf = get_keyframe(r, camera);
-    const KfId id = kf.id;
+    const KeyframeId id = kf.id;
     unique(m.keyframes_.emplace(id, std::move(kf)).second, "keyframe", id);
   }
   for (std::uint32_t n = r.get_count("point count", 100); n > 0; --n) {

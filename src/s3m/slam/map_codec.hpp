@@ -15,7 +15,7 @@ class MapIo {
   // map's own, for the keypoint grids.
   static Map decode(ByteReader& r, const PinholeCamera& camera);
   // A live or culled keyframe of map.
-  static bool knows_keyframe(const Map& map, KfId id) { return map.keyframes_.count(id) || map.culled_.count(id); }
+  static bool knows_keyframe(const Map& map, KeyframeId id) { return map.keyframes_.count(id) || map.culled_.count(id); }
 };
 
 }  // namespace s3m::slam

@@ -26,7 +26,8 @@
 
 namespace s3m::slam {
 
-using LoopEdges = std::vector<std::pair<KfId, KfId>>;  // (current, loop) keyframes of closed loops
+using LoopEdges =
+    std::vector<std::pair<KeyframeId, KeyframeId>>;  // (current, loop) keyframes of closed loops
 
 // A map read back from a file, with the BoW index over its keyframes.
 struct LoadedSlamMap {

@@ -22,24 +22,24 @@ void SessionMergeConfig::validate() const {
   require(agree_m > 0 && agree_deg > 0, "merge: agreement tolerances must be > 0");
 }
 
-std::optional<LoopCloser::Recognition> LoopCloser::recognise(const Map& map, KfId kf, const std::vector<KfId>& candidates,
+std::optional<LoopCloser::Recognition> LoopCloser::recognise(const Map& map, KeyframeId kf, const std::vector<KeyframeId>& candidates,
                                                              VerifyStats* stats) const {
   const auto v = verify(map, kf, candidates, stats);
   if (!v) return std::nullopt;
   return Recognition{v->loop_kf, v->T_w_cur, int(v->matches.size())};
 }
 
-std::optional<LoopCorrection> LoopCloser::merge_at(Map& map, KfId kf, const std::vector<KfId>& candidates,
+std::optional<LoopCorrection> LoopCloser::merge_at(Map& map, KeyframeId kf, const std::vector<KeyframeId>& candidates,
                                                    VerifyStats* stats) {
-  std::vector<KfId> other;
-  for (KfId c : candidates)
+  std::vector<KeyframeId> other;
+  for (KeyframeId c : candidates)
     if (map.keyframe(c).submap != map.keyframe(kf).submap) other.push_back(c);
   const auto v = verify(map, kf, other, stats);
   if (!v) return std::nullopt;
   return merge(map, kf, *v);
 }
 
-LoopCorrection LoopCloser::merge(Map& map, KfId cur_id, const Verified& v) {
+LoopCorrection LoopCloser::merge(Map& map, KeyframeId cur_id, const Verified& v) {
   LoopCorrection out;
   out.current_kf = cur_id;
   out.loop_kf = v.loop_kf;
@@ -51,8 +51,8 @@ LoopCorrection LoopCloser::merge(Map& map, KfId cur_id, const Verified& v) {
   const int cur_sub = map.keyframe(cur_id).submap, loop_sub = map.keyframe(v.loop_kf).submap;
   const SE3 T_loop_cur = v.T_w_cur * map.keyframe(cur_id).T_w_c.inverse();  // cur's frame -> loop's
   const int older = std::min(cur_sub, loop_sub);
-  const KfId seam = cur_sub > loop_sub ? cur_id : v.loop_kf;  // the moved side's keyframe at the seam
-  std::set<KfId> held;  // the older sub-map: stays where it is
+  const KeyframeId seam = cur_sub > loop_sub ? cur_id : v.loop_kf;  // the moved side's keyframe at the seam
+  std::set<KeyframeId> held;  // the older sub-map: stays where it is
   for (const auto& [id, kf] : map.keyframes())
     if (kf.submap == older) held.insert(id);
   if (cur_sub > loop_sub) {
@@ -65,33 +65,33 @@ LoopCorrection LoopCloser::merge(Map& map, KfId cur_id, const Verified& v) {
     map.join_tree(v.loop_kf, cur_id);
   }
   out.T_loop_current = map.keyframe(v.loop_kf).T_w_c.inverse() * map.keyframe(cur_id).T_w_c;
-  std::map<KfId, SE3> aligned;
+  std::map<KeyframeId, SE3> aligned;
   for (const auto& [id, kf] : map.keyframes()) aligned[id] = kf.T_w_c;
 
   // 2. The current side's points into the loop group's keyframes (weld() fuses the other way).
-  std::set<KfId> group{cur_id};
-  std::map<KfId, std::set<KfId>> neighbours_before;
+  std::set<KeyframeId> group{cur_id};
+  std::map<KeyframeId, std::set<KeyframeId>> neighbours_before;
   for (const auto& [n, w] : map.keyframe(cur_id).covisibility) group.insert(n);
   std::vector<PointId> cur_points;
-  for (KfId k : group) {
+  for (KeyframeId k : group) {
     for (const auto& [n, w] : map.keyframe(k).covisibility) neighbours_before[k].insert(n);
     for (PointId pid : map.keyframe(k).points)
       if (pid != kNoId) cur_points.push_back(pid);
   }
   std::sort(cur_points.begin(), cur_points.end());
   cur_points.erase(std::unique(cur_points.begin(), cur_points.end()), cur_points.end());
-  std::vector<KfId> loop_group = map.keyframe(v.loop_kf).best_covisible(config_.loop_group_size);
+  std::vector<KeyframeId> loop_group = map.keyframe(v.loop_kf).best_covisible(config_.loop_group_size);
   loop_group.push_back(v.loop_kf);
-  for (KfId k : loop_group)
+  for (KeyframeId k : loop_group)
     if (map.has_keyframe(k)) out.n_fused += fuse_points(map, k, cur_points, camera_);
-  for (KfId k : loop_group)
+  for (KeyframeId k : loop_group)
     if (map.has_keyframe(k)) map.update_covisibility(k);
 
   // 3. Welding BA: the moved side's seam keyframe and its covisible keyframes of that side, refined
   //    on the points both sides now share, the older side held.
   map.update_covisibility(seam);
-  std::set<KfId> window{seam};
-  for (KfId k : map.keyframe(seam).best_covisible())
+  std::set<KeyframeId> window{seam};
+  for (KeyframeId k : map.keyframe(seam).best_covisible())
     if (!held.count(k) && int(window.size()) < config_.ba.max_local_keyframes) window.insert(k);
   weld_bundle_adjustment(map, window, camera_, config_.ba);
 
@@ -133,7 +133,7 @@ MergedSessions merge_sessions(LoadedSlamMap a, const LoadedSlamMap& b, std::shar
 
   // 2. Every B keyframe against its best-scoring A keyframes: geometric verification only.
   struct Hit {
-    KfId b_kf, a_kf;
+    KeyframeId b_kf, a_kf;
     SE3 T_a_b;
     int n_matches;
   };
@@ -144,11 +144,11 @@ MergedSessions merge_sessions(LoadedSlamMap a, const LoadedSlamMap& b, std::shar
     if (kf.submap != 1) continue;
     ++n_queried;
     const auto found = closer.index().database().query(closer.index().find(id)->bow, 0, [&](int c) {
-      return m.map.has_keyframe(KfId(c)) && m.map.keyframe(KfId(c)).submap == 0;
+      return m.map.has_keyframe(KeyframeId(c)) && m.map.keyframe(KeyframeId(c)).submap == 0;
     });
-    std::vector<KfId> candidates;
+    std::vector<KeyframeId> candidates;
     for (const auto& h : found)
-      if (int(candidates.size()) < config.candidates_per_keyframe) candidates.push_back(KfId(h.entry_id));
+      if (int(candidates.size()) < config.candidates_per_keyframe) candidates.push_back(KeyframeId(h.entry_id));
     if (const auto r = closer.recognise(m.map, id, candidates, &stats))
       hits.push_back({id, r->loop_kf, r->T_w_cur * kf.T_w_c.inverse(), r->n_matches});
   }

@@ -39,9 +39,9 @@ struct MergedSessions {
   Map map;                 // A's keyframes keep their ids; B's are shifted by b_offset
   KeyFrameBowIndex index;
   LoopEdges loop_edges;
-  KfId b_offset = 0;
+  KeyframeId b_offset = 0;
   SE3 T_a_b = SE3::Identity();  // B's world in A's, as verified (before fusion and the pose graph)
-  KfId a_keyframe = kNoId, b_keyframe = kNoId;  // the pair the merge was made at (merged ids)
+  KeyframeId a_keyframe = kNoId, b_keyframe = kNoId;  // the pair the merge was made at (merged ids)
   int n_matches = 0, n_agreeing = 0, n_verified = 0;
   LoopCorrection correction;  // every keyframe's pose before and after
 };
@@ -49,7 +49,7 @@ struct MergedSessions {
 // The welding BA (merge_weld.cpp): keyframes in window (of the moved sub-map, at the seam) and
 // every point they observe are optimised, every other keyframe observing those points is held.
 // Outlier observations are erased. Returns their number.
-int weld_bundle_adjustment(Map& map, const std::set<KfId>& window, const PinholeCamera& camera, const BaConfig& config);
+int weld_bundle_adjustment(Map& map, const std::set<KeyframeId>& window, const PinholeCamera& camera, const BaConfig& config);
 
 // Merges saved map b into saved map a (same camera and vocabulary: load both with a's camera).
 // Throws s3m::Error when no keyframe of b is recognised in a, saying what was tried.

@@ -9,7 +9,7 @@
 
 namespace s3m::slam {
 
-int Map::submap_of(KfId id) const {
+int Map::submap_of(KeyframeId id) const {
   const auto it = keyframes_.find(id);
   if (it != keyframes_.end()) return it->second.submap;
   const auto c = culled_.find(id);
@@ -38,13 +38,13 @@ void Map::move_submap(int from, int to, const SE3& T_to_from) {
     }
 }
 
-void Map::join_tree(KfId kf, KfId new_parent) {
+void Map::join_tree(KeyframeId kf, KeyframeId new_parent) {
   require(keyframes_.count(kf) && keyframes_.count(new_parent) && kf != new_parent,
           "Map::join_tree: needs two different live keyframes");
-  KfId prev = new_parent, cur = kf;
+  KeyframeId prev = new_parent, cur = kf;
   while (cur != kNoId) {
     KeyFrame& k = keyframes_.at(cur);
-    const KfId next = k.parent;
+    const KeyframeId next = k.parent;
     if (next != kNoId) keyframes_.at(next).children.erase(cur);
     k.parent = prev;
     keyframes_.at(prev).children.insert(cur);
@@ -55,17 +55,17 @@ void Map::join_tree(KfId kf, KfId new_parent) {
 }
 
 void Map::keep_only_submap(int submap) {
-  std::vector<KfId> gone;
+  std::vector<KeyframeId> gone;
   for (const auto& [id, kf] : keyframes_)
     if (kf.submap != submap) gone.push_back(id);
   if (gone.empty()) return;
-  for (KfId id : gone) {
+  for (KeyframeId id : gone) {
     for (PointId pid : std::vector<PointId>(keyframes_.at(id).points))
       if (pid != kNoId && points_.count(pid)) erase_observation(pid, id);
     for (const auto& [nb, w] : keyframes_.at(id).covisibility)
       if (keyframes_.count(nb)) keyframes_.at(nb).covisibility.erase(id);
   }
-  for (KfId id : gone) keyframes_.erase(id);
+  for (KeyframeId id : gone) keyframes_.erase(id);
   // Culled keyframes whose chain ended in an erased one do not resolve any more.
   for (bool changed = true; changed;) {
     changed = false;
@@ -79,10 +79,10 @@ void Map::keep_only_submap(int submap) {
   }
 }
 
-KfId Map::append(const Map& other, int submap) {
-  const KfId kf_offset = next_kf_id_;
+KeyframeId Map::append(const Map& other, int submap) {
+  const KeyframeId kf_offset = next_kf_id_;
   const PointId pt_offset = next_point_id_;
-  auto kf_id = [&](KfId id) { return id == kNoId ? kNoId : id + kf_offset; };
+  auto kf_id = [&](KeyframeId id) { return id == kNoId ? kNoId : id + kf_offset; };
   for (const auto& [id, src] : other.keyframes_) {
     KeyFrame kf = src;
     kf.id = kf_id(id);
@@ -93,7 +93,7 @@ KfId Map::append(const Map& other, int submap) {
     kf.covisibility.clear();
     for (const auto& [nb, w] : src.covisibility) kf.covisibility[kf_id(nb)] = w;
     kf.children.clear();
-    for (KfId c : src.children) kf.children.insert(kf_id(c));
+    for (KeyframeId c : src.children) kf.children.insert(kf_id(c));
     keyframes_.emplace(kf.id, std::move(kf));
   }
   for (const auto& [id, src] : other.points_) {

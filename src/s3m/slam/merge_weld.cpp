@@ -9,20 +9,20 @@
 
 namespace s3m::slam {
 
-int weld_bundle_adjustment(Map& map, const std::set<KfId>& window, const PinholeCamera& camera, const BaConfig& config) {
+int weld_bundle_adjustment(Map& map, const std::set<KeyframeId>& window, const PinholeCamera& camera, const BaConfig& config) {
   // 1. The window's keyframes (optimised) and every point they observe.
   BaProblem P;
-  std::map<KfId, int> frame_of;
-  auto add_frame = [&](KfId id, bool fixed) {
+  std::map<KeyframeId, int> frame_of;
+  auto add_frame = [&](KeyframeId id, bool fixed) {
     frame_of[id] = int(P.T_c_w.size());
     P.T_c_w.push_back(map.keyframe(id).T_w_c.inverse());
     P.fixed.push_back(fixed ? 1 : 0);
   };
-  for (KfId id : window)
+  for (KeyframeId id : window)
     if (map.has_keyframe(id)) add_frame(id, false);
   std::map<PointId, int> point_of;
   std::vector<PointId> point_ids;
-  for (KfId id : window)
+  for (KeyframeId id : window)
     if (map.has_keyframe(id))
       for (PointId pid : map.keyframe(id).points)
         if (pid != kNoId && !point_of.count(pid)) {
@@ -32,7 +32,7 @@ int weld_bundle_adjustment(Map& map, const std::set<KfId>& window, const Pinhole
         }
   // 2. Every observation of those points; keyframes outside the window (the older map's among
   //    them) are held where they are.
-  std::vector<std::pair<PointId, KfId>> keys;
+  std::vector<std::pair<PointId, KeyframeId>> keys;
   for (PointId pid : point_ids)
     for (const auto& [kf, idx] : map.point(pid).observations) {
       if (!frame_of.count(kf)) add_frame(kf, true);

@@ -23,7 +23,7 @@ bool predict_visibility(const Vec3& p_w, const Vec3& normal_w, double min_dist_m
   return true;
 }
 
-int fuse_points(Map& map, KfId kf_id, const std::vector<PointId>& points, const PinholeCamera& cam,
+int fuse_points(Map& map, KeyframeId kf_id, const std::vector<PointId>& points, const PinholeCamera& cam,
                 const FusionConfig& cfg) {
   int n_fused = 0;
   for (PointId pid : points) {

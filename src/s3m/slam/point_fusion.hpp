@@ -16,7 +16,7 @@ struct FusionConfig {
 
 // Projects points into keyframe kf and fuses them with its keypoints. Returns the number of
 // points fused or newly observed.
-int fuse_points(Map& map, KfId kf, const std::vector<PointId>& points, const PinholeCamera& camera,
+int fuse_points(Map& map, KeyframeId kf, const std::vector<PointId>& points, const PinholeCamera& camera,
                 const FusionConfig& config = {});
 
 // Whether a point may be observed from camera pose T_w_c (in front, inside the image, within its

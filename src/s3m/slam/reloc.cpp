@@ -31,9 +31,10 @@ PinholeCamera undistorted(PinholeCamera c) {
 
 // Points of keyframe kf and its covisible neighbours projected into the frame at T_w_c and
 // matched by descriptor; returns (keypoint, point) pairs, including the seed matches.
-std::vector<std::pair<int, PointId>> guided_matches(const features::FrameFeatures& f, const Map& map, KfId kf,
-                                                    const SE3& T_w_c, const PinholeCamera& camera,
-                                                    const RelocConfig& config, double radius_factor) {
+std::vector<std::pair<int, PointId>> guided_matches(const features::FrameFeatures& f, const Map& map,
+                                                    KeyframeId kf, const SE3& T_w_c,
+                                                    const PinholeCamera& camera, const RelocConfig& config,
+                                                    double radius_factor) {
   // The pose is a RANSAC estimate, so the window is wide and the descriptor bound loose (ORB-SLAM
   // uses its TH_HIGH here); the final PnP rejects what does not fit.
   GroupSearchParams p;
@@ -76,12 +77,12 @@ RelocResult relocalise(const features::FrameFeatures& f, const Map& map, const K
   // 1-2. BoW of the frame and the best-scoring keyframes.
   const KeyFrameBow q = index.describe(f.descriptors);
   const auto hits = index.database().query(q.bow, 0, [&](int id) {
-    return map.has_keyframe(KfId(id)) && (submap < 0 || map.keyframe(KfId(id)).submap == submap);
+    return map.has_keyframe(KeyframeId(id)) && (submap < 0 || map.keyframe(KeyframeId(id)).submap == submap);
   });
   if (hits.empty()) return result;
   for (const auto& h : hits) {
     if (result.n_candidates >= config.max_candidates || h.score < config.min_score_ratio * hits[0].score) break;
-    const KfId kf_id = KfId(h.entry_id);
+    const KeyframeId kf_id = KeyframeId(h.entry_id);
     const KeyFrame& kf = map.keyframe(kf_id);
     const KeyFrameBow* kb = index.find(kf_id);
     if (!kb) continue;

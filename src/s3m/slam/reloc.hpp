@@ -35,7 +35,7 @@ struct RelocConfig {
 struct RelocResult {
   bool success = false;
   SE3 T_w_c = SE3::Identity();
-  KfId keyframe = kNoId;  // candidate the frame was relocalised against
+  KeyframeId keyframe = kNoId;  // candidate the frame was relocalised against
   int n_inliers = 0;
   int n_candidates = 0;   // keyframes tried
 };

@@ -5,7 +5,7 @@
 
 namespace s3m::slam {
 
-LocalMapSnapshot make_snapshot(const Map& map, KfId ref, int max_keyframes) {
+LocalMapSnapshot make_snapshot(const Map& map, KeyframeId ref, int max_keyframes) {
   LocalMapSnapshot s;
   s.reference_kf = ref;
   const KeyFrame& ref_kf = map.keyframe(ref);
@@ -13,22 +13,22 @@ LocalMapSnapshot make_snapshot(const Map& map, KfId ref, int max_keyframes) {
   s.n_map_keyframes = map.n_keyframes_in(ref_kf.submap);
   s.ref_tracked_points = ref_kf.n_tracked_points(s.n_map_keyframes <= 2 ? 1 : 2, map.points());
   // 1. Keyframes: ref, its neighbours, then the neighbours' best neighbours and the spanning tree.
-  std::vector<KfId> order{ref};
-  std::set<KfId> seen{ref};
-  auto add = [&](KfId id) {
+  std::vector<KeyframeId> order{ref};
+  std::set<KeyframeId> seen{ref};
+  auto add = [&](KeyframeId id) {
     if (static_cast<int>(order.size()) < max_keyframes && map.has_keyframe(id) && seen.insert(id).second)
       order.push_back(id);
   };
-  for (KfId nb : ref_kf.best_covisible()) add(nb);
+  for (KeyframeId nb : ref_kf.best_covisible()) add(nb);
   const std::size_t first_ring = order.size();
   for (std::size_t i = 0; i < first_ring; ++i) {
     const KeyFrame& k = map.keyframe(order[i]);
-    for (KfId nb : k.best_covisible(10)) add(nb);
-    for (KfId c : k.children) add(c);
+    for (KeyframeId nb : k.best_covisible(10)) add(nb);
+    for (KeyframeId c : k.children) add(c);
     if (k.parent != kNoId) add(k.parent);
   }
   // 2. Copies of the keyframes and of every point they observe.
-  for (KfId id : order) {
+  for (KeyframeId id : order) {
     const KeyFrame& k = map.keyframe(id);
     s.keyframes.push_back({id, k.T_w_c, k.features, k.points});
     for (PointId pid : k.points) {
@@ -41,12 +41,12 @@ LocalMapSnapshot make_snapshot(const Map& map, KfId ref, int max_keyframes) {
   return s;
 }
 
-KfId best_covisible_keyframe(const Map& map, const std::vector<PointId>& points) {
-  std::map<KfId, int> votes;
+KeyframeId best_covisible_keyframe(const Map& map, const std::vector<PointId>& points) {
+  std::map<KeyframeId, int> votes;
   for (PointId pid : points)
     if (map.has_point(pid))
       for (const auto& [kf, idx] : map.point(pid).observations) ++votes[kf];
-  KfId best = kNoId;
+  KeyframeId best = kNoId;
   int best_votes = 0;
   for (const auto& [kf, n] : votes)
     if (n > best_votes) best = kf, best_votes = n;

@@ -1,9 +1,7 @@
 #include "s3m/slam/system.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <ctime>
-#include <fstream>
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
@@ -38,7 +36,7 @@ System::~System() {
 // The mapping stage for one keyframe: local mapping, loop closing, the snapshot for tracking.
 System::MappedKeyframe System::map_keyframe(KeyFrameRequest request) {
   follow_merges(request);
-  const KfId kf = mapper_.process(request);
+  const KeyframeId kf = mapper_.process(request);
   MappedKeyframe out;
   // The BoW index stays in step with the map even when loop closing is off, so relocalisation
   // always sees every keyframe.
@@ -155,7 +153,7 @@ void System::save_map(const std::string& path) const {
 void System::move_local_map(const std::vector<PointId>& tracked_points, int frame_index) {
   std::shared_ptr<const LocalMapSnapshot> snapshot;
   query_map([&](const Map& map) {
-    const KfId best = best_covisible_keyframe(map, tracked_points);
+    const KeyframeId best = best_covisible_keyframe(map, tracked_points);
     if (best != kNoKeyframe) snapshot = this->snapshot(best, config_.mapper.snapshot_keyframes);
   });
   if (snapshot) tracker_.set_local_map(std::move(snapshot), frame_index);
@@ -269,41 +267,26 @@ void System::finish() {
   }
 }
 
-std::vector<StampedPose> System::camera_trajectory() const {
-  std::vector<StampedPose> out;
+std::vector<FramePose> System::camera_trajectory() const {
+  std::vector<FramePose> out;
   out.reserve(records_.size());
   for (const auto& rec : records_)
     if (map_.submap_of(rec.anchor.keyframe) == 0)
-      out.push_back({rec.t_s, rec.frame_index, map_.resolve_T_w_kf(rec.anchor.keyframe) * rec.anchor.T_kf_c, rec.state});
+      out.push_back({{rec.t_s, map_.resolve_T_w_kf(rec.anchor.keyframe) * rec.anchor.T_kf_c}, rec.frame_index, rec.state});
   return out;
 }
 
-std::vector<StampedPose> System::robot_trajectory() const {
+std::vector<FramePose> System::robot_trajectory() const {
   auto out = camera_trajectory();
   for (auto& p : out) p.T_w_x = robot_pose(p.T_w_x, config_.T_c_r);
   return out;
 }
 
-std::vector<StampedPose> System::keyframe_trajectory() const {
-  std::vector<StampedPose> out;
+std::vector<FramePose> System::keyframe_trajectory() const {
+  std::vector<FramePose> out;
   for (const auto& [id, kf] : map_.keyframes())
-    if (kf.submap == 0) out.push_back({kf.t_s, kf.frame_index, kf.T_w_c, TrackState::kOk});
+    if (kf.submap == 0) out.push_back({{kf.t_s, kf.T_w_c}, kf.frame_index, TrackState::kOk});
   return out;
-}
-
-void write_tum_trajectory(const std::string& path, const std::vector<StampedPose>& poses) {
-  std::ofstream f(path);
-  if (!f) throw Error("cannot write trajectory file '" + path + "'");
-  f << "# timestamp tx ty tz qx qy qz qw\n";
-  char line[256];
-  for (const auto& p : poses) {
-    const Quat q(p.T_w_x.linear());
-    const Vec3 t = p.T_w_x.translation();
-    std::snprintf(line, sizeof line, "%.6f %.7f %.7f %.7f %.7f %.7f %.7f %.7f\n", p.t_s, t.x(), t.y(), t.z(), q.x(),
-                  q.y(), q.z(), q.w());
-    f << line;
-  }
-  if (!f) throw Error("error while writing trajectory file '" + path + "'");
 }
 
 }  // namespace s3m::slam

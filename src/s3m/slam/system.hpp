@@ -11,7 +11,8 @@
 //     auto r = slam.track(f);  // r.T_w_c, r.state; r.corrections: loops closed since the last frame
 //   }
 //   slam.finish();
-//   slam::write_tum_trajectory("trajectory_camera.txt", slam.camera_trajectory());
+//   const auto frames = slam.camera_trajectory();  // FramePose: a StampedPose + frame index, state
+//   io::write_tum_trajectory("trajectory_camera.txt", io::Trajectory(frames.begin(), frames.end()));
 #include <functional>
 #include <map>
 #include <future>
@@ -63,12 +64,13 @@ struct TrackResult {
 using MapQuery = std::function<void(const Map&)>;
 // Read-only look at the map after each keyframe's mapping stage (tests pace local mapping with
 // it); runs on the mapping thread in threaded mode.
-using MappingObserver = std::function<void(const Map&, KfId)>;
+using MappingObserver = std::function<void(const Map&, KeyframeId)>;
 
-struct StampedPose {
-  double t_s = 0;
+// One frame of a final trajectory: its time and pose (camera, robot or keyframe, after BA and loop
+// closure; core's StampedPose, which io::write_tum_trajectory writes), which frame it is and how
+// tracking went.
+struct FramePose : StampedPose {
   int frame_index = 0;
-  SE3 T_w_x = SE3::Identity();  // camera, robot or keyframe pose in the world [m]
   TrackState state = TrackState::kOk;
 };
 
@@ -94,9 +96,9 @@ class System {
   // Every tracked frame (from the first keyframe on), each expressed relative to its reference
   // keyframe's final pose — so BA, loop corrections and merges reach every frame. Call after
   // finish(). Frames and keyframes of a sub-map that never joined the world are left out.
-  std::vector<StampedPose> camera_trajectory() const;
-  std::vector<StampedPose> robot_trajectory() const;    // robot_pose(camera_trajectory(), T_c_r)
-  std::vector<StampedPose> keyframe_trajectory() const;  // live keyframes, camera poses
+  std::vector<FramePose> camera_trajectory() const;
+  std::vector<FramePose> robot_trajectory() const;    // robot_pose(camera_trajectory(), T_c_r)
+  std::vector<FramePose> keyframe_trajectory() const;  // live keyframes, camera poses
 
   // A map that lasts (issue 23). Before the first track(): continue in the map saved at path by
   // save_map(); load_slam_map() checks it against this camera and vocabulary (ParseError naming
@@ -164,7 +166,7 @@ class System {
   // Mapping side: a request of a sub-map merged meanwhile is moved into the sub-map it joined; a
   // correction is handed on for the world's keyframes only (none: a loop inside another sub-map).
   int follow_merges(int submap) const;
-  std::shared_ptr<const LocalMapSnapshot> snapshot(KfId ref, int max_keyframes) const;  // with the merges
+  std::shared_ptr<const LocalMapSnapshot> snapshot(KeyframeId ref, int max_keyframes) const;  // with the merges
   void follow_merges(KeyFrameRequest& request) const;
   std::optional<LoopCorrection> note_correction(std::optional<LoopCorrection> c);
 
@@ -194,13 +196,5 @@ class System {
   bool finished_ = false;
   int n_global_ba_outliers_ = 0;
 };
-
-// The paper's calibration equation: robot-to-world from camera-to-world and the robot-to-camera
-// calibration T_c_r (maps robot-frame points into the camera frame).
-inline SE3 robot_pose(const SE3& T_w_c, const SE3& T_c_r) { return T_w_c * T_c_r; }
-
-// TUM format: "t tx ty tz qx qy qz qw" per line, with a header comment. Throws s3m::Error when
-// the file cannot be written.
-void write_tum_trajectory(const std::string& path, const std::vector<StampedPose>& poses);
 
 }  // namespace s3m::slam

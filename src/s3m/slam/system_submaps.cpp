@@ -35,7 +35,7 @@ void System::recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r)
   r.anchor = {out.ref_kf, out.T_ref_c};
 }
 
-std::shared_ptr<const LocalMapSnapshot> System::snapshot(KfId ref, int max_keyframes) const {
+std::shared_ptr<const LocalMapSnapshot> System::snapshot(KeyframeId ref, int max_keyframes) const {
   LocalMapSnapshot s = make_snapshot(map_, ref, max_keyframes);
   s.merged_into = merged_into_;
   return std::make_shared<const LocalMapSnapshot>(std::move(s));
@@ -61,7 +61,7 @@ std::optional<LoopCorrection> System::note_correction(std::optional<LoopCorrecti
     ++n_merges_;
   }
   if (map_.submap_of(c->current_kf) != 0) return std::nullopt;  // the world did not change
-  auto world_only = [&](std::map<KfId, SE3>& poses) {
+  auto world_only = [&](std::map<KeyframeId, SE3>& poses) {
     for (auto it = poses.begin(); it != poses.end();) it = map_.submap_of(it->first) == 0 ? std::next(it) : poses.erase(it);
   };
   world_only(c->T_w_kf_before);

@@ -63,7 +63,7 @@ void Tracker::set_pose(const SE3& T_w_c) {
   resume_from_pose_ = true;
 }
 
-void Tracker::continue_map(KfId next_keyframe_id) {
+void Tracker::continue_map(KeyframeId next_keyframe_id) {
   require(state_ == TrackState::kNotInitialized && n_requests_ == 0,
           "Tracker::continue_map: only before the first frame");
   n_requests_ = next_keyframe_id;

@@ -41,7 +41,7 @@ struct TrackerOutput {
   SE3 T_w_c = SE3::Identity();
   int n_inliers = 0;                       // map-point inliers after local-map tracking
   std::optional<KeyFrameRequest> keyframe;  // set when this frame becomes a keyframe
-  KfId ref_kf = kNoId;                      // keyframe the pose is stored relative to
+  KeyframeId ref_kf = kNoId;                      // keyframe the pose is stored relative to
   SE3 T_ref_c = SE3::Identity();            // pose relative to ref_kf at tracking time
   std::shared_ptr<const features::FrameFeatures> features;  // this frame's features (reusable)
   // Tracking failed while keyframes were still being mapped and nothing was changed: retry with
@@ -70,7 +70,7 @@ class Tracker {
   void set_pose(const SE3& T_w_c);
   // A loaded map (issue 23): tracking starts LOST, so the first frame is relocalised against the
   // map instead of starting a new one, and keyframes get ids from next_keyframe_id on.
-  void continue_map(KfId next_keyframe_id);
+  void continue_map(KeyframeId next_keyframe_id);
   // Localisation only: no keyframe requests (the map stays as it is, statistics included).
   void set_localize_only(bool on) { localize_only_ = on; }
   // A new sub-map (issue 23: relocalisation keeps failing): the next frame with enough depth starts
@@ -100,7 +100,7 @@ class Tracker {
   // The points a requested keyframe will give the map once local mapping has processed it (its
   // keypoints with depth that track no map point), kept until its snapshot arrives.
   struct PendingKeyFrame {
-    KfId id = kNoId;
+    KeyframeId id = kNoId;
     std::shared_ptr<const features::FrameFeatures> f;
     std::vector<int> keypoints;
     std::vector<Vec3> p_w;
@@ -134,8 +134,8 @@ class Tracker {
   int submap_ = 0;  // the sub-map being tracked (requests carry it; poses are in its frame)
   std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
   int last_keyframe_frame_ = 0;
-  KfId n_requests_ = 0;          // keyframe ids are assigned by the Map in request order
-  KfId ref_kf_ = kNoId;
+  KeyframeId n_requests_ = 0;          // keyframe ids are assigned by the Map in request order
+  KeyframeId ref_kf_ = kNoId;
   SE3 T_w_ref_ = SE3::Identity();
   std::unordered_map<PointId, PointVisibility> visibility_;
   std::vector<PendingKeyFrame> pending_;  // requested keyframes without a snapshot yet, oldest first

@@ -7,7 +7,6 @@
 
 namespace s3m::slam {
 
-using KfId = KeyframeId;       // the one keyframe id (core/keyframe_id.hpp), short name inside slam
 using PointId = std::int64_t;  // map point id, increasing in creation order
 constexpr std::int64_t kNoId = kNoKeyframe;  // no keyframe / no point
 

@@ -1,4 +1,4 @@
-#include "s3m/pipeline/labelled_cloud.hpp"
+#include "s3m/pipeline/cloud_from_frame.hpp"
 
 #include <cmath>
 #include <unordered_set>
@@ -37,7 +37,7 @@ mapping::LabeledCloud voxel_downsample(const mapping::LabeledCloud& in, double v
   if (voxel_m <= 0) return in;
   mapping::LabeledCloud out;
   out.k = in.k;
-  out.origin_w = in.origin_w;
+  out.origin = in.origin;
   const double inv = 1.0 / voxel_m;
   std::unordered_set<std::uint64_t> seen;
   seen.reserve(in.size() / 4 + 16);
@@ -45,7 +45,7 @@ mapping::LabeledCloud voxel_downsample(const mapping::LabeledCloud& in, double v
   auto cell = [&](float x) { return static_cast<std::uint64_t>(std::floor(x * inv) + (1 << 20)) & 0x1FFFFF; };
   const bool has_rgb = !in.rgb.empty();
   for (std::size_t i = 0; i < in.size(); ++i) {
-    const Eigen::Vector3f& p = in.points_w[i];
+    const Eigen::Vector3f& p = in.points[i];
     if (!seen.insert(cell(p.x()) | (cell(p.y()) << 21) | (cell(p.z()) << 42)).second) continue;
     const std::uint8_t* rgb = has_rgb ? &in.rgb[3 * i] : nullptr;
     out.push_back(p, rgb ? rgb[0] : 128, rgb ? rgb[1] : 128, rgb ? rgb[2] : 128,
@@ -58,13 +58,13 @@ mapping::LabeledCloud voxel_downsample(const mapping::LabeledCloud& in, double v
 mapping::LabeledCloud transformed(const mapping::LabeledCloud& in, const SE3& T_a_b) {
   mapping::LabeledCloud out = in;
   const Eigen::Isometry3f T = T_a_b.cast<float>();
-  for (auto& p : out.points_w) p = T * p;
-  out.origin_w = T * in.origin_w;
+  for (auto& p : out.points) p = T * p;
+  out.origin = T * in.origin;
   return out;
 }
 
 std::size_t cloud_bytes(const mapping::LabeledCloud& c) {
-  return c.points_w.capacity() * sizeof(Eigen::Vector3f) + c.rgb.capacity() + c.labels.capacity() * sizeof(ClassId) +
+  return c.points.capacity() * sizeof(Eigen::Vector3f) + c.rgb.capacity() + c.labels.capacity() * sizeof(ClassId) +
          c.probs.capacity() * sizeof(float);
 }
 
