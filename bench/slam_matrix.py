@@ -60,9 +60,11 @@ def sim_rows(args):
     for scene, traj, noisy, seed in combos:
         if pick(scene, args.scenes and args.scenes.split(",")) and pick(traj, args.trajectories and
                 args.trajectories.split(",")) and noisy in noise and pick(seed, seeds):
-            rows.append({"row": f"{scene}/{traj}/{'noisy' if noisy else 'clean'}/s{seed}", "kind": "sim",
+            suffix = f" +{os.path.basename(args.sim_config)}" if args.sim_config else ""
+            rows.append({"row": f"{scene}/{traj}/{'noisy' if noisy else 'clean'}/s{seed}{suffix}", "kind": "sim",
                          "scene": scene, "trajectory": traj, "noise": noisy, "seed": seed,
-                         "group": "noisy" if noisy else "clean"})
+                         "group": "noisy" if noisy else "clean", "combo": (scene, traj, noisy, seed),
+                         "config": os.path.abspath(args.sim_config) if args.sim_config else None})
     return rows
 
 
@@ -248,18 +250,17 @@ def markdown(meta, results, labels):
              f"Date {meta['date']}, script commit {meta['commit']}, {meta['rows']} sequences, {meta['frames']} "
              f"frames per simulator sequence, jobs {meta['jobs']}, load average {meta['load_start']} at start, "
              f"{meta['load_end']} at end. `s3m run` without --config (built-in defaults, what a user gets) except "
-             f"the row marked kitchen_7scenes.yaml; --slam-only --no-report. ATE: SE3-aligned RMSE of "
+             f"rows marked with a preset; --slam-only --no-report. ATE: SE3-aligned RMSE of "
              f"trajectory_camera.txt (LOST frames are not in it); scale: Sim3 alignment; RPE: translational / "
              f"rotational RMSE over 1 s; lost / reloc: frames LOST / RELOCALISED per run; track ms: mean of the "
              f"`track` stage" + (" (* = measured with parallel jobs, under load)" if meta["jobs"] > 1 else "") + "."]
+    for other in labels[1:]:  # the A/B verdict first, then every binary's full table
+        lines += ["", f"#### A/B: {labels[0]} vs {other}", ""] + rep.compare_lines(
+            results[labels[0]], results[other], labels[0], other)
     for label in labels:
         b = meta["binaries"].get(label, {})
         lines += ["", f"#### {label} ({b.get('path', 'baseline JSON')}, sha256 {b.get('sha256_12', '?')})", ""]
         lines += rep.table_lines(results[label]) + [""] + rep.summary_lines(results[label])
-    if len(labels) >= 2:
-        for other in labels[1:]:
-            lines += ["", f"#### A/B: {labels[0]} vs {other}", ""] + rep.compare_lines(
-                results[labels[0]], results[other], labels[0], other)
     return "\n".join(lines) + "\n"
 
 
@@ -283,8 +284,11 @@ def parse_args(argv):
     p.add_argument("--kitchen", default=KITCHEN, help="kitchen sequence (default %(default)s)")
     p.add_argument("--modes", default="deterministic,threaded", help="deterministic, threaded or both (default)")
     p.add_argument("--threaded-runs", type=int, default=3)
-    p.add_argument("--threaded-rows", choices=["all", "quick"], default="all",
-                   help="threaded runs on every selected row, or only on the --quick subset (+ kitchen)")
+    p.add_argument("--threaded-rows", choices=["all", "quick", "kitchen"], default="all",
+                   help="threaded runs on every selected row, or only on the kitchen (+ the --quick subset)")
+    p.add_argument("--sim-config", help="run the simulator rows with this preset (row ids get ' +NAME'); "
+                                        "default: no --config, as a user types it")
+    p.add_argument("--render-only", action="store_true", help="render the missing sequences and stop")
     p.add_argument("--jobs", type=int, default=1, help="parallel deterministic runs (timings then marked *)")
     p.add_argument("--timeout", type=float, default=900, help="seconds per sim/run before it counts as failed")
     p.add_argument("--verify-determinism", action="store_true", help="run each deterministic row twice, compare files")
@@ -328,7 +332,9 @@ def main(argv):
     for r in renders:
         if r.get("error"):
             print(f"render failed: {r['row']}: {r['error']}", file=sys.stderr)
-    runs = run_all(args, binaries, rows) if args.threaded_rows == "all" else run_quick_threaded(args, binaries, rows)
+    if args.render_only:
+        return
+    runs = run_all(args, binaries, rows) if args.threaded_rows == "all" else run_some_threaded(args, binaries, rows)
     results = {b["label"]: rows_for(b["label"], rows, runs) for b in binaries}
     labels = [b["label"] for b in binaries]
     if args.baseline:
@@ -351,15 +357,15 @@ def main(argv):
     print(f"total {meta['total_s'] / 60:.1f} min (rendering {render_s / 60:.1f} min)", file=sys.stderr)
 
 
-def run_quick_threaded(args, binaries, rows):
-    """Deterministic on every selected row, threaded only on the --quick rows and the kitchen."""
+def run_some_threaded(args, binaries, rows):
+    """Deterministic on every selected row, threaded only on the kitchen (and the --quick rows)."""
     modes = args.modes
     args.modes = [m for m in modes if m == "deterministic"]
     runs = run_all(args, binaries, rows)
-    quick = {f"{s}/{t}/{'noisy' if n else 'clean'}/s{k}" for s, t, n, k in QUICK}
+    quick = set(QUICK) if args.threaded_rows == "quick" else set()
     if "threaded" in modes:
         args.modes = ["threaded"]
-        runs.update(run_all(args, binaries, [r for r in rows if r["kind"] == "kitchen" or r["row"] in quick]))
+        runs.update(run_all(args, binaries, [r for r in rows if r["kind"] == "kitchen" or r.get("combo") in quick]))
     args.modes = modes
     return runs
 
