@@ -302,6 +302,9 @@ def main(argv):
     args = parse_args(argv)
     if args.report:  # tables again from a saved JSON, no runs
         saved = read_json(args.report)
+        for rows in saved["results"].values():  # aggregate again: the row logic may be newer than the file
+            for r in rows:
+                r.update(rep.aggregate(r["runs"]))
         print(markdown(saved["meta"], saved["results"], saved["meta"]["labels"]), end="")
         return
     paths = (args.compare or []) + (args.binary or []) or [os.path.join(ROOT, "build/src/apps/s3m")]

@@ -32,10 +32,13 @@ def aggregate(runs):
     errors = [r["error"] for r in runs if r.get("error")]
     row = {"n_runs": len(runs), "n_ok": len(ok), "error": "; ".join(errors) if errors else None,
            "runs": runs}
-    if not ok:
-        row.update(ate_cm=None, spread_cm=None, scale=None, rpe_cm=None, rpe_deg=None, lost=None,
-                   relocalised=None, keyframes=None, states=None, track_ms=None, timing_under_load=None,
-                   lost_runs=[], reloc_runs=[])
+    if not ok:  # counts still come from runs that ran but could not be scored (e.g. < 3 poses left)
+        ran = [r for r in runs if r.get("states") is not None]
+        first = ran[0] if ran else {}
+        row.update(ate_cm=None, spread_cm=None, scale=None, rpe_cm=None, rpe_deg=None, coverage=None,
+                   track_ms=None, timing_under_load=None, lost_runs=[r.get("lost") for r in ran],
+                   reloc_runs=[r.get("relocalised") for r in ran],
+                   **{k: first.get(k) for k in ("lost", "relocalised", "keyframes", "states")})
         return row
     by_ate = sorted(ok, key=lambda r: r["ate_cm"])
     mid = by_ate[(len(by_ate) - 1) // 2]
@@ -45,9 +48,27 @@ def aggregate(runs):
     row["spread_cm"] = by_ate[-1]["ate_cm"] - by_ate[0]["ate_cm"]
     row["track_ms"] = median([r.get("track_ms") for r in ok])
     row["timing_under_load"] = any(r.get("timing_under_load") for r in ok)
+    row["coverage"] = coverage(mid)
     row["lost_runs"] = [r.get("lost") for r in ok]
     row["reloc_runs"] = [r.get("relocalised") for r in ok]
     return row
+
+
+def coverage(run):
+    """Share of the sequence's frames that have a pose in the scored trajectory (LOST frames have none).
+    >>> coverage({"est_poses": 13, "frames": 300}), coverage({"ate_cm": 1.0})
+    (0.043333333333333335, None)
+    """
+    if not run.get("frames") or run.get("est_poses") is None:
+        return None
+    return run["est_poses"] / run["frames"]
+
+
+PARTIAL = 0.9  # rows scored on less of the sequence than this are marked: their ATE is not comparable
+
+
+def partial(row):
+    return row.get("coverage") is not None and row["coverage"] < PARTIAL
 
 
 def scale_err_pct(row):
@@ -71,10 +92,13 @@ def group_summary(rows):
     """
     worst_ate, worst_ate_row = _worst(rows, lambda r: r.get("ate_cm"))
     worst_scale, worst_scale_row = _worst(rows, scale_err_pct)
-    return {"n": len(rows), "median_ate_cm": median([r.get("ate_cm") for r in rows]),
+    full = [r for r in rows if r.get("ate_cm") is not None and not any((x or 0) > 0 for x in r.get("lost_runs", []))]
+    return {"n_full": len(full), "median_ate_full_cm": median([r["ate_cm"] for r in full]),
+            "worst_ate_full_cm": max((r["ate_cm"] for r in full), default=None),"n": len(rows), "median_ate_cm": median([r.get("ate_cm") for r in rows]),
             "worst_ate_cm": worst_ate, "worst_ate_row": worst_ate_row,
             "worst_scale_pct": worst_scale, "worst_scale_row": worst_scale_row,
             "lost_rows": [r["row"] for r in rows if any((x or 0) > 0 for x in r.get("lost_runs", []))],
+            "partial_rows": [r["row"] for r in rows if partial(r)],
             "error_rows": [r["row"] for r in rows if r.get("ate_cm") is None]}
 
 
@@ -109,8 +133,9 @@ def _pass(ok):
 def summary_lines(rows):
     """Markdown summary of one binary's rows (row dicts with group 'clean'/'noisy'/'kitchen' and mode)."""
     t = TARGETS
-    out = ["| group | mode | rows | median ATE cm | worst ATE cm (row) | worst abs(scale-1) % (row) | rows with lost frames | errors | targets | met |",
-           "|---|---|---|---|---|---|---|---|---|---|"]
+    out = ["| group | mode | rows | median ATE cm | worst ATE cm (row) | worst abs(scale-1) % (row) | rows with lost frames | "
+           "median / worst ATE of rows without lost frames | errors | targets | met |",
+           "|---|---|---|---|---|---|---|---|---|---|---|"]
     for group in ("clean", "noisy"):
         for mode in ("deterministic", "threaded"):
             rs = [r for r in rows if r["group"] == group and r["mode"] == mode]
@@ -127,10 +152,12 @@ def summary_lines(rows):
                        and s["worst_ate_cm"] <= t["noisy_worst_ate_cm"])
             if s["error_rows"]:
                 met = False
-            lost = f"{len(s['lost_rows'])}" + (f": {', '.join(s['lost_rows'])}" if s["lost_rows"] else "")
+            lost = f"{len(s['lost_rows'])}" + (f" ({len(s['partial_rows'])} scored on < {PARTIAL:.0%} of the "
+                                               f"frames)" if s["partial_rows"] else "")
             out.append(f"| {'noise-free' if group == 'clean' else 'sensor noise'} | {mode} | {s['n']} | "
                        f"{_f(s['median_ate_cm'])} | {_f(s['worst_ate_cm'])} ({s['worst_ate_row']}) | "
-                       f"{_f(s['worst_scale_pct'])} ({s['worst_scale_row']}) | {lost} | {len(s['error_rows'])} | "
+                       f"{_f(s['worst_scale_pct'])} ({s['worst_scale_row']}) | {lost} | {_f(s['median_ate_full_cm'])} / "
+                       f"{_f(s['worst_ate_full_cm'])} ({s['n_full']} rows) | {len(s['error_rows'])} | "
                        f"{target} | {_pass(met)} |")
     for r in rows:
         if r["group"] == "kitchen":
@@ -138,8 +165,9 @@ def summary_lines(rows):
             tgt = f"ATE <= {t['kitchen_ate_cm']}" + (f", track <= {t['kitchen_track_ms']:.0f} ms" if r["mode"] == "deterministic" else "")
             met = None if r.get("ate_cm") is None else (r["ate_cm"] <= t["kitchen_ate_cm"] and (
                 r["mode"] != "deterministic" or ms is None or ms <= t["kitchen_track_ms"]))
-            out.append(f"| {r['row']} | {r['mode']} | 1 | {_f(r.get('ate_cm'))} | – | {_f(scale_err_pct(r))} | "
-                       f"{_f(r.get('lost'), '{}')} | {1 if r.get('error') else 0} | {tgt} | {_pass(met)} |")
+            out.append(f"| {r['row']} | {r['mode']} | {r.get('n_runs', 1)} runs | {_f(r.get('ate_cm'))} | "
+                       f"spread {_f(r.get('spread_cm'))} | {_f(scale_err_pct(r))} | {_runs(r.get('lost_runs'))} | – | "
+                       f"{1 if r.get('error') else 0} | {tgt} | {_pass(met)} |")
     det = [r for r in rows if r["mode"] == "deterministic"]
     thr = [r for r in rows if r["mode"] == "threaded"]
     if det and thr:
@@ -193,8 +221,9 @@ def table_lines(rows):
         spread = _f(r.get("spread_cm")) if r.get("n_runs", 1) > 1 else ""
         note = "; ".join(x for x in (lost_note(r), rerun_note(r), (r.get("error") or "")[:120]) if x)
         note = note.replace("|", "/").replace("\n", " ")
+        ate = _f(r.get("ate_cm")) + (f" † ({r['coverage']:.0%})" if partial(r) else "")
         out.append(f"| {r['row']} | {r['mode'][:3]}{'' if r.get('n_runs', 1) == 1 else ' x' + str(r['n_runs'])} | "
-                   f"{_f(r.get('ate_cm'))} | {spread} | {_f(r.get('scale'), '{:.4f}')} | {_f(r.get('rpe_cm'))} | "
+                   f"{ate} | {spread} | {_f(r.get('scale'), '{:.4f}')} | {_f(r.get('rpe_cm'))} | "
                    f"{_f(r.get('rpe_deg'))} | {_runs(r.get('lost_runs'))} | {_runs(r.get('reloc_runs'))} | "
                    f"{_f(r.get('keyframes'), '{}')} | {_ms(r)} | {note} |")
     return out

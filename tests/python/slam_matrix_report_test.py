@@ -39,6 +39,19 @@ class Aggregate(unittest.TestCase):
         self.assertEqual(r["error"], "run exit 1: boom")
 
 
+    def test_a_run_that_could_not_be_scored_keeps_its_counts(self):
+        lost_all = dict(run(None, lost=298, error="eval --align se3 exit 1: need at least 3"), keyframes=1)
+        r = rep.aggregate([lost_all])
+        self.assertIsNone(r["ate_cm"])
+        self.assertEqual((r["lost"], r["lost_runs"], r["keyframes"]), (298, [298], 1))
+
+    def test_rows_scored_on_part_of_the_sequence_are_marked(self):
+        r = row("uav", "clean", "deterministic", [dict(run(0.1, lost=287), est_poses=13, frames=300)])
+        self.assertIn("| 0.10 † (4%) |", rep.table_lines([r])[2])
+        r = row("f8", "clean", "deterministic", [dict(run(0.4, lost=1), est_poses=299, frames=300)])
+        self.assertIn("| 0.40 |", rep.table_lines([r])[2])
+
+
 class Summary(unittest.TestCase):
     def verdicts(self, rows):
         return [line.rsplit("|", 2)[-2].strip() for line in rep.summary_lines(rows) if line.startswith("| noise")
