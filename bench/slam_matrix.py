@@ -48,6 +48,8 @@ QUICK = [("office", "uav_sweep", False, 101), ("office", "figure8", True, 101),
 
 def sim_rows(args):
     """The selected simulator rows as dicts (row id, scene, trajectory, noise, seed, group)."""
+    if args.scenes == "none":
+        return []
     if args.quick:
         combos = QUICK
     else:
@@ -261,6 +263,9 @@ def markdown(meta, results, labels):
         b = meta["binaries"].get(label, {})
         lines += ["", f"#### {label} ({b.get('path', 'baseline JSON')}, sha256 {b.get('sha256_12', '?')})", ""]
         lines += rep.table_lines(results[label]) + [""] + rep.summary_lines(results[label])
+        for mode in ("deterministic", "threaded"):
+            pivot = rep.pivot_lines(results[label], mode)
+            lines += [""] + pivot if pivot else []
     return "\n".join(lines) + "\n"
 
 
@@ -276,7 +281,8 @@ def parse_args(argv):
     p.add_argument("--rerender", action="store_true", help="render the selected sequences again (simulator changed)")
     p.add_argument("--work", default="/tmp/s3m_matrix_runs", help="run outputs (default %(default)s)")
     p.add_argument("--frames", type=int, default=300)
-    p.add_argument("--scenes"), p.add_argument("--trajectories")
+    p.add_argument("--scenes", help="comma-separated; 'none' = no simulator rows (kitchen only)")
+    p.add_argument("--trajectories")
     p.add_argument("--noise", choices=["on", "off", "both"], default="both")
     p.add_argument("--seeds", help="seed indices 1..3 (= 101, 202, 303) or seed values, comma-separated")
     p.add_argument("--quick", action="store_true", help="the fixed 12-row subset (every scene, trajectory, noise)")
@@ -318,6 +324,7 @@ def main(argv):
     if not rows:
         sys.exit("slam_matrix: no rows selected")
     load_start = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    commit = git_commit()  # at start: the tree may change during a long run
     t0 = time.time()
     os.makedirs(args.cache, exist_ok=True)
     renders = []
@@ -345,7 +352,7 @@ def main(argv):
         results = {"baseline": base["results"][base["meta"]["labels"][-1]], **results}
         labels = ["baseline"] + labels
     meta = {"command": " ".join([os.path.relpath(sys.argv[0])] + argv), "date": datetime.datetime.now().isoformat(
-            timespec="seconds"), "commit": git_commit(), "rows": len(rows), "frames": args.frames, "jobs": args.jobs,
+            timespec="seconds"), "commit": commit, "rows": len(rows), "frames": args.frames, "jobs": args.jobs,
             "load_start": load_start, "load_end": " ".join(f"{x:.2f}" for x in os.getloadavg()),
             "binaries": {b["label"]: b for b in binaries}, "labels": labels, "cache": args.cache,
             "render_s": render_s, "renders": renders, "total_s": time.time() - t0, "seeds": SEEDS}

@@ -165,8 +165,9 @@ def summary_lines(rows):
             tgt = f"ATE <= {t['kitchen_ate_cm']}" + (f", track <= {t['kitchen_track_ms']:.0f} ms" if r["mode"] == "deterministic" else "")
             met = None if r.get("ate_cm") is None else (r["ate_cm"] <= t["kitchen_ate_cm"] and (
                 r["mode"] != "deterministic" or ms is None or ms <= t["kitchen_track_ms"]))
-            out.append(f"| {r['row']} | {r['mode']} | {r.get('n_runs', 1)} runs | {_f(r.get('ate_cm'))} | "
-                       f"spread {_f(r.get('spread_cm'))} | {_f(scale_err_pct(r))} | {_runs(r.get('lost_runs'))} | – | "
+            spread = "spread " + _f(r.get("spread_cm")) if r.get("n_runs", 1) > 1 else "–"
+            out.append(f"| {r['row']} | {r['mode']} | {r.get('n_runs', 1)} runs | {_f(r.get('ate_cm'))} | {spread} | "
+                       f"{_f(scale_err_pct(r))} | {_runs(r.get('lost_runs'))} | – | "
                        f"{1 if r.get('error') else 0} | {tgt} | {_pass(met)} |")
     det = [r for r in rows if r["mode"] == "deterministic"]
     thr = [r for r in rows if r["mode"] == "threaded"]
@@ -181,6 +182,30 @@ def summary_lines(rows):
                    f"target <= {t['threaded_over_det']} on every row: {len(over)} rows over"
                    + (f" ({', '.join(over)})" if over else "") + f"; rows where a threaded run's tracking-state "
                    f"counts differ from deterministic: {len(diff)}" + (f" ({', '.join(diff)})" if diff else "") + ".")
+    return out
+
+
+def pivot_lines(rows, mode="deterministic"):
+    """Median ATE over the seeds per trajectory x scene, noise-free / noisy, and how many of the
+    cell's rows lost frames (simulator rows of one mode only)."""
+    sim = [r for r in rows if r.get("scene") and r["mode"] == mode]
+    scenes = sorted({r["scene"] for r in sim}, key=lambda x: ["office", "living_room", "corridor"].index(x)
+                    if x in ("office", "living_room", "corridor") else 9)
+    trajs = list(dict.fromkeys(r["trajectory"] for r in sim))
+    if not sim:
+        return []
+    out = [f"Median ATE cm over the seeds ({mode}), noise-free / noisy; (n lost) = rows with LOST frames, "
+           "x = rows that could not be scored:", "", "| trajectory | " + " | ".join(scenes) + " |",
+           "|---|" + "---|" * len(scenes)]
+    for t in trajs:
+        cells = []
+        for sc in scenes:
+            cell = [r for r in sim if r["scene"] == sc and r["trajectory"] == t]
+            parts = [_f(median([r.get("ate_cm") for r in cell if r["group"] == g])) for g in ("clean", "noisy")]
+            lost = len(group_summary(cell)["lost_rows"]) if cell else 0
+            err = sum(1 for r in cell if r.get("ate_cm") is None)
+            cells.append(" / ".join(parts) + (f" ({lost} lost)" if lost else "") + (f" {err} x" if err else ""))
+        out.append(f"| {t} | " + " | ".join(cells) + " |")
     return out
 
 

@@ -79,6 +79,16 @@ class Summary(unittest.TestCase):
         self.assertIn("differ from deterministic: 1 (b)", text)
 
 
+class Pivot(unittest.TestCase):
+    def test_cell_is_median_over_seeds_per_noise_with_lost_rows(self):
+        def sim(seed, group, ate, lost=0):
+            r = row(f"office/loop/{group}/s{seed}", group, "deterministic", [run(ate, lost=lost)])
+            r.update(scene="office", trajectory="loop")
+            return r
+        rows = [sim(1, "clean", 1.0), sim(2, "clean", 3.0), sim(1, "noisy", 2.0, lost=4)]
+        self.assertEqual(rep.pivot_lines(rows)[-1], "| loop | 2.00 / 2.00 (1 lost) |")
+
+
 class Compare(unittest.TestCase):
     def test_ratio_and_medians(self):
         a = [row("x", "clean", "deterministic", [run(1.0)]), row("y", "clean", "deterministic", [run(2.0)])]
