@@ -249,7 +249,7 @@ def git_commit():
 
 def markdown(meta, results, labels):
     lines = [f"Command: `{meta['command']}`", "",
-             f"Date {meta['date']}, script commit {meta['commit']}, {meta['rows']} sequences, {meta['frames']} "
+             f"Finished {meta['date']}, script commit {meta['commit']}, {meta['rows']} sequences, {meta['frames']} "
              f"frames per simulator sequence, jobs {meta['jobs']}, load average {meta['load_start']} at start, "
              f"{meta['load_end']} at end. `s3m run` without --config (built-in defaults, what a user gets) except "
              f"rows marked with a preset; --slam-only --no-report. ATE: SE3-aligned RMSE of "
