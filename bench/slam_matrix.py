@@ -349,8 +349,11 @@ def main(argv):
     labels = [b["label"] for b in binaries]
     if args.baseline:
         base = read_json(args.baseline)
-        results = {"baseline": base["results"][base["meta"]["labels"][-1]], **results}
+        base_label = base["meta"]["labels"][-1]
+        results = {"baseline": base["results"][base_label], **results}
         labels = ["baseline"] + labels
+        binaries.insert(0, dict(base["meta"]["binaries"].get(base_label, {}), label="baseline",
+                                path=f"{args.baseline}: {base['meta']['binaries'].get(base_label, {}).get('path')}"))
     meta = {"command": " ".join([os.path.relpath(sys.argv[0])] + argv), "date": datetime.datetime.now().isoformat(
             timespec="seconds"), "commit": commit, "rows": len(rows), "frames": args.frames, "jobs": args.jobs,
             "load_start": load_start, "load_end": " ".join(f"{x:.2f}" for x in os.getloadavg()),

@@ -238,6 +238,10 @@ def rerun_note(row):
     return "rerun identical" if all(same) else "**rerun differs**"
 
 
+def _ate(r):
+    return _f(r.get("ate_cm")) + (f" † ({r['coverage']:.0%})" if partial(r) else "")
+
+
 def table_lines(rows):
     """One binary's rows as a markdown table."""
     out = ["| row | mode | ATE cm | spread cm | Sim3 scale | RPE cm/1s | RPE deg/1s | lost | reloc | KF | track ms | note |",
@@ -246,7 +250,7 @@ def table_lines(rows):
         spread = _f(r.get("spread_cm")) if r.get("n_runs", 1) > 1 else ""
         note = "; ".join(x for x in (lost_note(r), rerun_note(r), (r.get("error") or "")[:120]) if x)
         note = note.replace("|", "/").replace("\n", " ")
-        ate = _f(r.get("ate_cm")) + (f" † ({r['coverage']:.0%})" if partial(r) else "")
+        ate = _ate(r)
         out.append(f"| {r['row']} | {r['mode'][:3]}{'' if r.get('n_runs', 1) == 1 else ' x' + str(r['n_runs'])} | "
                    f"{ate} | {spread} | {_f(r.get('scale'), '{:.4f}')} | {_f(r.get('rpe_cm'))} | "
                    f"{_f(r.get('rpe_deg'))} | {_runs(r.get('lost_runs'))} | {_runs(r.get('reloc_runs'))} | "
@@ -266,11 +270,12 @@ def compare_lines(rows_a, rows_b, label_a, label_b):
     """A/B table on the (row, mode) pairs both have, with per-row B/A and the medians per group."""
     a_by = {(r["row"], r["mode"]): r for r in rows_a}
     pairs = [(a_by[(r["row"], r["mode"])], r) for r in rows_b if (r["row"], r["mode"]) in a_by]
-    out = [f"A = {label_a}, B = {label_b}; B/A < 1 means B is more accurate.", "",
+    out = [f"A = {label_a}, B = {label_b}; B/A < 1 means B is more accurate; † = ATE over < {PARTIAL:.0%} of the "
+           "frames (the rest LOST).", "",
            "| row | mode | ATE A | ATE B | B/A | abs(s-1)% A | abs(s-1)% B | lost A | lost B | KF A | KF B | ms A | ms B |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for a, b in pairs:
-        out.append(f"| {a['row']} | {a['mode'][:3]} | {_f(a.get('ate_cm'))} | {_f(b.get('ate_cm'))} | "
+        out.append(f"| {a['row']} | {a['mode'][:3]} | {_ate(a)} | {_ate(b)} | "
                    f"{_f(ratio(a.get('ate_cm'), b.get('ate_cm')), '{:.3f}')} | {_f(scale_err_pct(a))} | "
                    f"{_f(scale_err_pct(b))} | {_runs(a.get('lost_runs'))} | {_runs(b.get('lost_runs'))} | "
                    f"{_f(a.get('keyframes'), '{}')} | {_f(b.get('keyframes'), '{}')} | {_ms(a)} | {_ms(b)} |")
