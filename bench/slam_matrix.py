@@ -100,7 +100,9 @@ def render(args, row):
     out = seq_dir(args, row)
     stamp = os.path.join(out, "matrix_stamp.json")
     if os.path.exists(stamp) and not args.rerender:
-        return {"row": row["row"], "cached": True, "seconds": json.load(open(stamp)).get("render_s")}
+        st = read_json(stamp)
+        return {"row": row["row"], "cached": True, "seconds": st.get("render_s"),
+                "sim_sha256_12": st.get("sim_binary", {}).get("sha256_12")}
     tmp = out + ".tmp"
     shutil.rmtree(tmp, ignore_errors=True)
     cmd = [args.sim_binary["path"], "sim", "--scene", row["scene"], "--trajectory", row["trajectory"],
@@ -339,6 +341,10 @@ def main(argv):
     print(f"sequences: {len(sims)} ({len(new)} rendered in {render_s:.0f} s, "
           f"{rep.median([r['seconds'] for r in new]) or 0:.1f} s median each; {len(sims) - len(new)} cached "
           f"in {args.cache})", file=sys.stderr)
+    other = [r for r in renders if r.get("cached") and r.get("sim_sha256_12") != args.sim_binary["sha256_12"]]
+    if other:
+        print(f"note: {len(other)} cached sequences were rendered by another s3m binary; pass --rerender if the "
+              f"simulator changed (the stamp is in each sequence's matrix_stamp.json)", file=sys.stderr)
     for r in renders:
         if r.get("error"):
             print(f"render failed: {r['row']}: {r['error']}", file=sys.stderr)
