@@ -1,6 +1,7 @@
 // ORB extraction (pyramid, distribution), keypoint depth / virtual right coordinate, matching.
 #include <array>
 #include <random>
+#include <cmath>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -178,6 +179,11 @@ TEST(FrameFeatures, DepthRightCoordinateAndDiscontinuities) {
       const float z = p.x < 320 ? 2.0f : 3.0f;
       EXPECT_FLOAT_EQ(f.depth_m[i], z);
       EXPECT_FLOAT_EQ(f.u_right[i], static_cast<float>(p.x - 40.0 / z));
+      // The sensor model's sigma: 1 mm + 1.5 mm/m^2 z^2 = 7 mm at 2 m, 14.5 mm at 3 m; the depth
+      // row's information is z^4 / sigma^2.
+      const float sigma = z < 2.5f ? 0.007f : 0.0145f;
+      EXPECT_FLOAT_EQ(f.depth_sigma_m[i], sigma);
+      EXPECT_NEAR(f.inverse_depth_info(i), std::pow(z, 4) / (sigma * sigma), 1e-3 * std::pow(z, 4) / (sigma * sigma));
       ++with_depth;
     }
   }
@@ -187,6 +193,26 @@ TEST(FrameFeatures, DepthRightCoordinateAndDiscontinuities) {
   int brute = 0;
   for (const auto& k : f.keypoints) brute += std::abs(k.pt.x - 200) < 30 && std::abs(k.pt.y - 200) < 30;
   EXPECT_EQ(static_cast<int>(in.size()), brute);
+  // ORB-SLAM's weighting: no sigma, no inverse-depth information (the virtual right row is used).
+  FeatureConfig legacy;
+  legacy.depth_noise.model = "virtual_right";
+  const auto g = compute_frame_features(img, depth, cam, ex, legacy);
+  for (int i = 0; i < g.size(); ++i) {
+    EXPECT_EQ(g.depth_sigma_m[i], 0.0f);
+    EXPECT_EQ(g.inverse_depth_info(i), 0.0);
+  }
+}
+
+TEST(FrameFeatures, DepthNoiseConfigIsChecked) {
+  FeatureConfig c;
+  c.depth_noise.model = "stereo";
+  EXPECT_THROW(c.validate(), std::exception);
+  c.depth_noise.model = "sensor";
+  c.depth_noise.sigma0_m = 0;
+  c.depth_noise.k_per_m = 0;
+  EXPECT_THROW(c.validate(), std::exception);
+  c.depth_noise.k_per_m = 0.0015;
+  EXPECT_NO_THROW(c.validate());
 }
 
 }  // namespace

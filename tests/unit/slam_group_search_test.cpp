@@ -31,6 +31,7 @@ std::shared_ptr<features::FrameFeatures> features_at(const std::vector<Eigen::Ve
   }
   f->depth_m.assign(px.size(), 2.0f);
   f->u_right.assign(px.size(), -1.0f);
+  f->depth_sigma_m.assign(px.size(), 0.0f);
   f->grid.build(f->keypoints, 640, 480);
   return f;
 }

@@ -156,10 +156,10 @@ TEST(SlamMapIo, BadFilesNameTheFileAndTheProblem) {
   EXPECT_NE(load_error(bad).find("truncated"), std::string::npos) << load_error(bad);
   write(bad, slurp(features::default_vocabulary_path()));
   EXPECT_NE(load_error(bad).find("not an s3m SLAM map"), std::string::npos);
-  std::string v2 = bytes;
-  v2[8] = 2;  // u32 version after the 8 magic bytes
-  write(bad, v2);
-  EXPECT_NE(load_error(bad).find("version 2 is not supported (expected version 1)"), std::string::npos)
+  std::string v1 = bytes;
+  v1[8] = 1;  // u32 version after the 8 magic bytes: version 1 had no keypoint depth sigmas
+  write(bad, v1);
+  EXPECT_NE(load_error(bad).find("version 1 is not supported (expected version 2)"), std::string::npos)
       << load_error(bad);
   std::string flipped = bytes;
   flipped[bytes.size() / 2] ^= 0x10;

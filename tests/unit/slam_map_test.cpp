@@ -20,6 +20,7 @@ std::shared_ptr<const features::FrameFeatures> fake_features(int n) {
   for (int i = 0; i < n; ++i) f->descriptors.at<std::uint8_t>(i, i % 32) = 0xFF;
   f->depth_m.assign(n, 2.0f);
   f->u_right.assign(n, 80.0f);
+  f->depth_sigma_m.assign(n, 0.01f);
   return f;
 }
 

@@ -86,5 +86,52 @@ TEST(PoseOptimizer, PointBehindCameraIsOutlier) {
   EXPECT_FALSE(reprojection_chi2(o, SE3::Identity(), cam, chi2));
 }
 
+
+// The inverse-depth row (features::DepthNoiseConfig "sensor"): residual (1/z - rho) / sigma_rho, so
+// a point 2 m ahead measured at rho = 1/2.1 with sigma_rho = 0.01 1/m contributes
+// ((0.5 - 1/2.1) / 0.01)^2 = (2.381)^2 = 5.669 to chi2, and its pixel rows nothing.
+TEST(PoseOptimizer, InverseDepthRowIsWhitenedBySigmaRho) {
+  const PinholeCamera cam = test_camera();
+  PoseObservation o;
+  o.p_w = Vec3(0.2, -0.1, 2.0);
+  o.uv = cam.project(o.p_w);
+  o.u_right = o.uv.x() - cam.bf / 2.1;  // present: marks an RGB-D observation
+  o.rho = 1.0 / 2.1;
+  o.inv_rho_sigma2 = 1.0 / (0.01 * 0.01);
+  o.inv_sigma2 = 1.0 / 1.44;  // level 1: the pixel weight must not touch the depth row
+  double chi2 = 0;
+  ASSERT_TRUE(reprojection_chi2(o, SE3::Identity(), cam, chi2));
+  const double e = (0.5 - 1.0 / 2.1) / 0.01;
+  EXPECT_NEAR(chi2, e * e, 1e-9);
+  // The same observation through the virtual right coordinate: (bf/2.1 - bf/2)^2 * inv_sigma2.
+  o.inv_rho_sigma2 = 0;
+  ASSERT_TRUE(reprojection_chi2(o, SE3::Identity(), cam, chi2));
+  const double eu = cam.bf / 2.1 - cam.bf / 2.0;
+  EXPECT_NEAR(chi2, eu * eu / 1.44, 1e-9);
+}
+
+// Depth alone fixes translation along the optical axis: points straight ahead (pixel rows almost
+// blind to z at the image centre) with exact inverse depths pull a 5 cm error in z back to the truth.
+TEST(PoseOptimizer, InverseDepthRowsRecoverTranslationAlongTheAxis) {
+  const PinholeCamera cam = test_camera();
+  const SE3 T_c_w = se3_exp((Vec6() << 0.1, -0.05, 0.3, 0.01, -0.02, 0.015).finished());
+  std::vector<PoseObservation> obs;
+  for (int i = 0; i < 40; ++i) {
+    const Vec3 p_c(0.4 * std::cos(i * 0.7), 0.3 * std::sin(i * 1.3), 1.5 + 0.05 * (i % 7));
+    PoseObservation o;
+    o.p_w = T_c_w.inverse() * p_c;
+    o.uv = cam.project(p_c);
+    o.u_right = o.uv.x() - cam.bf / p_c.z();
+    o.rho = 1.0 / p_c.z();
+    const double sigma_z = 0.001 + 0.0015 * p_c.z() * p_c.z();
+    o.inv_rho_sigma2 = std::pow(p_c.z(), 4) / (sigma_z * sigma_z);
+    obs.push_back(o);
+  }
+  const SE3 init = make_se3(Mat3::Identity(), Vec3(0, 0, 0.05)) * T_c_w;
+  const auto res = optimize_pose(obs, init, cam);
+  EXPECT_LT((res.T_c_w.matrix() - T_c_w.matrix()).norm(), 1e-8);
+  EXPECT_EQ(res.n_inliers, 40);
+}
+
 }  // namespace
 }  // namespace s3m::slam

@@ -31,6 +31,9 @@ float keypoint_depth(const cv::Mat& depth, float u, float v, const FeatureConfig
   return (hi - lo) > c.depth_discontinuity_ratio * z ? 0.0f : z;
 }
 
+// Sigma of a depth z [m] under the sensor model (DepthNoiseConfig).
+float depth_sigma(const DepthNoiseConfig& c, float z) { return static_cast<float>(c.sigma0_m + c.k_per_m * double(z) * z); }
+
 void undistort_keypoints(std::vector<cv::KeyPoint>& kps, const PinholeCamera& cam) {
   if (kps.empty()) return;
   std::vector<cv::Point2f> pts(kps.size());
@@ -42,8 +45,16 @@ void undistort_keypoints(std::vector<cv::KeyPoint>& kps, const PinholeCamera& ca
 
 }  // namespace
 
+void DepthNoiseConfig::validate() const {
+  require(model == "sensor" || model == "virtual_right",
+          "features.depth_noise.model must be 'sensor' or 'virtual_right', got '" + model + "'");
+  require(sigma0_m >= 0 && k_per_m >= 0 && sigma0_m + k_per_m > 0,
+          "features.depth_noise: need sigma0_m >= 0, k_per_m >= 0, not both 0");
+}
+
 void FeatureConfig::validate() const {
   orb.validate();
+  depth_noise.validate();
   require(min_depth_m > 0 && max_depth_m > min_depth_m, "features: need 0 < min_depth_m < max_depth_m");
   require(depth_discontinuity_ratio > 0, "features.depth_discontinuity_ratio must be > 0");
   require(depth_window_px >= 0 && depth_window_px <= 10, "features.depth_window_px must be in [0, 10]");
@@ -95,10 +106,16 @@ FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m,
     gray = rgb;
   std::vector<cv::KeyPoint> raw;
   extractor.extract(gray, raw, f.descriptors);
-  // 2. Depth at the raw (distorted) pixel, where the depth image was sampled.
+  // 2. Depth at the raw (distorted) pixel, where the depth image was sampled, and its sigma.
   f.depth_m.assign(raw.size(), 0.0f);
+  f.depth_sigma_m.assign(raw.size(), 0.0f);
   if (!depth_m.empty())
-    for (std::size_t i = 0; i < raw.size(); ++i) f.depth_m[i] = keypoint_depth(depth_m, raw[i].pt.x, raw[i].pt.y, config);
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+      const float z = keypoint_depth(depth_m, raw[i].pt.x, raw[i].pt.y, config);
+      f.depth_m[i] = z;
+      if (z > 0 && config.depth_noise.sensor())
+        f.depth_sigma_m[i] = depth_sigma(config.depth_noise, z);
+    }
   // 3. Undistort, 4. virtual right coordinate, 5. grid.
   f.keypoints = std::move(raw);
   if (camera.has_distortion()) undistort_keypoints(f.keypoints, camera);

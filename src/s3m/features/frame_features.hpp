@@ -4,6 +4,7 @@
 // depth measurement into a stereo-like observation (ORB-SLAM's RGB-D trick), plus a grid for fast
 // "keypoints near (u, v)" queries.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -13,8 +14,26 @@
 
 namespace s3m::features {
 
+// How far a keypoint's depth is trusted: the sigma of its depth row in tracking and bundle
+// adjustment (docs/RESULTS.md, issue 20).
+struct DepthNoiseConfig {
+  // "sensor": each keypoint's depth gets sigma_z = sigma0_m + k_per_m z^2 (structured light and active
+  // stereo measure disparity, so the error grows with z^2; Kinect v1 about 1.5e-3 z^2, Khoshelham &
+  // Elberink 2012). Measured and dropped: a term for the depth slope across the keypoint's position
+  // uncertainty (or a depth-to-colour misregistration) made the simulator and the kitchen worse.
+  // "virtual_right": ORB-SLAM's weighting through u_r = u - bf / z with the keypoint's pixel sigma,
+  // i.e. sigma_z ~ z^2 * level scale / bf (10 cm at 2 m for bf 40): depth hardly counts, and local
+  // BA then shrinks the motion by 1-3 % even on exact depth (issue 20).
+  std::string model = "sensor";
+  double sigma0_m = 0.001;         // sensor noise at z = 0 [m]
+  double k_per_m = 0.0015;         // sensor noise growth [1/m]
+  bool sensor() const { return model == "sensor"; }
+  void validate() const;
+};
+
 struct FeatureConfig {
   OrbConfig orb;
+  DepthNoiseConfig depth_noise;
   double min_depth_m = 0.1;  // depths outside [min, max] are treated as missing
   double max_depth_m = 6.0;
   // Depth is not trusted where the neighbourhood spans an edge (unregistered depth makes
@@ -45,12 +64,21 @@ struct FrameFeatures {
   cv::Mat descriptors;                  // N x 32 CV_8U
   std::vector<float> depth_m;           // per keypoint; 0 = no (trusted) depth
   std::vector<float> u_right;           // per keypoint [px]; < 0 = no depth
+  // Per keypoint: sigma of depth_m [m] (DepthNoiseConfig "sensor"); 0 = no depth, or the depth is
+  // weighted through u_right ("virtual_right").
+  std::vector<float> depth_sigma_m;
   FeatureGrid grid;
   ScalePyramid pyramid;
 
   int size() const { return static_cast<int>(keypoints.size()); }
   const std::uint8_t* descriptor(int i) const { return descriptors.ptr<std::uint8_t>(i); }
   bool has_depth(int i) const { return depth_m[i] > 0.0f; }
+  // 1 / sigma^2 of the inverse depth 1 / z of keypoint i [m^2] (sigma_rho = sigma_z / z^2), or 0 when
+  // its depth is weighted through the virtual right coordinate (or it has none).
+  double inverse_depth_info(int i) const {
+    const double z = depth_m[i], s = depth_sigma_m[i];
+    return (z > 0 && s > 0) ? (z * z) * (z * z) / (s * s) : 0.0;
+  }
   std::vector<int> in_area(double u, double v, double r, int min_level = 0, int max_level = -1) const {
     return grid.in_area(keypoints, u, v, r, min_level, max_level);
   }

@@ -12,12 +12,13 @@ namespace s3m::slam {
 namespace {
 
 // Reprojection residual of a point into a frame whose pose is [q (w,x,y,z) world-to-camera, t].
-// Rows: u, v and, for RGB-D observations, the virtual right coordinate u - bf / z.
+// Rows: u, v and, for RGB-D observations, the depth row: the inverse depth with its own weight,
+// or ORB-SLAM's virtual right coordinate u - bf / z with the pixel weight.
 template <int kRows>
 struct ReprojectionCost {
   ReprojectionCost(const BaObservation& o, const PinholeCamera& c)
-      : u(o.uv.x()), v(o.uv.y()), ur(o.u_right), w(std::sqrt(o.inv_sigma2)), fx(c.fx), fy(c.fy), cx(c.cx),
-        cy(c.cy), bf(c.bf) {}
+      : u(o.uv.x()), v(o.uv.y()), ur(o.u_right), rho(o.rho), w(std::sqrt(o.inv_sigma2)),
+        wr(std::sqrt(o.inv_rho_sigma2)), fx(c.fx), fy(c.fy), cx(c.cx), cy(c.cy), bf(c.bf) {}
 
   template <typename T>
   bool operator()(const T* q, const T* t, const T* p_w, T* r) const {
@@ -30,10 +31,15 @@ struct ReprojectionCost {
     const T pu = fx * p[0] * iz + cx;
     r[0] = w * (pu - u);
     r[1] = w * (fy * p[1] * iz + cy - v);
-    if constexpr (kRows == 3) r[2] = w * (pu - bf * iz - ur);
+    if constexpr (kRows == 3) {
+      if (wr > 0)
+        r[2] = wr * (iz - rho);
+      else
+        r[2] = w * (pu - bf * iz - ur);
+    }
     return true;
   }
-  double u, v, ur, w, fx, fy, cx, cy, bf;
+  double u, v, ur, rho, w, wr, fx, fy, cx, cy, bf;
 };
 
 struct Block {
@@ -47,11 +53,15 @@ double chi2_of(const BaObservation& o, const SE3& T_c_w, const Vec3& p_w, const 
   if (!in_front) return 1e30;
   const double u = cam.fx * p.x() / p.z() + cam.cx, v = cam.fy * p.y() / p.z() + cam.cy;
   double e2 = (u - o.uv.x()) * (u - o.uv.x()) + (v - o.uv.y()) * (v - o.uv.y());
-  if (o.u_right >= 0) {
+  double chi2 = e2 * o.inv_sigma2;
+  if (o.u_right >= 0 && o.inv_rho_sigma2 > 0) {
+    const double er = 1.0 / p.z() - o.rho;
+    chi2 += er * er * o.inv_rho_sigma2;
+  } else if (o.u_right >= 0) {
     const double ur = u - cam.bf / p.z() - o.u_right;
-    e2 += ur * ur;
+    chi2 += ur * ur * o.inv_sigma2;
   }
-  return e2 * o.inv_sigma2;
+  return chi2;
 }
 
 bool solve(BaProblem& P, const PinholeCamera& cam, const BaConfig& cfg, const std::vector<char>& skip, int iterations) {
@@ -106,6 +116,21 @@ bool solve(BaProblem& P, const PinholeCamera& cam, const BaConfig& cfg, const st
 }
 
 }  // namespace
+
+BaObservation keypoint_ba_observation(const features::FrameFeatures& f, int idx, int frame, int point) {
+  const auto& kp = f.keypoints[std::size_t(idx)];
+  BaObservation o;
+  o.frame = frame;
+  o.point = point;
+  o.uv = {kp.pt.x, kp.pt.y};
+  o.u_right = f.u_right[std::size_t(idx)];
+  o.inv_sigma2 = f.pyramid.inv_sigma2[std::size_t(kp.octave)];
+  if (f.has_depth(idx)) {
+    o.rho = 1.0 / f.depth_m[std::size_t(idx)];
+    o.inv_rho_sigma2 = f.inverse_depth_info(idx);
+  }
+  return o;
+}
 
 void BaConfig::validate() const {
   require(first_iterations >= 1 && second_iterations >= 0, "ba: iterations must be >= 1 / >= 0");

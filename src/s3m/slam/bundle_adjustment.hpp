@@ -25,7 +25,14 @@ struct BaObservation {
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();  // measured undistorted pixel [px]
   double u_right = -1;                           // virtual right coordinate [px]; < 0 monocular
   double inv_sigma2 = 1;                         // 1 / level sigma^2 [1/px^2]
+  // The depth row: measured inverse depth [1/m] and its weight [m^2]; inv_rho_sigma2 = 0: the
+  // virtual right coordinate with inv_sigma2 (PoseObservation's rule).
+  double rho = 0;
+  double inv_rho_sigma2 = 0;
 };
+
+// Keypoint idx of f observed in BaProblem frame `frame` as point `point`.
+BaObservation keypoint_ba_observation(const features::FrameFeatures& f, int idx, int frame, int point);
 
 struct BaProblem {
   std::vector<SE3> T_c_w;       // frame poses (world-to-camera)

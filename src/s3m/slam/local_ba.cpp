@@ -33,15 +33,7 @@ LocalBaStats local_bundle_adjustment(Map& map, KeyframeId kf_id, const PinholeCa
   for (PointId pid : point_ids)
     for (const auto& [kf, idx] : map.point(pid).observations) {
       if (!frame_index.count(kf)) add_frame(kf, true);
-      const KeyFrame& k = map.keyframe(kf);
-      const auto& kp = k.features->keypoints[idx];
-      BaObservation o;
-      o.frame = frame_index.at(kf);
-      o.point = point_index.at(pid);
-      o.uv = {kp.pt.x, kp.pt.y};
-      o.u_right = k.features->u_right[idx];
-      o.inv_sigma2 = k.features->pyramid.inv_sigma2[kp.octave];
-      P.obs.push_back(o);
+      P.obs.push_back(keypoint_ba_observation(*map.keyframe(kf).features, idx, frame_index.at(kf), point_index.at(pid)));
       obs_keys.emplace_back(pid, kf);
     }
   st.n_fixed_keyframes = static_cast<int>(P.T_c_w.size()) - st.n_local_keyframes;

@@ -140,17 +140,8 @@ int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConf
     const int point = int(problem.p_w.size());
     problem.p_w.push_back(p.p_w);
     point_ids.push_back(pid);
-    for (const auto& [k, idx] : p.observations) {
-      const auto& F = *map.keyframe(k).features;
-      const auto& kp = F.keypoints[size_t(idx)];
-      BaObservation o;
-      o.frame = frame_of.at(k);
-      o.point = point;
-      o.uv = {kp.pt.x, kp.pt.y};
-      o.u_right = F.u_right[size_t(idx)];
-      o.inv_sigma2 = F.pyramid.inv_sigma2[size_t(kp.octave)];
-      problem.obs.push_back(o);
-    }
+    for (const auto& [k, idx] : p.observations)
+      problem.obs.push_back(keypoint_ba_observation(*map.keyframe(k).features, idx, frame_of.at(k), point));
   }
   if (problem.obs.empty()) return 0;
   const BaResult r = bundle_adjust(problem, camera, config);

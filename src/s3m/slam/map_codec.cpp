@@ -1,8 +1,9 @@
-// The Map inside slam_map.bin, version 1:
+// The Map inside slam_map.bin, version 2:
 //   i64 next keyframe id | i64 next point id
 //   u32 keyframes x { i64 id, i32 frame index, f64 t_s, pose, f64 scale factor, u32 levels,
 //                     u32 n keypoints x {f32 x y size angle response, i32 octave class_id},
-//                     n x 32 B descriptors, n x f32 depth, n x f32 u_right, n x i64 point,
+//                     n x 32 B descriptors, n x f32 depth, n x f32 u_right, n x f32 depth sigma,
+//                     n x i64 point,
 //                     u32 x {i64 neighbour, i32 weight}, i64 parent, u32 x i64 child }
 //   u32 points x { i64 id, 3 f64 p_w, 32 B descriptor, 3 f64 normal, f64 min max distance,
 //                  u32 x {i64 keyframe, i32 keypoint}, i64 ref keyframe, i32 visible found, u8 bad }
@@ -26,6 +27,7 @@ void put_features(ByteWriter& w, const features::FrameFeatures& f) {
   for (int i = 0; i < f.size(); ++i) w.put_bytes(f.descriptor(i), 32);
   w.put_bytes(f.depth_m.data(), f.depth_m.size() * sizeof(float));
   w.put_bytes(f.u_right.data(), f.u_right.size() * sizeof(float));
+  w.put_bytes(f.depth_sigma_m.data(), f.depth_sigma_m.size() * sizeof(float));
 }
 
 std::shared_ptr<const features::FrameFeatures> get_features(ByteReader& r, const PinholeCamera& camera) {
@@ -35,7 +37,7 @@ std::shared_ptr<const features::FrameFeatures> get_features(ByteReader& r, const
   if (!(scale_factor > 1.0 && scale_factor < 4.0) || levels < 1 || levels > 32)
     r.fail(fmt::format("corrupt scale pyramid (factor {}, {} levels)", scale_factor, levels));
   f->pyramid = features::ScalePyramid::make(scale_factor, int(levels));
-  const std::uint32_t n = r.get_count("keypoint count", 28 + 32 + 4 + 4 + 8);
+  const std::uint32_t n = r.get_count("keypoint count", 28 + 32 + 4 + 4 + 4 + 8);
   f->keypoints.resize(n);
   for (cv::KeyPoint& k : f->keypoints) {
     k.pt.x = r.get<float>("keypoint"), k.pt.y = r.get<float>("keypoint");
@@ -48,8 +50,10 @@ std::shared_ptr<const features::FrameFeatures> get_features(ByteReader& r, const
   if (n > 0) r.get_bytes(f->descriptors.data, std::size_t(n) * 32, "descriptors");
   f->depth_m.resize(n);
   f->u_right.resize(n);
+  f->depth_sigma_m.resize(n);
   r.get_bytes(f->depth_m.data(), n * sizeof(float), "keypoint depths");
   r.get_bytes(f->u_right.data(), n * sizeof(float), "keypoint right coordinates");
+  r.get_bytes(f->depth_sigma_m.data(), n * sizeof(float), "keypoint depth sigmas");
   f->grid.build(f->keypoints, camera.width, camera.height);
   return f;
 }

@@ -1,5 +1,5 @@
 // slam_map.bin: file framing, the session checks and the BoW index (the Map's own encoding is in
-// map_codec.cpp). Layout of the payload, version 1:
+// map_codec.cpp). Layout of the payload, version 2 (version 1 had no keypoint depth sigmas):
 //   camera (fx fy cx cy f64, width height i32, depth_factor f64, dist 5 x f64, bf f64)
 //   vocabulary checksum u64 | vocabulary words u64 | direct level i32
 //   Map (map_codec.cpp) | loop edges: u32 n x {i64 current, i64 loop}
@@ -19,7 +19,7 @@
 namespace s3m::slam {
 namespace {
 
-const BinaryFormat kFormat{"S3MSLAM\0", "S3MSLEND", 1, "SLAM map",
+const BinaryFormat kFormat{"S3MSLAM\0", "S3MSLEND", 2, "SLAM map",
                            "an s3m SLAM map (slam_map.bin written by 's3m run --out')"};
 
 void put_camera(ByteWriter& w, const PinholeCamera& c) {

@@ -8,7 +8,7 @@
 // culled-keyframe chain (so poses stored against a culled keyframe still resolve), the id
 // counters, the camera and the vocabulary's checksum.
 //
-// Format, version 1, host byte order (little-endian):
+// Format, version 2, host byte order (little-endian):
 //   "S3MSLAM\0" | u32 version | u64 payload bytes | payload | u64 FNV-1a(payload) | "S3MSLEND"
 // Written atomically (temporary file + fsync + rename). Saving what was loaded gives the same
 // bytes. Loading checks, in order: the file exists, magic, version, size, checksum, the map's

@@ -36,15 +36,7 @@ int weld_bundle_adjustment(Map& map, const std::set<KeyframeId>& window, const P
   for (PointId pid : point_ids)
     for (const auto& [kf, idx] : map.point(pid).observations) {
       if (!frame_of.count(kf)) add_frame(kf, true);
-      const auto& F = *map.keyframe(kf).features;
-      const auto& kp = F.keypoints[size_t(idx)];
-      BaObservation o;
-      o.frame = frame_of.at(kf);
-      o.point = point_of.at(pid);
-      o.uv = {kp.pt.x, kp.pt.y};
-      o.u_right = F.u_right[size_t(idx)];
-      o.inv_sigma2 = F.pyramid.inv_sigma2[size_t(kp.octave)];
-      P.obs.push_back(o);
+      P.obs.push_back(keypoint_ba_observation(*map.keyframe(kf).features, idx, frame_of.at(kf), point_of.at(pid)));
       keys.emplace_back(pid, kf);
     }
   if (P.obs.empty() || std::count(P.fixed.begin(), P.fixed.end(), 1) == 0) return 0;

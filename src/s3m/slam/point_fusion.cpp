@@ -20,6 +20,7 @@ bool predict_visibility(const Vec3& p_w, const Vec3& normal_w, double min_dist_m
   if (out.view_cos < 0.5) return false;
   out.level = predict_level(out.dist_m, max_dist_m, pyr);
   out.u_right = out.uv.x() - cam.bf / p_c.z();
+  out.depth_m = p_c.z();
   return true;
 }
 
@@ -42,9 +43,15 @@ int fuse_points(Map& map, KeyframeId kf_id, const std::vector<PointId>& points, 
       const auto& kp = F.keypoints[i];
       const double inv_s2 = F.pyramid.inv_sigma2[kp.octave];
       double e2 = (vis.uv - Eigen::Vector2d(kp.pt.x, kp.pt.y)).squaredNorm();
-      if (F.u_right[i] >= 0) {
-        e2 += (vis.u_right - F.u_right[i]) * (vis.u_right - F.u_right[i]);
-        if (e2 * inv_s2 > cfg.chi2_stereo) continue;
+      if (F.u_right[i] >= 0) {  // the depth row as in bundle adjustment
+        double chi2 = e2 * inv_s2;
+        if (const double info = F.inverse_depth_info(i); info > 0) {
+          const double er = 1.0 / vis.depth_m - 1.0 / F.depth_m[i];
+          chi2 += er * er * info;
+        } else {
+          chi2 += (vis.u_right - F.u_right[i]) * (vis.u_right - F.u_right[i]) * inv_s2;
+        }
+        if (chi2 > cfg.chi2_stereo) continue;
       } else if (e2 * inv_s2 > cfg.chi2_mono) {
         continue;
       }

@@ -11,23 +11,32 @@ namespace {
 
 constexpr double kMinDepthM = 1e-3;
 
-// Residual e = predicted - measured (2 or 3 rows) and de/dxi for a left perturbation
-// T_c_w <- exp(xi) * T_c_w, xi = [rho; phi].
+// Whitened residual e = (predicted - measured) / sigma (2 or 3 rows) and de/dxi for a left
+// perturbation T_c_w <- exp(xi) * T_c_w, xi = [rho; phi]. The depth row is the inverse depth
+// (o.inv_rho_sigma2 > 0) or ORB-SLAM's virtual right coordinate u - bf / z.
 int residual_and_jacobian(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& cam, Eigen::Vector3d& e,
                           Eigen::Matrix<double, 3, 6>& J) {
   const Vec3 p = T_c_w * o.p_w;
   if (p.z() < kMinDepthM) return 0;
   const double iz = 1.0 / p.z(), iz2 = iz * iz;
   const double u = cam.fx * p.x() * iz + cam.cx, v = cam.fy * p.y() * iz + cam.cy;
-  Eigen::Matrix<double, 3, 3> Jp;  // d(u, v, u_r) / d p_c
+  const double w = std::sqrt(o.inv_sigma2);
+  Eigen::Matrix<double, 3, 3> Jp;  // d(u, v, depth row) / d p_c, whitened
   Jp << cam.fx * iz, 0, -cam.fx * p.x() * iz2,  //
       0, cam.fy * iz, -cam.fy * p.y() * iz2,    //
       cam.fx * iz, 0, -cam.fx * p.x() * iz2 + cam.bf * iz2;
+  e << u - o.uv.x(), v - o.uv.y(), (u - cam.bf * iz) - o.u_right;
+  Jp *= w;
+  e *= w;
+  if (o.inv_rho_sigma2 > 0) {
+    const double wr = std::sqrt(o.inv_rho_sigma2);
+    Jp.row(2) << 0, 0, -wr * iz2;
+    e(2) = wr * (iz - o.rho);
+  }
   Eigen::Matrix<double, 3, 6> Jx;  // d p_c / d xi = [I, -[p]x]
   Jx.leftCols<3>().setIdentity();
   Jx.rightCols<3>() = -skew(p);
   J = Jp * Jx;
-  e << u - o.uv.x(), v - o.uv.y(), (u - cam.bf * iz) - o.u_right;
   return o.u_right >= 0 ? 3 : 2;
 }
 
@@ -45,6 +54,10 @@ PoseObservation keypoint_observation(const features::FrameFeatures& f, int i, co
   o.uv = {kp.pt.x, kp.pt.y};
   o.u_right = f.u_right[std::size_t(i)];
   o.inv_sigma2 = f.pyramid.inv_sigma2[std::size_t(kp.octave)];
+  if (f.has_depth(i)) {
+    o.rho = 1.0 / f.depth_m[std::size_t(i)];
+    o.inv_rho_sigma2 = f.inverse_depth_info(i);
+  }
   return o;
 }
 
@@ -60,7 +73,7 @@ bool reprojection_chi2(const PoseObservation& o, const SE3& T_c_w, const Pinhole
   Eigen::Matrix<double, 3, 6> J;
   const int rows = residual_and_jacobian(o, T_c_w, camera, e, J);
   if (rows == 0) return false;
-  chi2 = e.head(rows).squaredNorm() * o.inv_sigma2;
+  chi2 = e.head(rows).squaredNorm();
   return true;
 }
 
@@ -83,10 +96,10 @@ PoseOptimizerResult optimize_pose(const std::vector<PoseObservation>& obs, const
         if (!res.inlier[i]) continue;
         const int rows = residual_and_jacobian(obs[i], res.T_c_w, camera, e, J);
         if (rows == 0) continue;
-        const double chi2 = e.head(rows).squaredNorm() * obs[i].inv_sigma2;
+        const double chi2 = e.head(rows).squaredNorm();
         const double delta = std::sqrt(rows == 3 ? config.chi2_stereo : config.chi2_mono);
         const double r = std::sqrt(chi2);
-        const double w = obs[i].inv_sigma2 * ((robust && r > delta) ? delta / r : 1.0);
+        const double w = (robust && r > delta) ? delta / r : 1.0;
         H.noalias() += w * J.topRows(rows).transpose() * J.topRows(rows);
         b.noalias() += w * J.topRows(rows).transpose() * e.head(rows);
         ++used;

@@ -20,6 +20,11 @@ struct PoseObservation {
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();  // measured undistorted pixel [px]
   double u_right = -1;                 // measured virtual right coordinate [px]; < 0: monocular
   double inv_sigma2 = 1;               // 1 / sigma^2 of the keypoint's level [1/px^2]
+  // The depth row (when u_right >= 0): with inv_rho_sigma2 > 0 the measured inverse depth rho = 1/z
+  // [1/m] with that weight [m^2] (features::DepthNoiseConfig "sensor"); else ORB-SLAM's virtual
+  // right coordinate with inv_sigma2.
+  double rho = 0;
+  double inv_rho_sigma2 = 0;
 };
 
 // Keypoint i of f (its pixel, virtual right coordinate and level weight) observing point p_w.
@@ -39,7 +44,7 @@ struct PoseOptimizerResult {
   int n_inliers = 0;
 };
 
-// Returns the refined world-to-camera pose. Uses camera fx, fy, cx, cy and bf.
+// Returns the refined world-to-camera pose. Uses camera fx, fy, cx, cy and (virtual right rows) bf.
 PoseOptimizerResult optimize_pose(const std::vector<PoseObservation>& obs, const SE3& T_c_w_init,
                                   const PinholeCamera& camera, const PoseOptimizerConfig& config = {});
 
