@@ -27,6 +27,10 @@ struct KeyFrameRequest {
   std::vector<PointId> points;            // per keypoint: tracked inlier map point or kNoId
   std::vector<PointVisibility> visibility;  // tracking statistics since the previous request
   int submap = 0;  // the sub-map tracking was in (T_w_c is in its frame; Map::KeyFrame::submap)
+  // The first keyframe of a map: every keypoint with depth becomes a point, not only the close ones
+  // (ORB-SLAM's RGB-D initialisation). A first view of far walls (3-4 m) otherwise leaves the next
+  // frames ~100 points to track, too few to hold on (the simulator's office at rest, issue 20).
+  bool first_of_map = false;
 };
 
 struct SnapshotPoint {

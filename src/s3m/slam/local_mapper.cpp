@@ -1,6 +1,7 @@
 #include "s3m/slam/local_mapper.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
@@ -28,7 +29,7 @@ KeyframeId LocalMapper::process(const KeyFrameRequest& request) {
   // 1. Keyframe with tracking's matches; 2. new points from depth; 3. cull weak recent points;
   // 4. fuse duplicates with the neighbours; 5. local BA; 6. drop redundant keyframes.
   const KeyframeId kf = insert_keyframe(request);
-  create_points(kf);
+  create_points(kf, request.first_of_map);
   cull_recent_points(kf);
   fuse_with_neighbours(kf);
   if (config_.local_ba && map_.n_keyframes() > 2) stats_.ba = local_bundle_adjustment(map_, kf, camera_, config_.ba);
@@ -55,11 +56,12 @@ KeyframeId LocalMapper::insert_keyframe(const KeyFrameRequest& r) {
   return id;
 }
 
-void LocalMapper::create_points(KeyframeId id) {
+void LocalMapper::create_points(KeyframeId id, bool first_of_map) {
   const KeyFrame& kf = map_.keyframe(id);
   const auto& F = *kf.features;
-  const auto chosen = depth_point_keypoints(F, [&](int i) { return kf.points[i] == kNoId; },
-                                           config_.close_depth_m, config_.min_new_points);
+  const double depth_limit_m = first_of_map ? std::numeric_limits<double>::infinity() : config_.close_depth_m;
+  const auto chosen = depth_point_keypoints(F, [&](int i) { return kf.points[i] == kNoId; }, depth_limit_m,
+                                           config_.min_new_points);
   for (const auto& [z, i] : chosen) {
     const auto& kp = F.keypoints[i];
     const Vec3 p_w = kf.T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z);

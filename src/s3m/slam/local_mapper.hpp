@@ -46,7 +46,7 @@ class LocalMapper {
 
  private:
   KeyframeId insert_keyframe(const KeyFrameRequest& r);
-  void create_points(KeyframeId kf);
+  void create_points(KeyframeId kf, bool first_of_map);
   void cull_recent_points(KeyframeId kf);
   void fuse_with_neighbours(KeyframeId kf);
   void cull_keyframes(KeyframeId kf);

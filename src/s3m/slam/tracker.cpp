@@ -1,6 +1,7 @@
 #include "s3m/slam/tracker.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "s3m/core/error.hpp"
 #include "s3m/slam/depth_points.hpp"
@@ -117,10 +118,12 @@ void Tracker::set_local_map(std::shared_ptr<const LocalMapSnapshot> snapshot, in
 
 TrackerOutput Tracker::process(const RgbdFrame& frame, int pending_keyframes) {
   // 1. Features.
-  return track(frame,
-               std::make_shared<features::FrameFeatures>(
-                   features::compute_frame_features(frame.rgb, frame.depth_m, camera_, extractor_, feature_config_)),
-               pending_keyframes);
+  return track(frame, extract(frame), pending_keyframes);
+}
+
+std::shared_ptr<const features::FrameFeatures> Tracker::extract(const RgbdFrame& frame) const {
+  return std::make_shared<features::FrameFeatures>(
+      features::compute_frame_features(frame.rgb, frame.depth_m, camera_, extractor_, feature_config_));
 }
 
 TrackerOutput Tracker::retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
@@ -145,7 +148,9 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   }
   // 3. Frame to frame: motion model, else the reference keyframe.
   bool ok = false;
-  if (state_ == TrackState::kOk && velocity_) ok = track_motion_model(cur);
+  // Right after the first keyframe there is no velocity yet: predict no motion (a guided search
+  // around the last pose; a UAV starts at rest) before falling back to the reference keyframe.
+  if (state_ == TrackState::kOk) ok = track_motion_model(cur, velocity_.value_or(SE3::Identity()));
   if (!ok) {
     cur = Frame{cur.f, last_.T_c_w, std::vector<PointId>(n, kNoId), std::vector<Vec3>(n, Vec3::Zero()),
                 std::vector<char>(n, 0)};
@@ -191,7 +196,7 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   out.ref_kf = ref_kf_;
   out.T_ref_c = T_w_ref_.inverse() * out.T_w_c;
   // 6. This frame (with fresh visual-odometry points) is the next frame's "last".
-  prepare_last_frame(std::move(cur));
+  prepare_last_frame(std::move(cur), config_.close_depth_m);
   return out;
 }
 
@@ -204,9 +209,9 @@ bool Tracker::initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out)
   state_ = TrackState::kOk;
   out.state = state_;
   out.T_w_c = SE3::Identity();
-  out.keyframe = make_request(cur, frame);
+  out.keyframe = make_request(cur, frame, /*first_of_map=*/true);
   out.ref_kf = ref_kf_;
-  prepare_last_frame(std::move(cur));
+  prepare_last_frame(std::move(cur), std::numeric_limits<double>::infinity());
   return true;
 }
 
@@ -260,8 +265,9 @@ bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, in
   return decide(n_inliers + count_pending_points(cur));
 }
 
-KeyFrameRequest Tracker::make_request(const Frame& cur, const RgbdFrame& frame) {
+KeyFrameRequest Tracker::make_request(const Frame& cur, const RgbdFrame& frame, bool first_of_map) {
   KeyFrameRequest r;
+  r.first_of_map = first_of_map;
   r.frame_index = frame.index;
   r.t_s = frame.t_s;
   r.T_w_c = cur.T_c_w.inverse();
@@ -290,8 +296,9 @@ void Tracker::remember_pending(const Frame& cur, const KeyFrameRequest& request)
   PendingKeyFrame p;
   p.id = ref_kf_;
   p.f = cur.f;
+  const double depth_limit_m = request.first_of_map ? std::numeric_limits<double>::infinity() : config_.close_depth_m;
   for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return request.points[k] == kNoId; },
-                                                  config_.close_depth_m, kMinNewPoints)) {
+                                                  depth_limit_m, kMinNewPoints)) {
     const auto& kp = cur.f->keypoints[i];
     p.keypoints.push_back(i);
     p.p_w.push_back(request.T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z));
@@ -299,14 +306,14 @@ void Tracker::remember_pending(const Frame& cur, const KeyFrameRequest& request)
   pending_.push_back(std::move(p));
 }
 
-void Tracker::prepare_last_frame(Frame cur) {
+void Tracker::prepare_last_frame(Frame cur, double depth_limit_m) {
   // Keep map-point matches; add temporary points from depth for the closest unmatched keypoints
   // (ORB-SLAM's visual-odometry points), so the next frame has enough to match against.
   for (int i = 0; i < cur.f->size(); ++i)
     if (cur.matched[i] && cur.pid[i] == kNoId) cur.matched[i] = 0;  // previous VO match: drop
   const SE3 T_w_c = cur.T_c_w.inverse();
-  for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return !cur.matched[k]; },
-                                                  config_.close_depth_m, kMinNewPoints)) {
+  for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return !cur.matched[k]; }, depth_limit_m,
+                                                  kMinNewPoints)) {
     const auto& kp = cur.f->keypoints[i];
     cur.p_w[i] = T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z);
     cur.matched[i] = 1;

@@ -61,7 +61,10 @@ class Tracker {
   // pending_keyframes: requests sent but not yet answered by a snapshot (0 in single-thread mode).
   // With pending keyframes a failure is deferred (out.deferred) instead of declaring LOST.
   TrackerOutput process(const RgbdFrame& frame, int pending_keyframes = 0);
-  // Tracks a frame again with its already extracted features (after a deferred failure).
+  // Step 1 of process() alone: the frame's features (they do not depend on the map, so System
+  // extracts them while local mapping may still be running).
+  std::shared_ptr<const features::FrameFeatures> extract(const RgbdFrame& frame) const;
+  // Tracks a frame with its already extracted features (extract(), or after a deferred failure).
   TrackerOutput retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
                         int pending_keyframes = 0);
   // A newer view of the map (after local mapping or a loop correction).
@@ -108,7 +111,7 @@ class Tracker {
 
   TrackerOutput track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features, int pending);
   bool initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
-  bool track_motion_model(Frame& cur);
+  bool track_motion_model(Frame& cur, const SE3& velocity);  // velocity: T_c_w(cur) = velocity * T_c_w(last)
   bool track_reference_keyframe(Frame& cur);
   bool track_local_map(Frame& cur);
   int count_pending_points(const Frame& cur) const;  // pending keyframes' points that fit cur's pose
@@ -116,9 +119,11 @@ class Tracker {
   int optimize_and_discard(Frame& cur);  // returns the map-point inliers
   bool lacks_close_points(const Frame& cur) const;  // few close points tracked, many could be added
   bool need_keyframe(const Frame& cur, int frame_index, int n_inliers, int pending) const;
-  KeyFrameRequest make_request(const Frame& cur, const RgbdFrame& frame);
+  KeyFrameRequest make_request(const Frame& cur, const RgbdFrame& frame, bool first_of_map = false);
   void remember_pending(const Frame& cur, const KeyFrameRequest& request);
-  void prepare_last_frame(Frame cur);
+  // depth_limit_m: visual-odometry points from keypoints up to this depth (and the closest beyond it);
+  // the tracker's close depth except right after the first keyframe (all of them, like its points).
+  void prepare_last_frame(Frame cur, double depth_limit_m);
   void note_visible(PointId id, int visible, int found);
   bool follow_merges(const LocalMapSnapshot& snapshot);  // false: a sub-map this one never joined
 

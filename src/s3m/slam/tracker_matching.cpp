@@ -55,8 +55,8 @@ int Tracker::match_last_frame(Frame& cur, double radius_px) {
   return n;
 }
 
-bool Tracker::track_motion_model(Frame& cur) {
-  cur.T_c_w = *velocity_ * last_.T_c_w;
+bool Tracker::track_motion_model(Frame& cur, const SE3& velocity) {
+  cur.T_c_w = velocity * last_.T_c_w;
   int n = match_last_frame(cur, config_.motion_radius_px);
   if (n < config_.min_motion_matches) {  // fast motion: a wider window
     std::fill(cur.matched.begin(), cur.matched.end(), 0);
