@@ -158,6 +158,7 @@ TEST(SlamMerge, SessionStartingOutsideTheMapStartsASubMapAndMergesIntoIt) {
 TEST(SlamMerge, ThreadedSessionMergesToo) {
   SlamConfig cfg;
   cfg.threaded = true;
+  cfg.mapping_lag_frames = 0;  // tracking as far ahead of mapping as the queues allow
   // Threaded tracking drifts more, and differently run to run: B's own map bends by 3-17 cm over
   // its 170 frames before the merge (steps of 1-2 deg between two keyframes, measured on B alone
   // too, without a loaded map), and the merged poses keep that.

@@ -90,6 +90,7 @@ TEST(SlamSystem, FinalGlobalBaRefinesTheMap) {
 TEST(SlamSystem, ThreadedModeTracksRoomFlight) {
   SlamConfig cfg;
   cfg.threaded = true;
+  cfg.mapping_lag_frames = 0;  // take whatever local mapping has finished (timing-dependent)
   const RunResult r = run(cfg);
   EXPECT_EQ(r.lost, 0);
   // Threaded accuracy depends on how far local mapping lags tracking, i.e. on machine load: < 3 cm
@@ -97,6 +98,36 @@ TEST(SlamSystem, ThreadedModeTracksRoomFlight) {
   // accuracy claim is the single-thread test's (deterministic); this one guards the threading
   // (a mapper that never answers loses tracking; a mis-ordered snapshot shows up as > 5 cm).
   EXPECT_LT(ate_rmse(r.traj), 0.05);
+}
+
+// slam.mapping_lag_frames: what tracking takes from the mapping thread depends on frame counts
+// only, not on timing. Lag 1 takes every keyframe before the next frame, exactly what the
+// single-thread mode does inline: the same trajectory to the last bit. Lag 3 under a mapper that is
+// slow at random (0-20 ms a keyframe, different draws per run) still gives the same trajectory twice.
+TEST(SlamSystem, MappingLagMakesThreadedModeDeterministic) {
+  const RunResult single = run(SlamConfig{});
+  SlamConfig lag1;
+  lag1.threaded = true;
+  EXPECT_EQ(lag1.mapping_lag_frames, 1) << "the default";
+  const RunResult a = run(lag1);
+  ASSERT_EQ(a.traj.size(), single.traj.size());
+  for (std::size_t i = 0; i < a.traj.size(); ++i)
+    EXPECT_TRUE(a.traj[i].T_w_x.isApprox(single.traj[i].T_w_x, 0.0)) << "frame " << a.traj[i].frame_index;
+  EXPECT_EQ(a.keyframes, single.keyframes);
+  SlamConfig lag3 = lag1;
+  lag3.mapping_lag_frames = 3;
+  auto slow = [](unsigned seed) {
+    return [state = seed](const Map&, KeyframeId) mutable {
+      state = state * 1664525u + 1013904223u;
+      std::this_thread::sleep_for(std::chrono::milliseconds(state % 21));
+    };
+  };
+  const RunResult b = run(lag3, slow(1)), c = run(lag3, slow(2));
+  EXPECT_EQ(b.lost, 0);
+  ASSERT_EQ(b.traj.size(), c.traj.size());
+  for (std::size_t i = 0; i < b.traj.size(); ++i)
+    EXPECT_TRUE(b.traj[i].T_w_x.isApprox(c.traj[i].T_w_x, 0.0)) << "frame " << b.traj[i].frame_index;
+  EXPECT_LT(ate_rmse(b.traj), 0.03);
 }
 
 TEST(SlamSystem, ThreadedModeSurvivesASlowMapper) {
@@ -110,6 +141,7 @@ TEST(SlamSystem, ThreadedModeSurvivesASlowMapper) {
   constexpr int kLagFrames = 10;
   SlamConfig cfg;
   cfg.threaded = true;
+  cfg.mapping_lag_frames = 0;  // tracking runs ahead of mapping as far as the queues allow
   std::atomic<int> tracked{0};
   int n_paced = 0;
   const RunResult r = run(

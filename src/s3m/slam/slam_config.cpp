@@ -21,10 +21,20 @@ void read_orb(const YAML::Node& n, features::OrbConfig& c, const std::string& ct
   yaml_get(n, "parallel_levels", c.parallel_levels, ctx);
 }
 
+void read_depth_noise(const YAML::Node& n, features::DepthNoiseConfig& c, const std::string& ctx) {
+  if (!n) return;
+  check_known_keys(n, {"model", "sigma0_m", "k_per_m"}, ctx);
+  yaml_get(n, "model", c.model, ctx);
+  yaml_get(n, "sigma0_m", c.sigma0_m, ctx);
+  yaml_get(n, "k_per_m", c.k_per_m, ctx);
+}
+
 void read_features(const YAML::Node& n, features::FeatureConfig& c, const std::string& ctx) {
   if (!n) return;
-  check_known_keys(n, {"orb", "min_depth_m", "max_depth_m", "depth_discontinuity_ratio", "depth_window_px"}, ctx);
+  check_known_keys(n, {"orb", "min_depth_m", "max_depth_m", "depth_discontinuity_ratio", "depth_window_px",
+                       "depth_noise"}, ctx);
   read_orb(n["orb"], c.orb, ctx);
+  read_depth_noise(n["depth_noise"], c.depth_noise, ctx);
   yaml_get(n, "min_depth_m", c.min_depth_m, ctx);
   yaml_get(n, "max_depth_m", c.max_depth_m, ctx);
   yaml_get(n, "depth_discontinuity_ratio", c.depth_discontinuity_ratio, ctx);
@@ -216,18 +226,22 @@ void SlamConfig::validate() const {
           "slam.queue_capacity must be >= tracker.max_pending_keyframes + 2 = " +
               std::to_string(tracker.max_pending_keyframes + 2) + " (got " + std::to_string(queue_capacity) + ")");
   require(T_c_r.matrix().allFinite(), "slam.T_c_r must be finite");
+  require(mapping_lag_frames >= 0 && mapping_lag_frames <= 30,
+          "slam.mapping_lag_frames must be in [0, 30] (got " + std::to_string(mapping_lag_frames) + ")");
 }
 
 SlamConfig slam_config_from_yaml(const YAML::Node& node, const std::string& ctx) {
   SlamConfig c;
   if (!node || node.IsNull()) return c;
-  check_known_keys(node, {"features", "tracker", "mapper", "T_c_r", "threaded", "queue_capacity"}, ctx);
+  check_known_keys(node, {"features", "tracker", "mapper", "T_c_r", "threaded", "queue_capacity", "mapping_lag_frames"},
+                   ctx);
   read_features(node["features"], c.features, ctx);
   read_tracker(node["tracker"], c.tracker, ctx);
   read_mapper(node["mapper"], c.mapper, ctx);
   if (node["T_c_r"]) c.T_c_r = read_pose(node["T_c_r"], ctx);
   yaml_get(node, "threaded", c.threaded, ctx);
   yaml_get(node, "queue_capacity", c.queue_capacity, ctx);
+  yaml_get(node, "mapping_lag_frames", c.mapping_lag_frames, ctx);
   try {
     c.validate();
   } catch (const Error& e) {

@@ -36,6 +36,14 @@ struct SlamConfig {
   // most tracker.max_pending_keyframes + 1 keyframes unanswered, plus one relocalisation query:
   // validate() requires room for that, so neither thread can block the other for good.
   int queue_capacity = 5;
+  // Threaded mode: tracking of a frame takes the keyframes it sent up to this many frames earlier,
+  // waiting for them if local mapping has not finished, and no others. The result then does not
+  // depend on timing: every run gives the same trajectory, and 1 (the default) exactly the
+  // single-thread one, with local mapping running while the next frame's features are extracted
+  // and the rest of the pipeline works. 0: take whatever has arrived (at most
+  // tracker.max_pending_keyframes behind; faster, but the trajectory changes with the machine's
+  // load and was up to 1.8x less accurate on the simulator). Issue 20, docs/RESULTS.md.
+  int mapping_lag_frames = 1;
 
   void validate() const;
 };

@@ -78,6 +78,7 @@ void System::send(MapperJob job) {
   const bool keyframe = job.keyframe.has_value();
   if (!requests_.push(std::move(job))) throw Error("System: local mapping has stopped");
   n_sent_ += keyframe;
+  if (keyframe) sent_at_.push_back(n_tracked_);
 }
 
 void System::take(MappedKeyframe mapped) {
@@ -85,22 +86,35 @@ void System::take(MappedKeyframe mapped) {
   if (mapped.correction) corrections_.push_back(std::move(*mapped.correction));
 }
 
+// The answer to the oldest unanswered keyframe (waits for it); false once mapping has stopped.
+bool System::receive_one() {
+  auto m = mapped_.pop();
+  if (!m) return false;
+  take(std::move(*m));
+  ++n_received_;
+  sent_at_.pop_front();
+  return true;
+}
+
 // Hands the tracker what local mapping has finished: waits until at most max_pending keyframes
-// are unanswered, then takes whatever else has already arrived (single consumer: a non-empty
-// queue's pop() does not block). Single-thread mode has nothing in flight.
+// are unanswered, then (without a mapping lag) takes whatever else has already arrived (single
+// consumer: a non-empty queue's pop() does not block). With slam.mapping_lag_frames what tracking
+// sees must not depend on timing, so nothing is taken just because it has arrived.
+// Single-thread mode has nothing in flight.
 void System::receive_mapped(int max_pending) {
-  while (n_sent_ - n_received_ > max_pending) {
-    auto m = mapped_.pop();
-    if (!m) return;
-    take(std::move(*m));
-    ++n_received_;
-  }
-  while (n_received_ < n_sent_ && mapped_.size() > 0) {
-    auto m = mapped_.pop();
-    if (!m) return;
-    take(std::move(*m));
-    ++n_received_;
-  }
+  while (n_sent_ - n_received_ > max_pending)
+    if (!receive_one()) return;
+  if (config_.mapping_lag_frames > 0) return;
+  while (n_received_ < n_sent_ && mapped_.size() > 0)
+    if (!receive_one()) return;
+}
+
+// Step 1 of track() with slam.mapping_lag_frames = L: every keyframe sent by the track() calls up
+// to L before this one, and until the first keyframe is mapped, that one.
+void System::receive_lagged() {
+  const long upto = n_tracked_ - config_.mapping_lag_frames;
+  while (!sent_at_.empty() && (sent_at_.front() <= upto || n_received_ == 0))
+    if (!receive_one()) return;
 }
 
 void System::query_map(const MapQuery& query) {
@@ -195,19 +209,30 @@ TrackResult System::track(const RgbdFrame& frame) {
   TrackResult r;
   r.frame_index = frame.index;
   r.t_s = frame.t_s;
-  // 1. Take what the mapping thread has finished. Until the first keyframe is mapped there is
-  //    nothing to track against: wait for it.
-  if (config_.threaded) receive_mapped(n_received_ == 0 ? std::max(n_sent_ - 1, 0) : n_sent_);
+  // 1. Take what the mapping thread has finished: with slam.mapping_lag_frames L, every keyframe
+  //    sent L or more frames ago (waiting for it, after extracting this frame's features, which do
+  //    not need the map) and no other; without, whatever has arrived. Until the first keyframe is
+  //    mapped there is nothing to track against: wait for it.
+  Stopwatch extract_sw;
+  std::clock_t cpu0 = std::clock();
+  ++n_tracked_;
+  std::shared_ptr<const features::FrameFeatures> features = tracker_.extract(frame);
+  const double extract_ms = extract_sw.elapsed_ms();
+  const std::clock_t extract_cpu = std::clock() - cpu0;
+  if (config_.threaded && config_.mapping_lag_frames > 0)
+    receive_lagged();
+  else if (config_.threaded)
+    receive_mapped(n_received_ == 0 ? std::max(n_sent_ - 1, 0) : n_sent_);
   // 2. Track. A failure only because local mapping lags is deferred: wait for every pending
   //    keyframe and try again with the same features.
   Stopwatch sw;
-  const std::clock_t cpu0 = std::clock();
-  TrackerOutput out = tracker_.process(frame, n_sent_ - n_received_);
+  cpu0 = std::clock() - extract_cpu;
+  TrackerOutput out = tracker_.retrack(frame, features, n_sent_ - n_received_);
   if (out.deferred) {
     receive_mapped(0);
     out = tracker_.retrack(frame, out.features, 0);
   }
-  r.track_ms = sw.elapsed_ms();
+  r.track_ms = extract_ms + sw.elapsed_ms();
   r.track_cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   r.state = out.state;
   r.T_w_c = out.T_w_c;

@@ -3,7 +3,9 @@
 // and relocalisation behind track(). Single-thread mode runs the mapping stage (local mapping,
 // then loop closing) inside track() right after a keyframe and is deterministic; threaded mode
 // runs it in its own thread, connected to tracking by two bounded queues (requests one way,
-// mapped keyframes the other). Tracking never touches the Map; the mapping stage owns it.
+// mapped keyframes the other), and with slam.mapping_lag_frames >= 1 (the default 1) it is
+// deterministic too (1: the single-thread trajectory). Tracking never touches the Map; the
+// mapping stage owns it.
 //
 //   auto vocab = std::make_shared<const features::Vocabulary>(features::Vocabulary::load(path));
 //   slam::System slam(camera, slam::load_slam_config("config/slam_default.yaml"), vocab);
@@ -13,6 +15,7 @@
 //   slam.finish();
 //   const auto frames = slam.camera_trajectory();  // FramePose: a StampedPose + frame index, state
 //   io::write_tum_trajectory("trajectory_camera.txt", io::Trajectory(frames.begin(), frames.end()));
+#include <deque>
 #include <functional>
 #include <map>
 #include <future>
@@ -156,6 +159,8 @@ class System {
   MappedKeyframe map_keyframe(KeyFrameRequest request);  // the mapping stage, either thread
   void take(MappedKeyframe mapped);
   void receive_mapped(int max_pending);
+  bool receive_one();
+  void receive_lagged();
   void send(MapperJob job);
   bool relocalise(const features::FrameFeatures& f, int frame_index, TrackResult& r);
   void move_local_map(const std::vector<PointId>& tracked_points, int frame_index);
@@ -193,6 +198,8 @@ class System {
   BoundedQueue<MappedKeyframe> mapped_;
   std::thread mapping_thread_;
   int n_sent_ = 0, n_received_ = 0;  // keyframe requests sent / answered (tracking thread only)
+  long n_tracked_ = 0;                // track() calls (tracking thread only)
+  std::deque<long> sent_at_;          // the track() call that sent each unanswered keyframe
   bool finished_ = false;
   int n_global_ba_outliers_ = 0;
 };
