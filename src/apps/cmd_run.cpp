@@ -7,6 +7,7 @@
 #include "interrupt.hpp"
 #include "ros_support.hpp"
 #include "s3m/core/error.hpp"
+#include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/progress.hpp"
 #include "s3m/pipeline/run.hpp"
 
@@ -83,6 +84,13 @@ void register_run(CLI::App& app) {
     o.out_dir = args->out;
     o.config = args->config.empty() ? pipeline::PipelineConfig{} : pipeline::load_pipeline_config(args->config);
     if (args->deterministic) o.config.threads.deterministic = true;
+    // Without a preset a simulator sequence's camera mount comes from its sim.yaml; robot poses
+    // would otherwise be camera poses (identity T_c_r) and the robot's ATE/RPE meaningless.
+    if (args->config.empty())
+      if (const auto T_c_r = pipeline::simulator_T_c_r(args->dataset)) {
+        o.config.slam.T_c_r = *T_c_r;
+        spdlog::info("run: no --config: T_c_r (robot -> camera) from {}/sim.yaml", args->dataset);
+      }
     if (args->no_loop_closing) o.config.slam.loop_closing.enabled = o.config.slam.loop_closing.relocalisation = false;
     if (!args->vocab.empty()) o.config.slam.loop_closing.vocabulary = args->vocab;
     o.segmenter = args->segmenter;

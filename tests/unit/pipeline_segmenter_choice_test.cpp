@@ -5,6 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include <unistd.h>
+
+#include "s3m/core/error.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 
@@ -65,5 +68,32 @@ TEST(SegmenterChoice, SimulatorSignComesFromSimYamlOrLabelImages) {
   EXPECT_EQ(simulator_sign("", true), "ground-truth label images");
   std::ofstream(dir / "sim.yaml") << "# s3m simulated sequence\n";
   EXPECT_EQ(simulator_sign(dir.string(), false), "sim.yaml");
+  fs::remove_all(dir);
+}
+
+// `s3m run SIMDIR` without --config takes the camera mount from the sequence's sim.yaml.
+TEST(SimulatorCalibration, TcrIsReadFromSimYamlAndABadOneIsNamed) {
+  const fs::path dir = fs::temp_directory_path() / ("s3m_sim_tcr_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  EXPECT_FALSE(simulator_T_c_r(dir.string()).has_value());  // no sim.yaml: a real camera
+  {
+    std::ofstream f(dir / "sim.yaml");
+    // A quarter turn about x (q = [sin 45, 0, 0, cos 45]) and 10 cm along z.
+    f << "scene: office\nT_c_r:\n  t_m: [0, 0, 0.1]\n  q_xyzw: [0.70710678, 0, 0, 0.70710678]\n";
+  }
+  const auto T = simulator_T_c_r(dir.string());
+  ASSERT_TRUE(T.has_value());
+  EXPECT_NEAR((T->translation() - Vec3(0, 0, 0.1)).norm(), 0, 1e-12);
+  EXPECT_NEAR((*T * Vec3(0, 1, 0) - Vec3(0, 0, 1.1)).norm(), 0, 1e-7);  // y -> z, then + 0.1 z
+  {
+    std::ofstream f(dir / "sim.yaml");
+    f << "scene: office\nT_c_r: {t_m: [0, 0]}\n";
+  }
+  try {
+    simulator_T_c_r(dir.string());
+    ADD_FAILURE() << "a sim.yaml without a readable T_c_r must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find((dir / "sim.yaml").string() + ": T_c_r"), std::string::npos) << e.what();
+  }
   fs::remove_all(dir);
 }

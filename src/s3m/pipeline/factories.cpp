@@ -51,6 +51,22 @@ std::string resolve_model_card(const std::string& path) {
               repo_path("models/s3m_pspnet_small.yaml") + "); or pass onnx:CARD.yaml with --model-dir " + path);
 }
 
+std::optional<SE3> simulator_T_c_r(const std::string& dataset_dir) {
+  const fs::path file = fs::path(dataset_dir) / "sim.yaml";
+  if (dataset_dir.empty() || !fs::is_regular_file(file)) return std::nullopt;
+  const YAML::Node n = load_yaml_file(file.string())["T_c_r"];
+  const std::string ctx = file.string() + ": T_c_r";
+  if (!n || !n["t_m"] || !n["q_xyzw"] || n["t_m"].size() != 3 || n["q_xyzw"].size() != 4)
+    throw Error(ctx + ": expected {t_m: [x, y, z], q_xyzw: [qx, qy, qz, qw]} (as s3m sim writes it)");
+  try {
+    const auto t = n["t_m"].as<std::vector<double>>();
+    const auto q = n["q_xyzw"].as<std::vector<double>>();
+    return make_se3(Vec3(t[0], t[1], t[2]), Quat(q[3], q[0], q[1], q[2]).normalized());
+  } catch (const YAML::Exception& e) {
+    throw Error(ctx + ": " + e.what());
+  }
+}
+
 std::string simulator_sign(const std::string& dataset_dir, bool has_labels) {
   if (!dataset_dir.empty() && fs::exists(fs::path(dataset_dir) / "sim.yaml")) return "sim.yaml";
   return has_labels ? "ground-truth label images" : "";

@@ -2,8 +2,10 @@
 // Building the pipeline's components from a preset and the command line, with messages that say
 // what is missing and what to pass instead.
 #include <memory>
+#include <optional>
 #include <string>
 
+#include "s3m/core/se3.hpp"
 #include "s3m/pipeline/frame_source.hpp"
 #include "s3m/pipeline/map_integrator.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
@@ -45,6 +47,11 @@ struct SegmenterChoice {
 // "ground-truth label images" (has_labels: a TUM labels.txt, a bag's or the node's label topic), or
 // "" for a real camera. dataset_dir is "" for a bag or a live stream.
 std::string simulator_sign(const std::string& dataset_dir, bool has_labels);
+
+// The robot-to-camera calibration T_c_r (`T_c_r: {t_m, q_xyzw}`) of the sim.yaml `s3m sim` writes
+// into dataset_dir, or nothing when there is no such file. Throws with the file's name when it is
+// there but has no readable T_c_r.
+std::optional<SE3> simulator_T_c_r(const std::string& dataset_dir);
 
 // `spec` (the command line) wins over the config's segmenter section. Type `auto` (the built-in
 // default) becomes the oracle on a simulator sequence and the shipped real-image model on everything
