@@ -204,6 +204,16 @@ bool System::relocalise(const features::FrameFeatures& f, int frame_index, Track
   return true;
 }
 
+// What the tracker found for this frame, in the result track() returns.
+void System::take_tracking(const TrackerOutput& out, TrackResult& r) const {
+  r.state = out.state;
+  r.T_w_c = out.T_w_c;
+  r.T_w_r = robot_pose(out.T_w_c, config_.T_c_r);
+  r.n_inliers = out.n_inliers;
+  r.keyframe = out.keyframe.has_value();
+  r.anchor = {out.ref_kf, out.T_ref_c};
+}
+
 TrackResult System::track(const RgbdFrame& frame) {
   require(!finished_, "System::track called after finish()");
   TrackResult r;
@@ -234,12 +244,7 @@ TrackResult System::track(const RgbdFrame& frame) {
   }
   r.track_ms = extract_ms + sw.elapsed_ms();
   r.track_cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
-  r.state = out.state;
-  r.T_w_c = out.T_w_c;
-  r.T_w_r = robot_pose(out.T_w_c, config_.T_c_r);
-  r.n_inliers = out.n_inliers;
-  r.keyframe = out.keyframe.has_value();
-  r.anchor = {out.ref_kf, out.T_ref_c};
+  take_tracking(out, r);
   // 3. Relocalise a LOST frame against the map (with the features tracking computed); when that
   //    keeps failing, start a new sub-map, merged later when place recognition finds the old one.
   if (out.state == TrackState::kLost && relocalises())

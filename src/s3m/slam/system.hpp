@@ -160,6 +160,7 @@ class System {
   void take(MappedKeyframe mapped);
   void receive_mapped(int max_pending);
   bool receive_one();
+  void take_tracking(const TrackerOutput& out, TrackResult& r) const;
   void receive_lagged();
   void send(MapperJob job);
   bool relocalise(const features::FrameFeatures& f, int frame_index, TrackResult& r);

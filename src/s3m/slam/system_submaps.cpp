@@ -27,12 +27,7 @@ void System::recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r)
   n_failed_relocalisations_ = 0;
   tracker_.start_new_map(next_submap_++);
   out = tracker_.retrack(frame, out.features, 0);
-  r.state = out.state;
-  r.T_w_c = out.T_w_c;
-  r.T_w_r = robot_pose(out.T_w_c, config_.T_c_r);
-  r.n_inliers = out.n_inliers;
-  r.keyframe = out.keyframe.has_value();
-  r.anchor = {out.ref_kf, out.T_ref_c};
+  take_tracking(out, r);
 }
 
 std::shared_ptr<const LocalMapSnapshot> System::snapshot(KeyframeId ref, int max_keyframes) const {
