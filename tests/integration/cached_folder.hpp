@@ -24,4 +24,17 @@ inline std::string cached_folder(const std::filesystem::path& dir, const std::st
   return dir.string();
 }
 
+// path with this test executable's size and modification time appended: for cached *runs* of
+// s3m, whose content (and file formats) change with the build. Without it a cached run made by an
+// earlier build is reused, e.g. a slam_map.bin of the previous format version.
+inline std::filesystem::path build_stamped(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return path;
+  const auto size = fs::file_size(exe, ec);
+  const auto time = fs::last_write_time(exe, ec).time_since_epoch().count();
+  return path.string() + "_" + std::to_string(size) + "_" + std::to_string(time);
+}
+
 }  // namespace s3m::it

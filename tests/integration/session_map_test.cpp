@@ -39,7 +39,7 @@ pipeline::RunOptions session_options(const std::string& dataset, const std::stri
 
 // Run A, once for every test process (deterministic, so a cached copy equals a fresh one).
 const std::string& run_a_dir() {
-  static const std::string d = cached_folder(fs::temp_directory_path() / "s3m_it_session_run_a", "slam_map.bin",
+  static const std::string d = cached_folder(build_stamped(fs::temp_directory_path() / "s3m_it_session_run_a"), "slam_map.bin",
                                              [](const fs::path& tmp) {
                                                pipeline::run_dataset(session_options(flight_a_dir(), tmp.string()));
                                              });
