@@ -107,9 +107,12 @@ TEST(LoopClosing, ClosingTheRoomLoopReducesDrift) {
 }
 
 // The blank frames fall where the second lap passes the start again, so the camera comes back
-// (22 cm and 15 deg further on) over mapped ground: motion-model tracking has nothing to go on,
-// relocalisation against the map's keyframes must find the pose. (Coming back over unmapped
-// ground, relocalisation finds too few points and tracking resumes only once it is mapped.)
+// (22 cm and 15 deg further on) over mapped ground: motion-model tracking has nothing to go on.
+// Either the tracker's own matching against its reference keyframe finds the pose (OK; since the
+// inverse-depth rows of issue 20 it does, as on the kitchen in docs/RESULTS.md) or relocalisation
+// against the map's keyframes does (RELOCALISED); the kidnapped camera below leaves only the latter.
+// (Coming back over unmapped ground, relocalisation finds too few points and tracking resumes only
+// once it is mapped.)
 TEST(Relocalisation, TenBlankFramesAreMarkedLostAndTrackingRecovers) {
   std::set<int> blank;
   for (int i = 250; i < 260; ++i) blank.insert(i);
@@ -123,13 +126,14 @@ TEST(Relocalisation, TenBlankFramesAreMarkedLostAndTrackingRecovers) {
               first_back >= 0 ? to_string(r.states[size_t(first_back)]) : "-", r.relocalisations, ate_rmse(r.traj));
   ASSERT_GE(first_back, 260);
   EXPECT_LE(first_back, 262);
-  EXPECT_EQ(r.states[size_t(first_back)], TrackState::kRelocalised);
-  EXPECT_GE(r.relocalisations, 1);
+  const TrackState back = r.states[size_t(first_back)];
+  EXPECT_TRUE(back == TrackState::kOk || back == TrackState::kRelocalised) << to_string(back);
+  if (back == TrackState::kRelocalised) EXPECT_GE(r.relocalisations, 1);
   for (int i = first_back + 1; i < kFrames; ++i) EXPECT_NE(r.states[size_t(i)], TrackState::kLost) << "frame " << i;
-  // The final trajectory has the relocalised frame at its relocalised pose, not the LOST guess.
+  // The final trajectory has the recovered frame at its recovered pose, not the LOST guess.
   for (const auto& p : r.traj)
     if (p.frame_index == first_back) {
-      EXPECT_EQ(p.state, TrackState::kRelocalised);
+      EXPECT_EQ(p.state, back);
     }
   EXPECT_LT(ate_rmse(r.traj), 0.05);
 }
