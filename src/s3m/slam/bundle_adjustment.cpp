@@ -7,6 +7,7 @@
 #include <ceres/rotation.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/slam/pose_optimizer.hpp"  // set_keypoint_measurement
 
 namespace s3m::slam {
 namespace {
@@ -118,17 +119,10 @@ bool solve(BaProblem& P, const PinholeCamera& cam, const BaConfig& cfg, const st
 }  // namespace
 
 BaObservation keypoint_ba_observation(const features::FrameFeatures& f, int idx, int frame, int point) {
-  const auto& kp = f.keypoints[std::size_t(idx)];
   BaObservation o;
   o.frame = frame;
   o.point = point;
-  o.uv = {kp.pt.x, kp.pt.y};
-  o.u_right = f.u_right[std::size_t(idx)];
-  o.inv_sigma2 = f.pyramid.inv_sigma2[std::size_t(kp.octave)];
-  if (f.has_depth(idx)) {
-    o.rho = 1.0 / f.depth_m[std::size_t(idx)];
-    o.inv_rho_sigma2 = f.inverse_depth_info(idx);
-  }
+  set_keypoint_measurement(f, idx, o);
   return o;
 }
 

@@ -48,16 +48,9 @@ void PoseOptimizerConfig::validate() const {
 }
 
 PoseObservation keypoint_observation(const features::FrameFeatures& f, int i, const Vec3& p_w) {
-  const auto& kp = f.keypoints[std::size_t(i)];
   PoseObservation o;
   o.p_w = p_w;
-  o.uv = {kp.pt.x, kp.pt.y};
-  o.u_right = f.u_right[std::size_t(i)];
-  o.inv_sigma2 = f.pyramid.inv_sigma2[std::size_t(kp.octave)];
-  if (f.has_depth(i)) {
-    o.rho = 1.0 / f.depth_m[std::size_t(i)];
-    o.inv_rho_sigma2 = f.inverse_depth_info(i);
-  }
+  set_keypoint_measurement(f, i, o);
   return o;
 }
 

@@ -30,6 +30,22 @@ struct PoseObservation {
 // Keypoint i of f (its pixel, virtual right coordinate and level weight) observing point p_w.
 PoseObservation keypoint_observation(const features::FrameFeatures& f, int i, const Vec3& p_w);
 
+// What keypoint i of f measures, the same for pose-only optimisation and bundle adjustment: its
+// pixel with the level weight, the virtual right coordinate and, with depth, the inverse depth
+// with its weight (features::FrameFeatures::inverse_depth_info). Obs: PoseObservation or
+// BaObservation (fields uv, u_right, inv_sigma2, rho, inv_rho_sigma2).
+template <class Obs>
+void set_keypoint_measurement(const features::FrameFeatures& f, int i, Obs& o) {
+  const auto& kp = f.keypoints[std::size_t(i)];
+  o.uv = {kp.pt.x, kp.pt.y};
+  o.u_right = f.u_right[std::size_t(i)];
+  o.inv_sigma2 = f.pyramid.inv_sigma2[std::size_t(kp.octave)];
+  if (f.has_depth(i)) {
+    o.rho = 1.0 / f.depth_m[std::size_t(i)];
+    o.inv_rho_sigma2 = f.inverse_depth_info(i);
+  }
+}
+
 struct PoseOptimizerConfig {
   int rounds = 4;
   int iterations = 10;
