@@ -7,19 +7,18 @@
 #include <ceres/rotation.h>
 
 #include "s3m/core/error.hpp"
-#include "s3m/slam/pose_optimizer.hpp"  // set_keypoint_measurement
+#include "s3m/slam/keypoint_measurement.hpp"
 
 namespace s3m::slam {
 namespace {
 
 // Reprojection residual of a point into a frame whose pose is [q (w,x,y,z) world-to-camera, t].
-// Rows: u, v and, for RGB-D observations, the depth row: the inverse depth with its own weight,
-// or ORB-SLAM's virtual right coordinate u - bf / z with the pixel weight.
+// Rows: u, v and, for RGB-D observations, DepthRow's depth row.
 template <int kRows>
 struct ReprojectionCost {
   ReprojectionCost(const BaObservation& o, const PinholeCamera& c)
-      : u(o.uv.x()), v(o.uv.y()), ur(o.u_right), rho(o.rho), w(std::sqrt(o.inv_sigma2)),
-        wr(std::sqrt(o.inv_rho_sigma2)), fx(c.fx), fy(c.fy), cx(c.cx), cy(c.cy), bf(c.bf) {}
+      : u(o.uv.x()), v(o.uv.y()), w(std::sqrt(o.inv_sigma2)), fx(c.fx), fy(c.fy), cx(c.cx), cy(c.cy), bf(c.bf),
+        depth(o) {}
 
   template <typename T>
   bool operator()(const T* q, const T* t, const T* p_w, T* r) const {
@@ -32,15 +31,11 @@ struct ReprojectionCost {
     const T pu = fx * p[0] * iz + cx;
     r[0] = w * (pu - u);
     r[1] = w * (fy * p[1] * iz + cy - v);
-    if constexpr (kRows == 3) {
-      if (wr > 0)
-        r[2] = wr * (iz - rho);
-      else
-        r[2] = w * (pu - bf * iz - ur);
-    }
+    if constexpr (kRows == 3) r[2] = depth.residual(pu, iz, bf);
     return true;
   }
-  double u, v, ur, rho, w, wr, fx, fy, cx, cy, bf;
+  double u, v, w, fx, fy, cx, cy, bf;
+  DepthRow depth;
 };
 
 struct Block {
@@ -55,13 +50,7 @@ double chi2_of(const BaObservation& o, const SE3& T_c_w, const Vec3& p_w, const 
   const double u = cam.fx * p.x() / p.z() + cam.cx, v = cam.fy * p.y() / p.z() + cam.cy;
   double e2 = (u - o.uv.x()) * (u - o.uv.x()) + (v - o.uv.y()) * (v - o.uv.y());
   double chi2 = e2 * o.inv_sigma2;
-  if (o.u_right >= 0 && o.inv_rho_sigma2 > 0) {
-    const double er = 1.0 / p.z() - o.rho;
-    chi2 += er * er * o.inv_rho_sigma2;
-  } else if (o.u_right >= 0) {
-    const double ur = u - cam.bf / p.z() - o.u_right;
-    chi2 += ur * ur * o.inv_sigma2;
-  }
+  if (const DepthRow depth(o); depth.present()) chi2 += depth.chi2(u, p.z(), cam.bf);
   return chi2;
 }
 

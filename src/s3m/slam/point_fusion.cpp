@@ -3,6 +3,8 @@
 #include <limits>
 
 #include "s3m/features/orb_matcher.hpp"
+#include "s3m/slam/keypoint_measurement.hpp"
+#include "s3m/slam/pose_optimizer.hpp"
 
 namespace s3m::slam {
 
@@ -44,14 +46,9 @@ int fuse_points(Map& map, KeyframeId kf_id, const std::vector<PointId>& points, 
       const double inv_s2 = F.pyramid.inv_sigma2[kp.octave];
       double e2 = (vis.uv - Eigen::Vector2d(kp.pt.x, kp.pt.y)).squaredNorm();
       if (F.u_right[i] >= 0) {  // the depth row as in bundle adjustment
-        double chi2 = e2 * inv_s2;
-        if (const double info = F.inverse_depth_info(i); info > 0) {
-          const double er = 1.0 / vis.depth_m - 1.0 / F.depth_m[i];
-          chi2 += er * er * info;
-        } else {
-          chi2 += (vis.u_right - F.u_right[i]) * (vis.u_right - F.u_right[i]) * inv_s2;
-        }
-        if (chi2 > cfg.chi2_stereo) continue;
+        PoseObservation m;
+        set_keypoint_measurement(F, i, m);
+        if (e2 * inv_s2 + DepthRow(m).chi2(vis.uv.x(), vis.depth_m, cam.bf) > cfg.chi2_stereo) continue;
       } else if (e2 * inv_s2 > cfg.chi2_mono) {
         continue;
       }

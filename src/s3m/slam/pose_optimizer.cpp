@@ -12,8 +12,7 @@ namespace {
 constexpr double kMinDepthM = 1e-3;
 
 // Whitened residual e = (predicted - measured) / sigma (2 or 3 rows) and de/dxi for a left
-// perturbation T_c_w <- exp(xi) * T_c_w, xi = [rho; phi]. The depth row is the inverse depth
-// (o.inv_rho_sigma2 > 0) or ORB-SLAM's virtual right coordinate u - bf / z.
+// perturbation T_c_w <- exp(xi) * T_c_w, xi = [rho; phi]. The depth row is DepthRow's.
 int residual_and_jacobian(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& cam, Eigen::Vector3d& e,
                           Eigen::Matrix<double, 3, 6>& J) {
   const Vec3 p = T_c_w * o.p_w;
@@ -24,15 +23,13 @@ int residual_and_jacobian(const PoseObservation& o, const SE3& T_c_w, const Pinh
   Eigen::Matrix<double, 3, 3> Jp;  // d(u, v, depth row) / d p_c, whitened
   Jp << cam.fx * iz, 0, -cam.fx * p.x() * iz2,  //
       0, cam.fy * iz, -cam.fy * p.y() * iz2,    //
-      cam.fx * iz, 0, -cam.fx * p.x() * iz2 + cam.bf * iz2;
-  e << u - o.uv.x(), v - o.uv.y(), (u - cam.bf * iz) - o.u_right;
+      0, 0, 0;
+  e << u - o.uv.x(), v - o.uv.y(), 0;
   Jp *= w;
   e *= w;
-  if (o.inv_rho_sigma2 > 0) {
-    const double wr = std::sqrt(o.inv_rho_sigma2);
-    Jp.row(2) << 0, 0, -wr * iz2;
-    e(2) = wr * (iz - o.rho);
-  }
+  const DepthRow depth(o);
+  e(2) = depth.residual(u, iz, cam.bf);
+  Jp.row(2) = depth.jacobian(p, cam);
   Eigen::Matrix<double, 3, 6> Jx;  // d p_c / d xi = [I, -[p]x]
   Jx.leftCols<3>().setIdentity();
   Jx.rightCols<3>() = -skew(p);

@@ -12,6 +12,7 @@
 #include "s3m/core/camera.hpp"
 #include "s3m/core/se3.hpp"
 #include "s3m/features/frame_features.hpp"
+#include "s3m/slam/keypoint_measurement.hpp"
 
 namespace s3m::slam {
 
@@ -20,31 +21,15 @@ struct PoseObservation {
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();  // measured undistorted pixel [px]
   double u_right = -1;                 // measured virtual right coordinate [px]; < 0: monocular
   double inv_sigma2 = 1;               // 1 / sigma^2 of the keypoint's level [1/px^2]
-  // The depth row (when u_right >= 0): with inv_rho_sigma2 > 0 the measured inverse depth rho = 1/z
-  // [1/m] with that weight [m^2] (features::DepthNoiseConfig "sensor"); else ORB-SLAM's virtual
-  // right coordinate with inv_sigma2.
+  // The depth row (when u_right >= 0, keypoint_measurement.hpp): with inv_rho_sigma2 > 0 the
+  // measured inverse depth rho = 1/z [1/m] with that weight [m^2]; else the virtual right
+  // coordinate with inv_sigma2.
   double rho = 0;
   double inv_rho_sigma2 = 0;
 };
 
 // Keypoint i of f (its pixel, virtual right coordinate and level weight) observing point p_w.
 PoseObservation keypoint_observation(const features::FrameFeatures& f, int i, const Vec3& p_w);
-
-// What keypoint i of f measures, the same for pose-only optimisation and bundle adjustment: its
-// pixel with the level weight, the virtual right coordinate and, with depth, the inverse depth
-// with its weight (features::FrameFeatures::inverse_depth_info). Obs: PoseObservation or
-// BaObservation (fields uv, u_right, inv_sigma2, rho, inv_rho_sigma2).
-template <class Obs>
-void set_keypoint_measurement(const features::FrameFeatures& f, int i, Obs& o) {
-  const auto& kp = f.keypoints[std::size_t(i)];
-  o.uv = {kp.pt.x, kp.pt.y};
-  o.u_right = f.u_right[std::size_t(i)];
-  o.inv_sigma2 = f.pyramid.inv_sigma2[std::size_t(kp.octave)];
-  if (f.has_depth(i)) {
-    o.rho = 1.0 / f.depth_m[std::size_t(i)];
-    o.inv_rho_sigma2 = f.inverse_depth_info(i);
-  }
-}
 
 struct PoseOptimizerConfig {
   int rounds = 4;
