@@ -45,7 +45,7 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
   if (!n) return;
   check_known_keys(n, {"pose_rounds", "pose_iterations", "close_depth_m", "motion_radius_px", "min_motion_matches",
                        "min_pose_inliers", "local_radius_factor", "min_local_inliers", "max_frames_between_keyframes",
-                       "min_frames_between_keyframes", "keyframe_ref_ratio", "close_tracked_min",
+                       "min_frames_between_keyframes", "keyframe_ref_ratio", "keyframe_decay_ratio", "close_tracked_min",
                        "close_untracked_min", "max_pending_keyframes", "min_init_depth_points"}, ctx);
   yaml_get(n, "pose_rounds", c.pose.rounds, ctx);
   yaml_get(n, "pose_iterations", c.pose.iterations, ctx);
@@ -58,6 +58,7 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
   yaml_get(n, "max_frames_between_keyframes", c.max_frames_between_keyframes, ctx);
   yaml_get(n, "min_frames_between_keyframes", c.min_frames_between_keyframes, ctx);
   yaml_get(n, "keyframe_ref_ratio", c.keyframe_ref_ratio, ctx);
+  yaml_get(n, "keyframe_decay_ratio", c.keyframe_decay_ratio, ctx);
   yaml_get(n, "close_tracked_min", c.close_tracked_min, ctx);
   yaml_get(n, "close_untracked_min", c.close_untracked_min, ctx);
   yaml_get(n, "max_pending_keyframes", c.max_pending_keyframes, ctx);

@@ -22,6 +22,7 @@ void TrackerConfig::validate() const {
   require(max_frames_between_keyframes >= 1 && min_frames_between_keyframes >= 0,
           "tracker: keyframe frame gaps must be >= 1 / >= 0");
   require(keyframe_ref_ratio > 0 && keyframe_ref_ratio <= 1, "tracker.keyframe_ref_ratio must be in (0, 1]");
+  require(keyframe_decay_ratio >= 0 && keyframe_decay_ratio < 1, "tracker.keyframe_decay_ratio must be in [0, 1)");
   require(max_pending_keyframes >= 1 && min_init_depth_points >= 3, "tracker: bad pending/init limits");
 }
 
@@ -184,7 +185,9 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   out.state = state_;
   out.T_w_c = cur.T_c_w.inverse();
   // 5. Keyframe decision (localisation only: a new local map instead of a keyframe).
-  if (need_keyframe(cur, frame.index, out.n_inliers, pending)) {
+  const bool want_keyframe = need_keyframe(cur, frame.index, out.n_inliers, pending);
+  peak_inliers_ = want_keyframe ? 0 : std::max(peak_inliers_, out.n_inliers);
+  if (want_keyframe) {
     if (!localize_only_) {
       out.keyframe = make_request(cur, frame);
     } else {
@@ -247,7 +250,8 @@ bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, in
     const bool c1a = since >= config_.max_frames_between_keyframes;
     const bool c1b = pending == 0;
     const bool c1c = failing || need_close;
-    const bool c2 = (tracked < ratio * ref || need_close) && tracked > 15;
+    const bool decayed = tracked < config_.keyframe_decay_ratio * peak_inliers_;
+    const bool c2 = (tracked < ratio * ref || need_close || decayed) && tracked > 15;
     // Local mapping is behind: skip ordinary keyframes (tracking stays real-time), but not when
     // tracking is failing — without a new keyframe the map would stop growing exactly where the
     // camera goes and tracking would be lost. The caller then waits for a queue slot (System::track).
