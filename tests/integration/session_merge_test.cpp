@@ -215,24 +215,30 @@ MapComparison compare_maps(const std::string& merged_ot, const SE3& T_merged_gt,
 }
 
 // Issue 23 asks for the merged map's mIoU >= the better single run's and coverage >= the union.
-// Held on main before issue 20 (online: 0.870 vs 0.839, 42 120 >= 41 654 voxels). With issue 20's
-// depth weighting run C alone became much better (mIoU on the union 0.839 -> 0.870, ATE 4.3 ->
-// 1.8 cm) while the seam of the merge did not: online 0.866 vs 0.870 and 42 519 vs 42 878 voxels
-// (99.2 %), offline 0.875 vs 0.870 and 42 747 (99.7 %). The bounds below are what holds now, within
-// 0.5 % mIoU and 2 % coverage of the issue's; the gap is in docs/RESULTS.md and the issue's note.
+// The merged map lives in A's world, so A's alignment to the ground truth scores it, online as
+// offline (and as the issue scores B's poses). Until issue 20's last change the online map was
+// scored with an alignment fitted to C's merged trajectory: that moved A's part of the map by C's
+// seam error (A's area scored 0.872 instead of 0.885).
+// Coverage: the union counts each run's covered voxels under that run's own best alignment; the
+// merged map holds C's part at C's poses in A's world, whose seam error (C's own drift relative to
+// the merge point plus the seam's) moves surface voxels of the area only C saw by one voxel.
+// Not met strictly (docs/RESULTS.md, issue 23's note): with tracker.keyframe_decay_ratio C alone
+// improved again (ATE 1.83 -> 0.84 cm) and the merged map trails it by ~0.1 % mIoU where C looked
+// (online 0.8743 vs 0.8754, offline union 0.8687 vs 0.8694) and covers 99.5 % of the union
+// (42 719 / 42 935). The bounds below hold that within 0.5 % mIoU and 1 % coverage.
 void expect_merged_map_at_least_as_good(const MapComparison& m) {
   EXPECT_GE(m.union_merged, std::max(m.union_a, m.union_c) - 0.005);
   EXPECT_GT(m.union_merged, std::min(m.union_a, m.union_c) + 0.1) << "the merged map knows both areas";
   EXPECT_GE(m.merged_on_a, m.a_on_a - 0.005) << "merging must not spoil where A looked";
   EXPECT_GE(m.merged_on_c, m.c_on_c - 0.005) << "nor where C looked";
-  EXPECT_GE(m.covered_merged, 0.98 * m.covered_union);
+  EXPECT_GE(m.covered_merged, 0.99 * m.covered_union);
   EXPECT_GT(m.covered_merged, std::max(m.covered_a, m.covered_c)) << "more than either run alone";
 }
 
 TEST(MergeSession, MergedSemanticMapIsAtLeastAsGoodAndCoversBothRuns) {
   ASSERT_EQ(read_bytes(flight_a_dir() + "/gt_voxels.txt"), read_bytes(flight_c_dir() + "/gt_voxels.txt"));
   std::printf("run C --map A:\n");
-  const MapComparison m = compare_maps(run_c_in_a() + "/map.ot", T_run_gt(run_c_in_a(), flight_c_dir()),
+  const MapComparison m = compare_maps(run_c_in_a() + "/map.ot", T_run_gt(run_a(), flight_a_dir()),
                                        metrics(run_c_in_a())["map"]["miou"]);
   expect_merged_map_at_least_as_good(m);
 }
