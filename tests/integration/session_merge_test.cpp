@@ -219,18 +219,18 @@ MapComparison compare_maps(const std::string& merged_ot, const SE3& T_merged_gt,
 // offline (and as the issue scores B's poses). Until issue 20's last change the online map was
 // scored with an alignment fitted to C's merged trajectory: that moved A's part of the map by C's
 // seam error (A's area scored 0.872 instead of 0.885).
+// mIoU: met (session 9, with the tracker's keyframe_decay_ratio and mapper.min_new_points 300):
+// online 0.876 vs C 0.867 on the union, 0.889 / 0.880 where A / C looked; offline 0.876.
 // Coverage: the union counts each run's covered voxels under that run's own best alignment; the
 // merged map holds C's part at C's poses in A's world, whose seam error (C's own drift relative to
-// the merge point plus the seam's) moves surface voxels of the area only C saw by one voxel.
-// Not met strictly (docs/RESULTS.md, issue 23's note): with tracker.keyframe_decay_ratio C alone
-// improved again (ATE 1.83 -> 0.84 cm) and the merged map trails it by ~0.1 % mIoU where C looked
-// (online 0.8743 vs 0.8754, offline union 0.8687 vs 0.8694) and covers 99.5 % of the union
-// (42 719 / 42 935). The bounds below hold that within 0.5 % mIoU and 1 % coverage.
+// the merge point plus the seam's) moves surface voxels of the area only C saw by one voxel: not
+// met strictly, 42 797 online and 42 806 offline of the union's 42 932 (99.7 %, docs/RESULTS.md,
+// issue 23's note). The coverage bound holds that within 1 %.
 void expect_merged_map_at_least_as_good(const MapComparison& m) {
-  EXPECT_GE(m.union_merged, std::max(m.union_a, m.union_c) - 0.005);
+  EXPECT_GE(m.union_merged, std::max(m.union_a, m.union_c));
   EXPECT_GT(m.union_merged, std::min(m.union_a, m.union_c) + 0.1) << "the merged map knows both areas";
-  EXPECT_GE(m.merged_on_a, m.a_on_a - 0.005) << "merging must not spoil where A looked";
-  EXPECT_GE(m.merged_on_c, m.c_on_c - 0.005) << "nor where C looked";
+  EXPECT_GE(m.merged_on_a, m.a_on_a) << "merging must not spoil where A looked";
+  EXPECT_GE(m.merged_on_c, m.c_on_c) << "nor where C looked";
   EXPECT_GE(m.covered_merged, 0.99 * m.covered_union);
   EXPECT_GT(m.covered_merged, std::max(m.covered_a, m.covered_c)) << "more than either run alone";
 }

@@ -15,7 +15,11 @@ namespace s3m::slam {
 
 struct MapperConfig {
   double close_depth_m = 3.0;     // points are created for all keypoints closer than this [m] ...
-  int min_new_points = 100;       // ... and for at least this many of the closest ones
+  // ... and for at least this many of the closest ones. ORB-SLAM2 takes 100 (its far depth, as a
+  // virtual stereo disparity, is weak); with depth weighted by its sensor model far points are
+  // safe, and in views beyond close_depth_m 100 new points per keyframe were too few to keep
+  // tracking through fast turns (office handheld flights lost 17-23 frames; docs/RESULTS.md).
+  int min_new_points = 300;
   double min_found_ratio = 0.25;  // recent points found less often than this are culled
   int fuse_neighbours = 10;       // covisible keyframes searched for duplicates
   bool local_ba = true;

@@ -8,9 +8,10 @@
 
 namespace s3m::slam {
 namespace {
-// Points from depth a frame hands on besides the close ones: the VO points for the next frame
-// and a pending keyframe's (the mapper's min_new_points default).
-constexpr int kMinNewPoints = 100;
+// Points from depth a frame hands on besides the close ones: ORB-SLAM's 100 VO points for the
+// next frame, and a pending keyframe's (the mapper's min_new_points default, MapperConfig).
+constexpr int kMinVoPoints = 100;
+constexpr int kPendingNewPoints = 300;
 }  // namespace
 
 void TrackerConfig::validate() const {
@@ -302,7 +303,7 @@ void Tracker::remember_pending(const Frame& cur, const KeyFrameRequest& request)
   p.f = cur.f;
   const double depth_limit_m = request.first_of_map ? std::numeric_limits<double>::infinity() : config_.close_depth_m;
   for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return request.points[k] == kNoId; },
-                                                  depth_limit_m, kMinNewPoints)) {
+                                                  depth_limit_m, kPendingNewPoints)) {
     const auto& kp = cur.f->keypoints[i];
     p.keypoints.push_back(i);
     p.p_w.push_back(request.T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z));
@@ -317,7 +318,7 @@ void Tracker::prepare_last_frame(Frame cur, double depth_limit_m) {
     if (cur.matched[i] && cur.pid[i] == kNoId) cur.matched[i] = 0;  // previous VO match: drop
   const SE3 T_w_c = cur.T_c_w.inverse();
   for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return !cur.matched[k]; }, depth_limit_m,
-                                                  kMinNewPoints)) {
+                                                  kMinVoPoints)) {
     const auto& kp = cur.f->keypoints[i];
     cur.p_w[i] = T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z);
     cur.matched[i] = 1;
