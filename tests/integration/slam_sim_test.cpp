@@ -18,8 +18,9 @@ struct FlightResult {
   double sim3_scale = 0;  // scale of the sim3 alignment of the camera positions onto the truth
 };
 
-sim::SimConfig flight(const std::string& scene, const std::string& type, bool noise = true) {
-  sim::SimConfig sc;  // 300 frames, seed 7
+sim::SimConfig flight(const std::string& scene, const std::string& type, bool noise = true, int seed = 7) {
+  sim::SimConfig sc;  // 300 frames
+  sc.seed = seed;
   sc.scene = scene;
   sc.trajectory.type = type;
   sc.trajectory.frames = 300;
@@ -27,10 +28,9 @@ sim::SimConfig flight(const std::string& scene, const std::string& type, bool no
   return sc;
 }
 
-FlightResult fly(const sim::SimConfig& sc) {
+FlightResult fly(const sim::SimConfig& sc, slam::SlamConfig cfg = {}) {
   const std::string& type = sc.trajectory.type;
   const sim::Simulation sim(sc);
-  slam::SlamConfig cfg;
   cfg.T_c_r = sim.trajectory().T_c_r;
   slam::System slam(sim.camera(), cfg);
   int lost = 0;
@@ -82,6 +82,40 @@ TEST(SlamOnSimulator, NoiseFreeCorridorLawnmowerHasExactScaleAndAteBelow5mm) {
   EXPECT_EQ(r.lost, 0);
   EXPECT_LT(r.ate_cam, 0.005);
   EXPECT_NEAR(r.sim3_scale, 1.0, 0.002);
+}
+
+// Issue 20, session 9. In a fast turn into new space the reference keyframe's points are mostly
+// new, ORB-SLAM's "tracked < 0.75 x the reference's well-observed points" came only when tracking
+// had collapsed (476 -> 59 points), and local BA moved that late keyframe 5 cm off: 9.5 cm ATE on
+// this flight (the benchmark matrix's office/loop/noisy/s202). tracker.keyframe_decay_ratio asks
+// for the keyframe when tracking has halved since the last one. Both runs here, so the test shows
+// the rule is what holds the ATE. Measured here (tracking and local mapping only, no loop closing):
+// 4.8 cm with the rule, 9.6 cm without; the CLI with loop closing: 1.25 vs 9.53 cm.
+TEST(SlamOnSimulator, FastTurnIntoNewSpaceGetsItsKeyframeInTime) {
+  const sim::SimConfig sc = flight("office", "loop", /*noise=*/true, /*seed=*/202);
+  const FlightResult with_rule = fly(sc);
+  slam::SlamConfig off;
+  off.tracker.keyframe_decay_ratio = 0.0;
+  const FlightResult without = fly(sc, off);
+  EXPECT_EQ(with_rule.lost, 0);
+  EXPECT_LT(with_rule.ate_cam, 0.06);
+  EXPECT_GT(without.ate_cam, 1.5 * with_rule.ate_cam);
+}
+
+// Issue 20, session 9. Handheld through the office: a fast turn towards the far end (median depth
+// 3.3 m, beyond mapper.close_depth_m). With ORB-SLAM2's 100 new points per keyframe there, tracking
+// faded out and frames were LOST (matrix office/handheld/clean/s101: 19 with relocalisation);
+// mapper.min_new_points 300 keeps it tracked. Measured here (no relocalisation): 0 LOST and 1.7 cm
+// with 300; 72 LOST and 50 cm with 100.
+TEST(SlamOnSimulator, FastTurnTowardsFarWallsStaysTracked) {
+  const sim::SimConfig sc = flight("office", "handheld", /*noise=*/false, /*seed=*/101);
+  const FlightResult with_300 = fly(sc);
+  slam::SlamConfig orb;
+  orb.mapper.min_new_points = 100;
+  const FlightResult with_100 = fly(sc, orb);
+  EXPECT_EQ(with_300.lost, 0);
+  EXPECT_LT(with_300.ate_cam, 0.025);
+  EXPECT_GT(with_100.lost, 20);
 }
 
 }  // namespace
