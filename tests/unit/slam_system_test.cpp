@@ -184,7 +184,7 @@ TEST(SlamTracker, FewCloseTrackedPointsMakeNoKeyframeWhileOneIsPending) {
   features::FeatureConfig fc;
   Map map;
   LocalMapper mapper(map, room_camera(), MapperConfig{});
-  Tracker tracker(room_camera(), fc, tc);
+  Tracker tracker(room_camera(), fc, tc, MapperConfig{}.min_new_points);
   const TrackerOutput first = tracker.process(room_frames(3)[0]);
   ASSERT_TRUE(first.keyframe.has_value());
   tracker.set_snapshot(std::make_shared<const LocalMapSnapshot>(

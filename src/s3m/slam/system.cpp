@@ -14,7 +14,7 @@ System::System(const PinholeCamera& camera, const SlamConfig& config,
                std::shared_ptr<const features::Vocabulary> vocabulary, MappingObserver observer)
     : camera_(camera),
       config_(config),
-      tracker_(camera, config.features, config.tracker),
+      tracker_(camera, config.features, config.tracker, config.mapper.min_new_points),
       mapper_(map_, camera, config.mapper),
       observer_(std::move(observer)),
       requests_(static_cast<std::size_t>(config.queue_capacity)),

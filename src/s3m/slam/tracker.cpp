@@ -9,9 +9,8 @@
 namespace s3m::slam {
 namespace {
 // Points from depth a frame hands on besides the close ones: ORB-SLAM's 100 VO points for the
-// next frame, and a pending keyframe's (the mapper's min_new_points default, MapperConfig).
+// next frame. A pending keyframe's are the mapper's min_new_points (pending_new_points_).
 constexpr int kMinVoPoints = 100;
-constexpr int kPendingNewPoints = 300;
 }  // namespace
 
 void TrackerConfig::validate() const {
@@ -29,9 +28,15 @@ void TrackerConfig::validate() const {
 
 int Tracker::Frame::n_matched() const { return static_cast<int>(std::count(matched.begin(), matched.end(), 1)); }
 
-Tracker::Tracker(const PinholeCamera& camera, const features::FeatureConfig& features, const TrackerConfig& config)
-    : camera_(camera), feature_config_(features), config_(config), extractor_(features.orb) {
+Tracker::Tracker(const PinholeCamera& camera, const features::FeatureConfig& features, const TrackerConfig& config,
+                 int pending_new_points)
+    : camera_(camera),
+      feature_config_(features),
+      config_(config),
+      pending_new_points_(pending_new_points),
+      extractor_(features.orb) {
   camera_.validate();
+  require(pending_new_points_ >= 0, "tracker: pending_new_points must be >= 0");
   feature_config_.validate();
   config_.validate();
 }
@@ -303,7 +308,7 @@ void Tracker::remember_pending(const Frame& cur, const KeyFrameRequest& request)
   p.f = cur.f;
   const double depth_limit_m = request.first_of_map ? std::numeric_limits<double>::infinity() : config_.close_depth_m;
   for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return request.points[k] == kNoId; },
-                                                  depth_limit_m, kPendingNewPoints)) {
+                                                  depth_limit_m, pending_new_points_)) {
     const auto& kp = cur.f->keypoints[i];
     p.keypoints.push_back(i);
     p.p_w.push_back(request.T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z));

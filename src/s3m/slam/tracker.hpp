@@ -62,7 +62,10 @@ struct TrackerOutput {
 
 class Tracker {
  public:
-  Tracker(const PinholeCamera& camera, const features::FeatureConfig& features, const TrackerConfig& config);
+  // pending_new_points: how many depth points a keyframe will get from local mapping
+  // (MapperConfig::min_new_points); the tracker hands them on while the keyframe waits.
+  Tracker(const PinholeCamera& camera, const features::FeatureConfig& features, const TrackerConfig& config,
+          int pending_new_points);
 
   // pending_keyframes: requests sent but not yet answered by a snapshot (0 in single-thread mode).
   // With pending keyframes a failure is deferred (out.deferred) instead of declaring LOST.
@@ -136,6 +139,7 @@ class Tracker {
   PinholeCamera camera_;
   features::FeatureConfig feature_config_;
   TrackerConfig config_;
+  int pending_new_points_;
   features::OrbExtractor extractor_;
   std::shared_ptr<const LocalMapSnapshot> snapshot_;
   TrackState state_ = TrackState::kNotInitialized;
