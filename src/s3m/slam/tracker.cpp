@@ -24,6 +24,8 @@ void TrackerConfig::validate() const {
   require(keyframe_ref_ratio > 0 && keyframe_ref_ratio <= 1, "tracker.keyframe_ref_ratio must be in (0, 1]");
   require(keyframe_decay_ratio >= 0 && keyframe_decay_ratio < 1, "tracker.keyframe_decay_ratio must be in [0, 1)");
   require(max_pending_keyframes >= 1 && min_init_depth_points >= 3, "tracker: bad pending/init limits");
+  require(coast_frames >= 0 && bridge_deg >= 0 && bridge_m >= 0 && bridge_min_inliers >= min_pose_inliers,
+          "tracker: coast_frames, bridge_deg and bridge_m must be >= 0, bridge_min_inliers >= min_pose_inliers");
 }
 
 int Tracker::Frame::n_matched() const { return static_cast<int>(std::count(matched.begin(), matched.end(), 1)); }
@@ -67,6 +69,7 @@ void Tracker::set_pose(const SE3& T_w_c) {
   last_.T_c_w = T_w_c.inverse();
   std::fill(last_.matched.begin(), last_.matched.end(), 0);
   velocity_.reset();
+  coast_velocity_.reset();
   state_ = TrackState::kLost;  // the next frame tracks against the local map from this pose
   resume_from_pose_ = true;
 }
@@ -108,6 +111,7 @@ void Tracker::start_new_map(int submap) {
   pending_.clear();
   visibility_.clear();
   velocity_.reset();
+  coast_velocity_.reset();
   resume_from_pose_ = false;
   ref_kf_ = kNoId;
   T_w_ref_ = SE3::Identity();
@@ -174,10 +178,16 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
     out.deferred = true;
     return out;
   }
+  if (!ok && state_ == TrackState::kOk) coast_velocity_ = velocity_, coasted_ = 0;
+  if (!ok && bridge(cur, frame, out)) return out;
   if (!ok) {
     // Keep the prediction as the best guess; the next frame tries the reference keyframe again.
     state_ = TrackState::kLost;
     if (velocity_) cur.T_c_w = *velocity_ * last_.T_c_w;
+    if (coast_velocity_ && coasted_ < config_.coast_frames) {  // dead reckoning (coast_frames)
+      cur.T_c_w = *coast_velocity_ * last_.T_c_w;
+      ++coasted_;
+    }
     velocity_.reset();
     out.state = state_;
     out.T_w_c = cur.T_c_w.inverse();
@@ -220,6 +230,41 @@ bool Tracker::initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out)
   out.T_w_c = SE3::Identity();
   out.keyframe = make_request(cur, frame, /*first_of_map=*/true);
   out.ref_kf = ref_kf_;
+  prepare_last_frame(std::move(cur), std::numeric_limits<double>::infinity());
+  return true;
+}
+
+bool Tracker::bridge(Frame& cur, const RgbdFrame& frame, TrackerOutput& out) {
+  if (localize_only_ || !coast_velocity_ || coasted_ >= config_.coast_frames || !snapshot_) return false;
+  const int n_depth = static_cast<int>(std::count_if(cur.f->depth_m.begin(), cur.f->depth_m.end(),
+                                                     [](float z) { return z > 0; }));
+  if (n_depth < config_.min_init_depth_points) return false;
+  // 1. The prediction and the local map's pose from it must agree (two independent estimates).
+  const SE3 guess = *coast_velocity_ * last_.T_c_w;
+  const int n = cur.f->size();
+  cur = Frame{cur.f, guess, std::vector<PointId>(n, kNoId), std::vector<Vec3>(n, Vec3::Zero()), std::vector<char>(n, 0)};
+  auto visibility = visibility_;
+  track_local_map(cur);
+  int n_inliers = 0;
+  for (int i = 0; i < n; ++i) n_inliers += (cur.matched[i] && cur.pid[i] != kNoId);
+  const SE3 d = cur.T_c_w * guess.inverse();
+  if (n_inliers < config_.bridge_min_inliers || rotation_angle_rad(d.linear()) * 180.0 / M_PI > config_.bridge_deg ||
+      d.translation().norm() > config_.bridge_m) {
+    visibility_ = std::move(visibility);
+    return false;
+  }
+  // 2. Tracked: a keyframe with every keypoint with depth, as the first of a map, so that the
+  //    next frames have points to track in the new view.
+  state_ = TrackState::kOk;
+  velocity_ = cur.T_c_w * last_.T_c_w.inverse();
+  out.state = state_;
+  out.T_w_c = cur.T_c_w.inverse();
+  out.n_inliers = n_inliers;
+  out.keyframe = make_request(cur, frame, /*first_of_map=*/true);
+  peak_inliers_ = 0;
+  out.ref_kf = ref_kf_;
+  out.T_ref_c = T_w_ref_.inverse() * out.T_w_c;
+  ++n_bridged_;
   prepare_last_frame(std::move(cur), std::numeric_limits<double>::infinity());
   return true;
 }

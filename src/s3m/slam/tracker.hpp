@@ -39,6 +39,16 @@ struct TrackerConfig {
   int close_untracked_min = 70;      //     while this many close keypoints could become points
   int max_pending_keyframes = 3;     // no ordinary keyframe while this many wait for local mapping
   int min_init_depth_points = 100;   // keypoints with depth needed to start the map
+  // After tracking is lost: for this many frames the last velocity keeps predicting the pose. A
+  // frame whose local-map pose, searched from that prediction, agrees with it (bridge_deg,
+  // bridge_m) on at least bridge_min_inliers map points, although fewer than min_local_inliers, is
+  // tracked and becomes a keyframe with all its depth: two independent estimates agree. Fast turns
+  // into unmapped space or past a plain wall, while the motion stays smooth, were LOST until a
+  // sub-map started (docs/RESULTS.md, issue 20). 0 = off.
+  int coast_frames = 10;
+  double bridge_deg = 1.0;   // rotation between prediction and measured pose [deg]
+  double bridge_m = 0.03;    // translation between them [m]
+  int bridge_min_inliers = 10;  // = min_pose_inliers: the agreement is the guard
   void validate() const;
 };
 
@@ -120,6 +130,8 @@ class Tracker {
 
   TrackerOutput track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features, int pending);
   bool initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
+  // Lost: track from the dead-reckoned pose when the local map agrees with it (coast_frames).
+  bool bridge(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
   bool track_motion_model(Frame& cur, const SE3& velocity);  // velocity: T_c_w(cur) = velocity * T_c_w(last)
   bool track_reference_keyframe(Frame& cur);
   bool track_local_map(Frame& cur);
@@ -148,6 +160,9 @@ class Tracker {
   bool localize_only_ = false;
   int submap_ = 0;  // the sub-map being tracked (requests carry it; poses are in its frame)
   std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
+  std::optional<SE3> coast_velocity_;  // the velocity when tracking was lost (coast_frames)
+  int coasted_ = 0;                    // lost frames predicted with it so far
+  int n_bridged_ = 0;                  // frames tracked by bridge()
   int last_keyframe_frame_ = 0;
   int peak_inliers_ = 0;  // most map points tracked in one frame since the last keyframe
   KeyframeId n_requests_ = 0;          // keyframe ids are assigned by the Map in request order
