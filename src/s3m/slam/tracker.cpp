@@ -30,6 +30,12 @@ void TrackerConfig::validate() const {
 
 int Tracker::Frame::n_matched() const { return static_cast<int>(std::count(matched.begin(), matched.end(), 1)); }
 
+Tracker::Frame Tracker::Frame::unmatched(std::shared_ptr<const features::FrameFeatures> f, const SE3& T_c_w) {
+  const int n = f->size();
+  return Frame{std::move(f), T_c_w, std::vector<PointId>(n, kNoId), std::vector<Vec3>(n, Vec3::Zero()),
+               std::vector<char>(n, 0)};
+}
+
 Tracker::Tracker(const PinholeCamera& camera, const features::FeatureConfig& features, const TrackerConfig& config,
                  int pending_new_points)
     : camera_(camera),
@@ -146,12 +152,8 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
                              int pending) {
   TrackerOutput out;
   out.features = features;
-  Frame cur;
-  cur.f = std::move(features);
+  Frame cur = Frame::unmatched(std::move(features), SE3::Identity());
   const int n = cur.f->size();
-  cur.pid.assign(n, kNoId);
-  cur.p_w.assign(n, Vec3::Zero());
-  cur.matched.assign(n, 0);
   // 2. The first frame with enough depth starts the map.
   if (state_ == TrackState::kNotInitialized) {
     initialize(cur, frame, out);
@@ -163,8 +165,7 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   // around the last pose; a UAV starts at rest) before falling back to the reference keyframe.
   if (state_ == TrackState::kOk) ok = track_motion_model(cur, velocity_.value_or(SE3::Identity()));
   if (!ok) {
-    cur = Frame{cur.f, last_.T_c_w, std::vector<PointId>(n, kNoId), std::vector<Vec3>(n, Vec3::Zero()),
-                std::vector<char>(n, 0)};
+    cur = Frame::unmatched(cur.f, last_.T_c_w);
     // After relocalisation the pose prior is good while the reference keyframe's view may be too
     // different for brute-force matching: local-map tracking by projection decides directly.
     ok = resume_from_pose_ || track_reference_keyframe(cur);
@@ -242,7 +243,7 @@ bool Tracker::bridge(Frame& cur, const RgbdFrame& frame, TrackerOutput& out) {
   // 1. The prediction and the local map's pose from it must agree (two independent estimates).
   const SE3 guess = *coast_velocity_ * last_.T_c_w;
   const int n = cur.f->size();
-  cur = Frame{cur.f, guess, std::vector<PointId>(n, kNoId), std::vector<Vec3>(n, Vec3::Zero()), std::vector<char>(n, 0)};
+  cur = Frame::unmatched(cur.f, guess);
   auto visibility = visibility_;
   track_local_map(cur);
   int n_inliers = 0;

@@ -118,6 +118,8 @@ class Tracker {
     std::vector<Vec3> p_w;     // per keypoint: position of the matched point
     std::vector<char> matched; // per keypoint: has a map or VO point
     int n_matched() const;
+    // f's keypoints at pose T_c_w, none matched yet.
+    static Frame unmatched(std::shared_ptr<const features::FrameFeatures> f, const SE3& T_c_w);
   };
   // The points a requested keyframe will give the map once local mapping has processed it (its
   // keypoints with depth that track no map point), kept until its snapshot arrives.
