@@ -30,6 +30,16 @@ void TrackerConfig::validate() const {
 
 int Tracker::Frame::n_matched() const { return static_cast<int>(std::count(matched.begin(), matched.end(), 1)); }
 
+int Tracker::Frame::n_map_matched() const {
+  int k = 0;
+  for (std::size_t i = 0; i < matched.size(); ++i) k += (matched[i] && pid[i] != kNoId);
+  return k;
+}
+
+int Tracker::Frame::n_with_depth() const {
+  return static_cast<int>(std::count_if(f->depth_m.begin(), f->depth_m.end(), [](float z) { return z > 0; }));
+}
+
 Tracker::Frame Tracker::Frame::unmatched(std::shared_ptr<const features::FrameFeatures> f, const SE3& T_c_w) {
   const int n = f->size();
   return Frame{std::move(f), T_c_w, std::vector<PointId>(n, kNoId), std::vector<Vec3>(n, Vec3::Zero()),
@@ -173,8 +183,7 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   resume_from_pose_ = false;
   // 4. Local map: more matches, final pose.
   if (ok) ok = track_local_map(cur);
-  out.n_inliers = 0;
-  for (int i = 0; i < n; ++i) out.n_inliers += (cur.matched[i] && cur.pid[i] != kNoId);
+  out.n_inliers = cur.n_map_matched();
   if (!ok && pending > 0) {  // the map is behind: nothing changed, let the caller retry
     out.deferred = true;
     return out;
@@ -222,9 +231,7 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
 
 bool Tracker::initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out) {
   out.state = TrackState::kNotInitialized;
-  const int n_depth = static_cast<int>(std::count_if(cur.f->depth_m.begin(), cur.f->depth_m.end(),
-                                                     [](float z) { return z > 0; }));
-  if (n_depth < config_.min_init_depth_points) return false;
+  if (cur.n_with_depth() < config_.min_init_depth_points) return false;
   cur.T_c_w = SE3::Identity();  // the first keyframe defines the world frame
   state_ = TrackState::kOk;
   out.state = state_;
@@ -237,17 +244,13 @@ bool Tracker::initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out)
 
 bool Tracker::bridge(Frame& cur, const RgbdFrame& frame, TrackerOutput& out) {
   if (localize_only_ || !coast_velocity_ || coasted_ >= config_.coast_frames || !snapshot_) return false;
-  const int n_depth = static_cast<int>(std::count_if(cur.f->depth_m.begin(), cur.f->depth_m.end(),
-                                                     [](float z) { return z > 0; }));
-  if (n_depth < config_.min_init_depth_points) return false;
+  if (cur.n_with_depth() < config_.min_init_depth_points) return false;
   // 1. The prediction and the local map's pose from it must agree (two independent estimates).
   const SE3 guess = *coast_velocity_ * last_.T_c_w;
-  const int n = cur.f->size();
   cur = Frame::unmatched(cur.f, guess);
   auto visibility = visibility_;
   track_local_map(cur);
-  int n_inliers = 0;
-  for (int i = 0; i < n; ++i) n_inliers += (cur.matched[i] && cur.pid[i] != kNoId);
+  const int n_inliers = cur.n_map_matched();
   const SE3 d = cur.T_c_w * guess.inverse();
   if (n_inliers < config_.bridge_min_inliers || rotation_angle_rad(d.linear()) * 180.0 / M_PI > config_.bridge_deg ||
       d.translation().norm() > config_.bridge_m) {
@@ -265,7 +268,6 @@ bool Tracker::bridge(Frame& cur, const RgbdFrame& frame, TrackerOutput& out) {
   peak_inliers_ = 0;
   out.ref_kf = ref_kf_;
   out.T_ref_c = T_w_ref_.inverse() * out.T_w_c;
-  ++n_bridged_;
   prepare_last_frame(std::move(cur), std::numeric_limits<double>::infinity());
   return true;
 }

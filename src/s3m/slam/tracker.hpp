@@ -118,6 +118,8 @@ class Tracker {
     std::vector<Vec3> p_w;     // per keypoint: position of the matched point
     std::vector<char> matched; // per keypoint: has a map or VO point
     int n_matched() const;
+    int n_map_matched() const;  // keypoints matched to a map point (not a VO point)
+    int n_with_depth() const;   // keypoints with depth
     // f's keypoints at pose T_c_w, none matched yet.
     static Frame unmatched(std::shared_ptr<const features::FrameFeatures> f, const SE3& T_c_w);
   };
@@ -164,7 +166,6 @@ class Tracker {
   std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
   std::optional<SE3> coast_velocity_;  // the velocity when tracking was lost (coast_frames)
   int coasted_ = 0;                    // lost frames predicted with it so far
-  int n_bridged_ = 0;                  // frames tracked by bridge()
   int last_keyframe_frame_ = 0;
   int peak_inliers_ = 0;  // most map points tracked in one frame since the last keyframe
   KeyframeId n_requests_ = 0;          // keyframe ids are assigned by the Map in request order
