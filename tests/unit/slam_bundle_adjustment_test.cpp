@@ -104,3 +104,74 @@ TEST(BundleAdjustment, FixedFramesDoNotMove) {
 
 }  // namespace
 }  // namespace s3m::slam
+
+namespace s3m::slam {
+namespace {
+
+// Local BA on a two-keyframe map: keyframe F (the oldest, held for the gauge) and keyframe K, which
+// sees F's 120 points exactly from its true pose but is stored rotated by `error_deg` about its
+// y axis. Returns K's pose after local BA around K and the BA's statistics.
+std::pair<SE3, LocalBaStats> local_ba_with_wrong_keyframe(double error_deg, const BaConfig& config, SE3& T_w_k_true) {
+  PinholeCamera cam;
+  cam.fx = cam.fy = 500;
+  cam.cx = 320;
+  cam.cy = 240;
+  cam.bf = 40;
+  const SE3 T_w_f = SE3::Identity();
+  T_w_k_true = make_se3(so3_exp(Vec3(0, 0.05, 0)), Vec3(0.2, 0, 0));
+  std::vector<Vec3> P_w;
+  for (int i = 0; i < 120; ++i) P_w.emplace_back(-1.0 + 0.2 * (i % 12), -0.6 + 0.15 * (i / 12), 2.0 + 0.1 * (i % 7));
+  auto features_at = [&](const SE3& T_w_c) {
+    auto f = std::make_shared<features::FrameFeatures>();
+    f->pyramid = features::ScalePyramid::make(1.2, 4);
+    f->descriptors = cv::Mat::zeros(int(P_w.size()), 32, CV_8U);
+    for (std::size_t i = 0; i < P_w.size(); ++i) {
+      const Vec3 p = T_w_c.inverse() * P_w[i];
+      cv::KeyPoint k(cv::Point2f(float(cam.fx * p.x() / p.z() + cam.cx), float(cam.fy * p.y() / p.z() + cam.cy)), 31.0f);
+      k.octave = 0;
+      f->keypoints.push_back(k);
+      f->depth_m.push_back(float(p.z()));
+      f->u_right.push_back(float(k.pt.x - cam.bf / p.z()));
+      f->depth_sigma_m.push_back(0.005f);
+      f->descriptors.at<std::uint8_t>(int(i), int(i % 32)) = 0xFF;
+    }
+    return f;
+  };
+  Map map;
+  auto add = [&](const SE3& T_true, const SE3& T_stored) {
+    KeyFrame k;
+    k.features = features_at(T_true);
+    k.points.assign(P_w.size(), kNoId);
+    k.T_w_c = T_stored;
+    return map.add_keyframe(std::move(k));
+  };
+  const KeyframeId f = add(T_w_f, T_w_f);
+  const KeyframeId k = add(T_w_k_true, T_w_k_true * make_se3(so3_exp(Vec3(0, error_deg * M_PI / 180.0, 0)), Vec3::Zero()));
+  for (std::size_t i = 0; i < P_w.size(); ++i) map.add_observation(map.add_point(P_w[i], f, int(i)), k, int(i));
+  map.update_covisibility(k);
+  const LocalBaStats st = local_bundle_adjustment(map, k, cam, config);
+  return {map.keyframe(k).T_w_c, st};
+}
+
+double deg_between(const SE3& a, const SE3& b) { return rotation_angle_rad((a.inverse() * b).linear()) * 180.0 / M_PI; }
+
+TEST(LocalBundleAdjustment, CorrectsSmallKeyframeErrorsAndHoldsKeyframesItWouldMoveTooFar) {
+  SE3 truth;
+  // 0.5 deg: within max_keyframe_step_deg (1), corrected to the pose its observations say.
+  auto [small, st_small] = local_ba_with_wrong_keyframe(0.5, BaConfig{}, truth);
+  EXPECT_EQ(st_small.n_held_keyframes, 0);
+  EXPECT_LT(deg_between(small, truth), 0.01);
+  // 3 deg: a step that large is taken for a degenerate window; the keyframe stays where it was.
+  auto [large, st_large] = local_ba_with_wrong_keyframe(3.0, BaConfig{}, truth);
+  EXPECT_EQ(st_large.n_held_keyframes, 1);
+  EXPECT_NEAR(deg_between(large, truth), 3.0, 1e-6);
+  // With the limit above the step, the same keyframe is corrected.
+  BaConfig loose;
+  loose.max_keyframe_step_deg = 5.0;
+  auto [corrected, st_loose] = local_ba_with_wrong_keyframe(3.0, loose, truth);
+  EXPECT_EQ(st_loose.n_held_keyframes, 0);
+  EXPECT_LT(deg_between(corrected, truth), 0.01);
+}
+
+}  // namespace
+}  // namespace s3m::slam

@@ -224,7 +224,8 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
   const auto node = YAML::Load(
       "slam:\n  threaded: true\n  features:\n    orb: {n_features: 700, n_levels: 6}\n"
       "  tracker: {min_local_inliers: 25}\n"
-      "  mapper: {final_global_ba: true, ba: {max_local_keyframes: 12, global_iterations: 7}}\n"
+      "  mapper: {final_global_ba: true, ba: {max_local_keyframes: 12, global_iterations: 7,\n"
+      "           max_keyframe_step_deg: 2.5, max_keyframe_step_m: 0.08}}\n"
       "  T_c_r: {t: [0.1, 0.0, -0.05], q: [0, 0, 0.7071067811865476, 0.7071067811865476]}\n");
   const SlamConfig c = slam_config_from_yaml(node["slam"], "test.yaml");
   EXPECT_TRUE(c.threaded);
@@ -235,6 +236,9 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
   EXPECT_EQ(c.mapper.ba.max_local_keyframes, 12);
   EXPECT_TRUE(c.mapper.final_global_ba);
   EXPECT_EQ(c.mapper.ba.global_iterations, 7);
+  EXPECT_DOUBLE_EQ(c.mapper.ba.max_keyframe_step_deg, 2.5);
+  EXPECT_DOUBLE_EQ(c.mapper.ba.max_keyframe_step_m, 0.08);
+  EXPECT_THROW(slam_config_from_yaml(YAML::Load("mapper: {ba: {max_keyframe_step_deg: 0}}"), "t.yaml"), ParseError);
   EXPECT_TRUE(c.T_c_r.translation().isApprox(Vec3(0.1, 0, -0.05)));
   EXPECT_TRUE((c.T_c_r.linear() * Vec3::UnitX()).isApprox(Vec3::UnitY(), 1e-9));
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {min_local_inlier: 3}"), "t.yaml"), ParseError);
@@ -269,6 +273,8 @@ TEST(SlamConfig, ShippedDefaultPresetMatchesCompiledDefaults) {
   EXPECT_EQ(c.mapper.ba.max_local_keyframes, d.mapper.ba.max_local_keyframes);
   EXPECT_EQ(c.mapper.final_global_ba, d.mapper.final_global_ba);
   EXPECT_EQ(c.mapper.ba.global_iterations, d.mapper.ba.global_iterations);
+  EXPECT_EQ(c.mapper.ba.max_keyframe_step_deg, d.mapper.ba.max_keyframe_step_deg);
+  EXPECT_EQ(c.mapper.ba.max_keyframe_step_m, d.mapper.ba.max_keyframe_step_m);
   EXPECT_TRUE(c.T_c_r.isApprox(d.T_c_r));
   EXPECT_EQ(c.queue_capacity, d.queue_capacity);
   EXPECT_THROW(load_slam_config("/nonexistent/slam.yaml"), ParseError);

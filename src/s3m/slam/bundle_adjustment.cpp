@@ -120,6 +120,7 @@ void BaConfig::validate() const {
   require(chi2_mono > 0 && chi2_stereo > 0, "ba: chi2 thresholds must be > 0");
   require(max_local_keyframes >= 1, "ba.max_local_keyframes must be >= 1");
   require(global_iterations >= 1, "ba.global_iterations must be >= 1");
+  require(max_keyframe_step_deg > 0 && max_keyframe_step_m > 0, "ba: max_keyframe_step_deg and _m must be > 0");
 }
 
 BaResult bundle_adjust(BaProblem& P, const PinholeCamera& cam, const BaConfig& cfg) {

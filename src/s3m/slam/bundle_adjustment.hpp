@@ -17,6 +17,14 @@ struct BaConfig {
   int max_local_keyframes = 20;  // covisibility window optimised around the new keyframe
   // Final global BA (System::finish()): iterations before and again after outlier removal.
   int global_iterations = 15;
+  // A local BA that moves a keyframe further than this from where it was is degenerate, not a
+  // correction: a keyframe joined to the window by one neighbour that looks at a plain wall trades
+  // rotation for translation about a point on the wall at almost no cost (3.9 deg and 12 cm in one
+  // step on a simulated living-room flight, 1.2 deg on a corridor; the largest step anywhere on
+  // the kitchen is 0.43 deg / 1.5 cm, docs/RESULTS.md, issue 20). It is solved again with such
+  // keyframes held where they were. Set either to a large value to turn it off.
+  double max_keyframe_step_deg = 1.0;
+  double max_keyframe_step_m = 0.05;
   void validate() const;
 };
 
@@ -53,11 +61,13 @@ BaResult bundle_adjust(BaProblem& problem, const PinholeCamera& camera, const Ba
 
 struct LocalBaStats {
   int n_local_keyframes = 0, n_fixed_keyframes = 0, n_points = 0, n_observations = 0, n_outliers = 0;
+  int n_held_keyframes = 0;  // moved too far in the first solve (BaConfig::max_keyframe_step_*)
 };
 
 // Local BA around keyframe kf: kf and its best covisible keyframes are optimised with all points
 // they observe; other keyframes observing those points are held fixed. Outlier observations are
-// erased from the map.
+// erased from the map. A window keyframe the solve moves too far (BaConfig::max_keyframe_step_*)
+// is held and the window solved again.
 LocalBaStats local_bundle_adjustment(Map& map, KeyframeId kf, const PinholeCamera& camera,
                                      const BaConfig& config);
 

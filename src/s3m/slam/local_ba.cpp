@@ -1,4 +1,5 @@
 // Local bundle adjustment over the covisibility window of a keyframe (see bundle_adjustment.hpp).
+#include <cmath>
 #include <map>
 
 #include "s3m/slam/bundle_adjustment.hpp"
@@ -42,9 +43,24 @@ LocalBaStats local_bundle_adjustment(Map& map, KeyframeId kf_id, const PinholeCa
   st.n_points = static_cast<int>(P.p_w.size());
   st.n_observations = static_cast<int>(P.obs.size());
 
-  // 4. Solve, 5. erase outlier observations, write back poses and points.
-  const BaResult res = bundle_adjust(P, camera, config);
+  // 4. Solve; keyframes moved too far are held and the window solved again. 5. Erase outlier
+  //    observations, write back poses and points.
+  const BaProblem before = P;
+  BaResult res = bundle_adjust(P, camera, config);
   if (!res.converged) return st;
+  std::vector<char> held = before.fixed;
+  for (std::size_t f = 0; f < P.T_c_w.size(); ++f) {
+    const SE3 step = P.T_c_w[f] * before.T_c_w[f].inverse();
+    if (!held[f] && (rotation_angle_rad(step.linear()) > config.max_keyframe_step_deg * M_PI / 180.0 ||
+                     step.translation().norm() > config.max_keyframe_step_m))
+      held[f] = 1, ++st.n_held_keyframes;
+  }
+  if (st.n_held_keyframes > 0) {
+    P = before;
+    P.fixed = held;
+    res = bundle_adjust(P, camera, config);
+    if (!res.converged) return st;
+  }
   for (std::size_t k = 0; k < P.obs.size(); ++k)
     if (res.outlier[k] && map.has_point(obs_keys[k].first)) {
       map.erase_observation(obs_keys[k].first, obs_keys[k].second);

@@ -73,11 +73,13 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
 void read_ba(const YAML::Node& n, BaConfig& c, const std::string& ctx) {
   if (!n) return;
   check_known_keys(n, {"first_iterations", "second_iterations", "chi2_mono", "chi2_stereo", "max_local_keyframes",
-                       "global_iterations"}, ctx);
+                       "global_iterations", "max_keyframe_step_deg", "max_keyframe_step_m"}, ctx);
   yaml_get(n, "first_iterations", c.first_iterations, ctx);
   yaml_get(n, "second_iterations", c.second_iterations, ctx);
   yaml_get(n, "chi2_mono", c.chi2_mono, ctx);
   yaml_get(n, "chi2_stereo", c.chi2_stereo, ctx);
+  yaml_get(n, "max_keyframe_step_deg", c.max_keyframe_step_deg, ctx);
+  yaml_get(n, "max_keyframe_step_m", c.max_keyframe_step_m, ctx);
   yaml_get(n, "max_local_keyframes", c.max_local_keyframes, ctx);
   yaml_get(n, "global_iterations", c.global_iterations, ctx);
 }
