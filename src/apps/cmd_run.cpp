@@ -30,7 +30,9 @@ void print_summary(const pipeline::RunResult& r, const std::string& out) {
   if (m.contains("tracking")) {
     const auto& t = m["tracking"];
     std::cout << "tracking: " << t["states"].value("LOST", 0) << " frames LOST, " << t["relocalised_frames"].size()
-              << " RELOCALISED, " << m.value("corrections", 0) << " loop corrections applied to the map\n";
+              << " RELOCALISED, ";
+    if (const int n = t["states"].value("ODOMETRY", 0); n > 0) std::cout << n << " ODOMETRY (posed by depth odometry), ";
+    std::cout << m.value("corrections", 0) << " loop corrections applied to the map\n";
     if (t.contains("submaps") && t["submaps"].value("started", 0) > 0)
       std::cout << "sub-maps: " << t["submaps"]["started"] << " started after relocalisation failed ("
                 << t["states"].value("SUBMAP", 0) << " frames tracked in them), " << t["submaps"]["merges"]

@@ -40,6 +40,7 @@ RgbdFrame with_fault(RgbdFrame f, Fault fault) {
 struct Scenario {
   std::map<int, Fault> faults;  // frame index -> what is wrong with it
   std::set<int> dropped;        // frames that never reach the pipeline
+  bool depth_odometry = true;   // false: slam.tracker.odometry_frames 0 (what features lose is LOST)
 };
 
 constexpr int kLength = kFrames;  // the fixture's 2 s hand-held office flight, rendered in memory
@@ -55,6 +56,7 @@ std::unique_ptr<pipeline::Pipeline> run(const Scenario& s) {
   const sim::Simulation& sim = simulation();
   pipeline::PipelineConfig config = sim_preset();
   config.threads.deterministic = true;
+  if (!s.depth_odometry) config.slam.tracker.odometry_frames = 0;
   EXPECT_EQ(config.flow.integrate, pipeline::IntegrateMode::kAllFrames);  // the strictest case
   auto p = std::make_unique<pipeline::Pipeline>(
       config, sim.camera(), pipeline::make_slam_poses(sim.camera(), config),
@@ -113,8 +115,10 @@ const pipeline::FrameOutcome& outcome(const pipeline::Pipeline& p, int index) {
 }
 
 TEST(TrackingFailure, FramesWhileLostAreNotIntegratedAndTrackingRecovers) {
-  // Frames 30-34: black colour image, depth intact. SLAM cannot track them (no features).
+  // Frames 30-34: black colour image, depth intact. SLAM cannot track them (no features). Depth
+  // odometry would pose them from their depth (next test): off here, so that they are LOST.
   Scenario blank_rgb, blank_all;
+  blank_rgb.depth_odometry = blank_all.depth_odometry = false;
   for (int i = 30; i < 35; ++i) blank_rgb.faults[i] = Fault::kBlankRgb, blank_all.faults[i] = Fault::kBlankAll;
   const auto a = run(blank_rgb);
   ASSERT_EQ(a->frames().size(), static_cast<std::size_t>(kLength));
@@ -140,6 +144,28 @@ TEST(TrackingFailure, FramesWhileLostAreNotIntegratedAndTrackingRecovers) {
   EXPECT_TRUE(map_bytes(*a, "lost_blank_rgb") == map_bytes(*b, "lost_blank_all"))
       << "depth of LOST frames changed the map";
   // And the map is still the scene: nearly every occupied voxel lies on a ground-truth surface.
+  EXPECT_GT(score(*a).precision, 0.9);
+}
+
+// With depth odometry (the default), the same black frames keep a pose from their depth: ODOMETRY,
+// with the position error of tracked frames, yet not tracked and not in the map (their colour and
+// labels are what failed).
+TEST(TrackingFailure, BlackFramesWithDepthArePosedByOdometryAndKeptOutOfTheMap) {
+  Scenario blank_rgb;
+  for (int i = 30; i < 35; ++i) blank_rgb.faults[i] = Fault::kBlankRgb;
+  const auto a = run(blank_rgb);
+  const auto& samples = simulation().trajectory().samples;
+  const SE3 T_slam_sim = samples[0].T_w_c.inverse();
+  for (int i = 30; i < 35; ++i) {
+    const auto& f = outcome(*a, i);
+    EXPECT_EQ(f.state, "ODOMETRY") << "frame " << i;
+    EXPECT_FALSE(f.tracked) << "frame " << i;
+    EXPECT_FALSE(f.integrated) << "frame " << i;
+    EXPECT_LT((f.T_w_c.translation() - (T_slam_sim * samples[std::size_t(i)].T_w_c).translation()).norm(), 0.05)
+        << "frame " << i;
+  }
+  for (int i = 35; i < kLength; ++i) EXPECT_TRUE(outcome(*a, i).tracked) << "frame " << i;
+  EXPECT_LT(max_tracked_error_m(*a), 0.05);
   EXPECT_GT(score(*a).precision, 0.9);
 }
 

@@ -38,7 +38,10 @@ class SlamPoses final : public PoseSource {
     const slam::TrackResult r = system_.track(frame);
     TrackOutput out;
     out.T_w_c = r.T_w_c;
-    out.ok = r.state == slam::TrackState::kOk || r.state == slam::TrackState::kRelocalised;
+    // An ODOMETRY frame has a measured pose but images feature tracking could not use (blank,
+    // plain, blurred): it goes into the map only when it became a keyframe (enough texture).
+    out.ok = r.state == slam::TrackState::kOk || r.state == slam::TrackState::kRelocalised ||
+             (r.state == slam::TrackState::kOdometry && r.keyframe);
     out.detached = r.submap != 0;
     // Tracked in a sub-map that has not joined the world (yet): said as such in frames.txt.
     out.state = out.detached && out.ok ? "SUBMAP" : slam::to_string(r.state);

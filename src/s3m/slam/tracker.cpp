@@ -11,6 +11,13 @@ namespace {
 // Points from depth a frame hands on besides the close ones: ORB-SLAM's 100 VO points for the
 // next frame. A pending keyframe's are the mapper's min_new_points (pending_new_points_).
 constexpr int kMinVoPoints = 100;
+
+DepthOdometryConfig odometry_config(const TrackerConfig& tracker, const features::FeatureConfig& features) {
+  DepthOdometryConfig c = tracker.odometry;
+  c.min_depth_m = features.min_depth_m;  // the depth the features trust
+  c.max_depth_m = features.max_depth_m;
+  return c;
+}
 }  // namespace
 
 void TrackerConfig::validate() const {
@@ -26,6 +33,9 @@ void TrackerConfig::validate() const {
   require(max_pending_keyframes >= 1 && min_init_depth_points >= 3, "tracker: bad pending/init limits");
   require(coast_frames >= 0 && bridge_deg >= 0 && bridge_m >= 0 && bridge_min_inliers >= min_pose_inliers,
           "tracker: coast_frames, bridge_deg and bridge_m must be >= 0, bridge_min_inliers >= min_pose_inliers");
+  require(odometry_frames >= 0 && odometry_deg >= 0 && odometry_m >= 0,
+          "tracker: odometry_frames, odometry_deg and odometry_m must be >= 0");
+  odometry.validate();
 }
 
 int Tracker::Frame::n_matched() const { return static_cast<int>(std::count(matched.begin(), matched.end(), 1)); }
@@ -52,7 +62,8 @@ Tracker::Tracker(const PinholeCamera& camera, const features::FeatureConfig& fea
       feature_config_(features),
       config_(config),
       pending_new_points_(pending_new_points),
-      extractor_(features.orb) {
+      extractor_(features.orb),
+      odometry_(camera, odometry_config(config, features)) {
   camera_.validate();
   require(pending_new_points_ >= 0, "tracker: pending_new_points must be >= 0");
   feature_config_.validate();
@@ -145,7 +156,9 @@ void Tracker::set_local_map(std::shared_ptr<const LocalMapSnapshot> snapshot, in
 
 TrackerOutput Tracker::process(const RgbdFrame& frame, int pending_keyframes) {
   // 1. Features.
-  return track(frame, extract(frame), pending_keyframes);
+  TrackerOutput out = track(frame, extract(frame), pending_keyframes);
+  if (!out.deferred) keep_images(frame);
+  return out;
 }
 
 std::shared_ptr<const features::FrameFeatures> Tracker::extract(const RgbdFrame& frame) const {
@@ -155,7 +168,16 @@ std::shared_ptr<const features::FrameFeatures> Tracker::extract(const RgbdFrame&
 
 TrackerOutput Tracker::retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
                                int pending_keyframes) {
-  return track(frame, std::move(features), pending_keyframes);
+  TrackerOutput out = track(frame, std::move(features), pending_keyframes);
+  if (!out.deferred) keep_images(frame);
+  return out;
+}
+
+void Tracker::keep_images(const RgbdFrame& frame) {
+  last_frame_.index = frame.index;
+  last_frame_.t_s = frame.t_s;
+  last_frame_.rgb = frame.rgb;  // shared, not copied (process()'s contract)
+  last_frame_.depth_m = frame.depth_m;
 }
 
 TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
@@ -188,22 +210,9 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
     out.deferred = true;
     return out;
   }
-  if (!ok && state_ == TrackState::kOk) coast_velocity_ = velocity_, coasted_ = 0;
-  if (!ok && bridge(cur, frame, out)) return out;
   if (!ok) {
-    // Keep the prediction as the best guess; the next frame tries the reference keyframe again.
-    state_ = TrackState::kLost;
-    if (velocity_) cur.T_c_w = *velocity_ * last_.T_c_w;
-    if (coast_velocity_ && coasted_ < config_.coast_frames) {  // dead reckoning (coast_frames)
-      cur.T_c_w = *coast_velocity_ * last_.T_c_w;
-      ++coasted_;
-    }
-    velocity_.reset();
-    out.state = state_;
-    out.T_w_c = cur.T_c_w.inverse();
-    out.ref_kf = ref_kf_;
-    out.T_ref_c = T_w_ref_.inverse() * out.T_w_c;
-    last_.T_c_w = cur.T_c_w;
+    if (state_ == TrackState::kOk) coast_velocity_ = velocity_, coasted_ = 0;
+    track_lost(cur, frame, out);
     return out;
   }
   state_ = TrackState::kOk;
@@ -238,36 +247,6 @@ bool Tracker::initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out)
   out.T_w_c = SE3::Identity();
   out.keyframe = make_request(cur, frame, /*first_of_map=*/true);
   out.ref_kf = ref_kf_;
-  prepare_last_frame(std::move(cur), std::numeric_limits<double>::infinity());
-  return true;
-}
-
-bool Tracker::bridge(Frame& cur, const RgbdFrame& frame, TrackerOutput& out) {
-  if (localize_only_ || !coast_velocity_ || coasted_ >= config_.coast_frames || !snapshot_) return false;
-  if (cur.n_with_depth() < config_.min_init_depth_points) return false;
-  // 1. The prediction and the local map's pose from it must agree (two independent estimates).
-  const SE3 guess = *coast_velocity_ * last_.T_c_w;
-  cur = Frame::unmatched(cur.f, guess);
-  auto visibility = visibility_;
-  track_local_map(cur);
-  const int n_inliers = cur.n_map_matched();
-  const SE3 d = cur.T_c_w * guess.inverse();
-  if (n_inliers < config_.bridge_min_inliers || rotation_angle_rad(d.linear()) * 180.0 / M_PI > config_.bridge_deg ||
-      d.translation().norm() > config_.bridge_m) {
-    visibility_ = std::move(visibility);
-    return false;
-  }
-  // 2. Tracked: a keyframe with every keypoint with depth, as the first of a map, so that the
-  //    next frames have points to track in the new view.
-  state_ = TrackState::kOk;
-  velocity_ = cur.T_c_w * last_.T_c_w.inverse();
-  out.state = state_;
-  out.T_w_c = cur.T_c_w.inverse();
-  out.n_inliers = n_inliers;
-  out.keyframe = make_request(cur, frame, /*first_of_map=*/true);
-  peak_inliers_ = 0;
-  out.ref_kf = ref_kf_;
-  out.T_ref_c = T_w_ref_.inverse() * out.T_w_c;
   prepare_last_frame(std::move(cur), std::numeric_limits<double>::infinity());
   return true;
 }

@@ -13,6 +13,7 @@
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/features/frame_features.hpp"
 #include "s3m/features/orb_extractor.hpp"
+#include "s3m/slam/depth_odometry.hpp"
 #include "s3m/slam/local_map.hpp"
 #include "s3m/slam/pose_optimizer.hpp"
 
@@ -49,6 +50,18 @@ struct TrackerConfig {
   double bridge_deg = 1.0;   // rotation between prediction and measured pose [deg]
   double bridge_m = 0.03;    // translation between them [m]
   int bridge_min_inliers = 10;  // = min_pose_inliers: the agreement is the guard
+  // After tracking is lost, for up to this many frames dense depth odometry (DepthOdometry) from
+  // the last frame measures the motion the velocity only predicts. A measured motion within
+  // odometry_deg / odometry_m of that prediction replaces it: the bridge searches from it, and a
+  // frame not bridged is ODOMETRY (in the trajectory at that pose) instead of LOST. Plain walls in
+  // a turn lost up to 29 frames in a row on the simulator's living-room loop (docs/RESULTS.md,
+  // issue 20). The bounds are what a flying or hand-held camera's velocity changes by in one frame
+  // at 30 Hz, far above the odometry's own error; a single plane in view makes it degenerate by
+  // much more. 0 = off.
+  int odometry_frames = 30;
+  double odometry_deg = 0.5;   // measured vs predicted motion, rotation [deg]
+  double odometry_m = 0.015;   // ... translation [m]
+  DepthOdometryConfig odometry;  // depth range from the feature config; downsample settable
   void validate() const;
 };
 
@@ -79,6 +92,8 @@ class Tracker {
 
   // pending_keyframes: requests sent but not yet answered by a snapshot (0 in single-thread mode).
   // With pending keyframes a failure is deferred (out.deferred) instead of declaring LOST.
+  // The frame's colour and depth images are kept (shared, not copied) until the next frame's
+  // depth odometry has used them: do not write into them after passing them here.
   TrackerOutput process(const RgbdFrame& frame, int pending_keyframes = 0);
   // Step 1 of process() alone: the frame's features (they do not depend on the map, so System
   // extracts them while local mapping may still be running).
@@ -134,8 +149,17 @@ class Tracker {
 
   TrackerOutput track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features, int pending);
   bool initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
-  // Lost: track from the dead-reckoned pose when the local map agrees with it (coast_frames).
-  bool bridge(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
+  // Tracking against the map failed: dead reckoning (depth odometry, else the velocity), the bridge,
+  // else LOST (tracker_lost.cpp).
+  void track_lost(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
+  std::optional<SE3> dead_reckon(const RgbdFrame& frame, bool& measured);  // T_c_w of this frame
+  // Lost: track from the dead-reckoned pose guess when the local map agrees with it.
+  bool bridge(Frame& cur, const RgbdFrame& frame, const SE3& guess, TrackerOutput& out);
+  // Lost, measured by depth odometry, nothing to bridge to: a keyframe at that pose.
+  bool odometry_keyframe(Frame& cur, const RgbdFrame& frame, const SE3& T_c_w, TrackerOutput& out);
+  // cur (at its pose) becomes a keyframe with every keypoint with depth, as the first of a map, so
+  // that the next frames have points to track in its view; tracking goes on from it with velocity.
+  void restart_from(Frame& cur, const RgbdFrame& frame, TrackState reported, const SE3& velocity, TrackerOutput& out);
   bool track_motion_model(Frame& cur, const SE3& velocity);  // velocity: T_c_w(cur) = velocity * T_c_w(last)
   bool track_reference_keyframe(Frame& cur);
   bool track_local_map(Frame& cur);
@@ -150,13 +174,16 @@ class Tracker {
   // the tracker's close depth except right after the first keyframe (all of them, like its points).
   void prepare_last_frame(Frame cur, double depth_limit_m);
   void note_visible(PointId id, int visible, int found);
-  bool follow_merges(const LocalMapSnapshot& snapshot);  // false: a sub-map this one never joined
+  bool follow_merges(const LocalMapSnapshot& snapshot);
+  void keep_images(const RgbdFrame& frame);  // last_frame_ = frame's images  // false: a sub-map this one never joined
 
   PinholeCamera camera_;
   features::FeatureConfig feature_config_;
   TrackerConfig config_;
   int pending_new_points_;
   features::OrbExtractor extractor_;
+  DepthOdometry odometry_;
+  RgbdFrame last_frame_;  // the previous frame's images (shallow), for depth odometry
   std::shared_ptr<const LocalMapSnapshot> snapshot_;
   TrackState state_ = TrackState::kNotInitialized;
   Frame last_;
@@ -165,7 +192,7 @@ class Tracker {
   int submap_ = 0;  // the sub-map being tracked (requests carry it; poses are in its frame)
   std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
   std::optional<SE3> coast_velocity_;  // the velocity when tracking was lost (coast_frames)
-  int coasted_ = 0;                    // lost frames predicted with it so far
+  int coasted_ = 0;                    // lost frames dead-reckoned so far
   int last_keyframe_frame_ = 0;
   int peak_inliers_ = 0;  // most map points tracked in one frame since the last keyframe
   KeyframeId n_requests_ = 0;          // keyframe ids are assigned by the Map in request order

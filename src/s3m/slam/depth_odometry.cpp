@@ -1,0 +1,80 @@
+#include "s3m/slam/depth_odometry.hpp"
+
+#include <limits>
+#include <vector>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/rgbd.hpp>
+
+#include "s3m/core/error.hpp"
+
+namespace s3m::slam {
+
+void DepthOdometryConfig::validate() const {
+  require(downsample >= 1 && downsample <= 8, "tracker.odometry_downsample must be in [1, 8]");
+  require(min_depth_m > 0 && max_depth_m > min_depth_m && max_depth_diff_m > 0,
+          "tracker odometry: need 0 < min depth < max depth and a positive depth difference");
+}
+
+DepthOdometry::DepthOdometry(const PinholeCamera& camera, const DepthOdometryConfig& config)
+    : camera_(camera), config_(config) {
+  camera_.validate();
+  config_.validate();
+  const double s = 1.0 / config_.downsample;
+  // Pixel centres: (u + 0.5) * s - 0.5 keeps the principal point on the same scene ray.
+  K_ = (cv::Mat_<float>(3, 3) << camera_.fx * s, 0, (camera_.cx + 0.5) * s - 0.5, 0, camera_.fy * s,
+        (camera_.cy + 0.5) * s - 0.5, 0, 0, 1);
+  if (camera_.has_distortion()) {
+    const cv::Mat K = (cv::Mat_<double>(3, 3) << camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
+    const cv::Mat dist(1, 5, CV_64F, const_cast<double*>(camera_.dist.data()));
+    cv::initUndistortRectifyMap(K, dist, cv::Mat(), K, cv::Size(camera_.width, camera_.height), CV_32FC1, map_x_,
+                                map_y_);
+  }
+}
+
+void DepthOdometry::prepare(const RgbdFrame& frame, cv::Mat& grey, cv::Mat& depth) const {
+  require(!frame.rgb.empty() && !frame.depth_m.empty() && frame.rgb.size() == frame.depth_m.size(),
+          "DepthOdometry: frame " + std::to_string(frame.index) + " needs colour and depth of one size");
+  if (frame.rgb.channels() == 3)
+    cv::cvtColor(frame.rgb, grey, cv::COLOR_BGR2GRAY);
+  else
+    grey = frame.rgb;
+  depth = frame.depth_m;
+  if (!map_x_.empty()) {
+    cv::remap(grey, grey, map_x_, map_y_, cv::INTER_LINEAR);
+    cv::remap(depth, depth, map_x_, map_y_, cv::INTER_NEAREST);  // never blend two surfaces' depths
+  }
+  if (config_.downsample > 1) {
+    const double s = 1.0 / config_.downsample;
+    cv::resize(grey, grey, cv::Size(), s, s, cv::INTER_AREA);
+    cv::resize(depth, depth, cv::Size(), s, s, cv::INTER_NEAREST);
+  } else {
+    depth = depth.clone();
+  }
+  // OpenCV's odometry reads missing depth as NaN (0 would be a point on the camera centre).
+  depth.setTo(std::numeric_limits<float>::quiet_NaN(),
+              (depth < config_.min_depth_m) | (depth > config_.max_depth_m));
+}
+
+std::optional<SE3> DepthOdometry::align(const RgbdFrame& prev, const RgbdFrame& cur,
+                                        const SE3& T_cur_prev_guess) const {
+  cv::Mat grey0, depth0, grey1, depth1;
+  prepare(prev, grey0, depth0);
+  prepare(cur, grey1, depth1);
+  // Per pyramid level, finest first; 0.25 of the pixels with a usable gradient or normal.
+  const auto odometry = cv::rgbd::RgbdICPOdometry::create(
+      K_, float(config_.min_depth_m), float(config_.max_depth_m), float(config_.max_depth_diff_m), 0.25f,
+      std::vector<int>{7, 7, 7, 10});
+  // OpenCV's Rt maps the source frame's points into the destination's: T_cur_prev.
+  cv::Mat init(4, 4, CV_64F), Rt;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) init.at<double>(r, c) = T_cur_prev_guess.matrix()(r, c);
+  if (!odometry->compute(grey0, depth0, cv::Mat(), grey1, depth1, cv::Mat(), Rt, init)) return std::nullopt;
+  Eigen::Matrix4d M;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) M(r, c) = Rt.at<double>(r, c);
+  return orthonormalized(SE3(M));
+}
+
+}  // namespace s3m::slam
