@@ -255,8 +255,9 @@ def markdown(meta, results, labels):
              f"frames per simulator sequence, jobs {meta['jobs']}, load average {meta['load_start']} at start, "
              f"{meta['load_end']} at end. `s3m run` without --config (built-in defaults, what a user gets) except "
              f"rows marked with a preset; --slam-only --no-report. ATE: SE3-aligned RMSE of "
-             f"trajectory_camera.txt (LOST frames are not in it); scale: Sim3 alignment; RPE: translational / "
-             f"rotational RMSE over 1 s; lost / reloc: frames LOST / RELOCALISED per run; track ms: mean of the "
+             f"trajectory_camera.txt (LOST frames are not in it, ODOMETRY frames are); scale: Sim3 alignment; "
+             f"RPE: translational / rotational RMSE over 1 s; lost / reloc: frames LOST / RELOCALISED per run; "
+             f"track ms: mean of the "
              f"`track` stage" + (" (* = measured with parallel jobs, under load)" if meta["jobs"] > 1 else "") + "."]
     for other in labels[1:]:  # the A/B verdict first, then every binary's full table
         lines += ["", f"#### A/B: {labels[0]} vs {other}", ""] + rep.compare_lines(
