@@ -1,8 +1,9 @@
 #pragma once
 // Tracking: estimates the camera pose of every frame against the local map.
 // process() steps: 1 features, 2 initialise (first frame), 3 frame-to-frame tracking with the
-// constant-velocity model (fallback: reference keyframe), 4 local-map tracking, 5 keyframe
-// decision, 6 bookkeeping for the next frame. It reads only LocalMapSnapshot copies and emits
+// constant-velocity model (fallback: reference keyframe), 4 local-map tracking (a failure goes to
+// track_lost(): depth odometry, the bridge, ODOMETRY or LOST), 5 keyframe decision, 6 bookkeeping
+// for the next frame. It reads only LocalMapSnapshot copies and emits
 // KeyFrameRequests, so it can run in its own thread next to local mapping.
 #include <memory>
 #include <optional>
