@@ -1,11 +1,13 @@
 // DepthOdometry (dense RGB-D odometry for the frames feature tracking loses) on the rendered room,
 // where the motion between two frames is exact.
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
 #include "s3m/core/error.hpp"
 #include "s3m/slam/depth_odometry.hpp"
+#include "s3m/slam/tracker.hpp"
 #include "slam_synthetic_room.hpp"
 
 namespace s3m::slam {
@@ -64,6 +66,44 @@ TEST(DepthOdometry, RejectsBadConfigAndMismatchedImages) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("frame 11"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace s3m::slam
+
+namespace s3m::slam {
+namespace {
+
+// The tracker's second opinion on a measured motion: the same alignment from no motion. On the
+// textured room both starts land on the same motion; a plain grey wall seen head-on, the camera
+// sliding 3 cm along it, leaves the slide unobservable, and the two starts do not agree.
+TEST(DepthOdometry, TwoStartsAgreeOnAWellConditionedPairOnly) {
+  const PinholeCamera cam = test::room_camera();
+  const DepthOdometry odometry(cam, DepthOdometryConfig{});
+  const TrackerConfig t;
+  {
+    const Pair p = room_pair(0.0);
+    const auto from_truth = odometry.align(p.prev, p.cur, p.T_cur_prev), from_rest = odometry.align(p.prev, p.cur, SE3::Identity());
+    ASSERT_TRUE(from_truth && from_rest);
+    EXPECT_TRUE(motions_agree(*from_truth, *from_rest, t.odometry_deg, t.odometry_m));
+  }
+  // Facing the room's +x wall (3 m away) from 0.6 m: camera z along +x, x along -y, y along -z.
+  Mat3 R;
+  R.col(0) = -Vec3::UnitY();
+  R.col(1) = -Vec3::UnitZ();
+  R.col(2) = Vec3::UnitX();
+  const SE3 T_w_prev = make_se3(R, Vec3(2.4, 0.0, 1.5)), T_w_cur = make_se3(R, Vec3(2.4, 0.03, 1.5));
+  RgbdFrame prev = test::render_room(test::Room{}, cam, T_w_prev, 0, 0.0), cur = test::render_room(test::Room{}, cam, T_w_cur, 1, 1 / 30.0);
+  prev.rgb.setTo(cv::Scalar(128, 128, 128));
+  cur.rgb.setTo(cv::Scalar(128, 128, 128));
+  const SE3 truth = T_w_cur.inverse() * T_w_prev;
+  const auto from_truth = odometry.align(prev, cur, truth), from_rest = odometry.align(prev, cur, SE3::Identity());
+  std::printf("plain wall: from the truth %s, from no motion %s", from_truth ? "converged" : "failed",
+              from_rest ? "converged" : "failed");
+  if (from_truth && from_rest)
+    std::printf(", %.1f mm apart", 1000 * (*from_truth * from_rest->inverse()).translation().norm());
+  std::printf("\n");
+  EXPECT_FALSE(from_truth && from_rest && motions_agree(*from_truth, *from_rest, t.odometry_deg, t.odometry_m));
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "s3m/slam/depth_odometry.hpp"
 
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -75,6 +76,11 @@ std::optional<SE3> DepthOdometry::align(const RgbdFrame& prev, const RgbdFrame& 
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) M(r, c) = Rt.at<double>(r, c);
   return orthonormalized(SE3(M));
+}
+
+bool motions_agree(const SE3& a, const SE3& b, double max_deg, double max_m) {
+  const SE3 d = a * b.inverse();
+  return rotation_angle_rad(d.linear()) <= max_deg * M_PI / 180.0 && d.translation().norm() <= max_m;
 }
 
 }  // namespace s3m::slam

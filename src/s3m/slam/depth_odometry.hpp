@@ -43,4 +43,9 @@ class DepthOdometry {
   cv::Mat map_x_, map_y_;    // undistortion maps at full resolution (empty: no distortion)
 };
 
+// Whether two frame-to-frame motions (T_cur_prev) agree within max_deg [deg] and max_m [m]: the
+// tracker accepts a measured motion that agrees with its velocity or with the same alignment
+// started from no motion (TrackerConfig::odometry_deg / odometry_m).
+bool motions_agree(const SE3& a, const SE3& b, double max_deg, double max_m);
+
 }  // namespace s3m::slam

@@ -53,14 +53,15 @@ struct TrackerConfig {
   int bridge_min_inliers = 10;  // = min_pose_inliers: the agreement is the guard
   // After tracking is lost, for up to this many frames dense depth odometry (DepthOdometry) from
   // the last frame measures the motion the velocity only predicts. A measured motion within
-  // odometry_deg / odometry_m of that prediction replaces it: the bridge searches from it, and a
-  // frame not bridged is ODOMETRY (in the trajectory at that pose) instead of LOST. Plain walls in
-  // a turn lost up to 29 frames in a row on the simulator's living-room loop (docs/RESULTS.md,
-  // issue 20). The bounds are what a flying or hand-held camera's velocity changes by in one frame
-  // at 30 Hz, far above the odometry's own error; a single plane in view makes it degenerate by
-  // much more. 0 = off.
+  // odometry_deg / odometry_m of that prediction, or of the same alignment started from no motion,
+  // replaces it: the bridge searches from it, and a frame not bridged is ODOMETRY (in the
+  // trajectory at that pose) instead of LOST. Plain walls in a turn lost up to 29 frames in a row
+  // on the simulator's living-room loop (docs/RESULTS.md, issue 20). A single plane in view makes
+  // the alignment degenerate: it lands centimetres from the velocity and from the other start
+  // (DepthOdometry.TwoStartsAgreeOnAWellConditionedPairOnly), while a well-conditioned one agrees
+  // with the other start to 0.05 deg. 0 = off.
   int odometry_frames = 30;
-  double odometry_deg = 0.5;   // measured vs predicted motion, rotation [deg]
+  double odometry_deg = 0.5;   // agreement of the measured motion with a second estimate, rotation [deg]
   double odometry_m = 0.015;   // ... translation [m]
   DepthOdometryConfig odometry;  // depth range from the feature config; downsample settable
   void validate() const;
