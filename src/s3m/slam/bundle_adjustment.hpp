@@ -64,6 +64,12 @@ struct LocalBaStats {
   int n_held_keyframes = 0;  // moved too far in the first solve (BaConfig::max_keyframe_step_*)
 };
 
+// Marks in after.fixed every keyframe free in `before` whose solved pose (after) moved further than
+// config.max_keyframe_step_deg / _m from its pose in `before`; returns how many. The caller solves
+// again from `before` with those held: such a step is a degenerate solve (a keyframe joined to the
+// rest through few points), not a correction (issue 20, session 11).
+int hold_keyframes_moved_too_far(const BaProblem& before, BaProblem& after, const BaConfig& config);
+
 // Local BA around keyframe kf: kf and its best covisible keyframes are optimised with all points
 // they observe; other keyframes observing those points are held fixed. Outlier observations are
 // erased from the map. A window keyframe the solve moves too far (BaConfig::max_keyframe_step_*)
