@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "s3m/slam/bundle_adjustment.hpp"
+#include "s3m/slam/loop_closer.hpp"
 
 namespace s3m::slam {
 namespace {
@@ -110,8 +111,11 @@ namespace {
 
 // Local BA on a two-keyframe map: keyframe F (the oldest, held for the gauge) and keyframe K, which
 // sees F's 120 points exactly from its true pose but is stored rotated by `error_deg` about its
-// y axis. Returns K's pose after local BA around K and the BA's statistics.
-std::pair<SE3, LocalBaStats> local_ba_with_wrong_keyframe(double error_deg, const BaConfig& config, SE3& T_w_k_true) {
+// y axis. Returns K's pose after local BA around K and the BA's statistics, or (global) after the
+// end-of-run global BA (hold: with its step limit).
+enum class Solve { kLocal, kGlobal, kGlobalHold };
+std::pair<SE3, LocalBaStats> local_ba_with_wrong_keyframe(double error_deg, const BaConfig& config, SE3& T_w_k_true,
+                                                          Solve solve = Solve::kLocal) {
   PinholeCamera cam;
   cam.fx = cam.fy = 500;
   cam.cx = 320;
@@ -148,7 +152,11 @@ std::pair<SE3, LocalBaStats> local_ba_with_wrong_keyframe(double error_deg, cons
   const KeyframeId f = add(T_w_f, T_w_f);
   const KeyframeId k = add(T_w_k_true, T_w_k_true * make_se3(so3_exp(Vec3(0, error_deg * M_PI / 180.0, 0)), Vec3::Zero()));
   for (std::size_t i = 0; i < P_w.size(); ++i) map.add_observation(map.add_point(P_w[i], f, int(i)), k, int(i));
-  map.update_covisibility(k);
+  map.update_covisibility(k);  // K's parent is F: the global BA holds only F, the tree's root
+  if (solve != Solve::kLocal) {
+    global_bundle_adjustment(map, cam, config, solve == Solve::kGlobalHold);
+    return {map.keyframe(k).T_w_c, LocalBaStats{}};
+  }
   const LocalBaStats st = local_bundle_adjustment(map, k, cam, config);
   return {map.keyframe(k).T_w_c, st};
 }
@@ -171,6 +179,18 @@ TEST(LocalBundleAdjustment, CorrectsSmallKeyframeErrorsAndHoldsKeyframesItWouldM
   auto [corrected, st_loose] = local_ba_with_wrong_keyframe(3.0, loose, truth);
   EXPECT_EQ(st_loose.n_held_keyframes, 0);
   EXPECT_LT(deg_between(corrected, truth), 0.01);
+}
+
+// The end-of-run global BA (System::finish) applies the same limit; loop and merge corrections,
+// whose seams move keyframes far on purpose, call it without.
+TEST(GlobalBundleAdjustment, EndOfRunSolveHoldsKeyframesItWouldMoveTooFar) {
+  SE3 truth;
+  auto [small, st0] = local_ba_with_wrong_keyframe(0.5, BaConfig{}, truth, Solve::kGlobalHold);
+  EXPECT_LT(deg_between(small, truth), 0.01);
+  auto [held, st1] = local_ba_with_wrong_keyframe(3.0, BaConfig{}, truth, Solve::kGlobalHold);
+  EXPECT_NEAR(deg_between(held, truth), 3.0, 1e-6);
+  auto [moved, st2] = local_ba_with_wrong_keyframe(3.0, BaConfig{}, truth, Solve::kGlobal);
+  EXPECT_LT(deg_between(moved, truth), 0.01);
 }
 
 }  // namespace

@@ -73,11 +73,11 @@ TEST(SlamSystem, SingleThreadTracksRoomFlightDeterministically) {
 }
 
 TEST(SlamSystem, FinalGlobalBaRefinesTheMap) {
-  // Exact intrinsics and 2 mm depth noise: one joint BA over all keyframes must not make the
-  // trajectory worse than local BA alone left it, and it must actually move the keyframes.
-  SlamConfig on;
-  on.mapper.final_global_ba = true;
-  const RunResult a = run(SlamConfig{}), b = run(on);
+  // Exact intrinsics and 2 mm depth noise: one joint BA over all keyframes (the default) must not
+  // make the trajectory worse than local BA alone left it, and it must actually move the keyframes.
+  SlamConfig off;
+  off.mapper.final_global_ba = false;
+  const RunResult a = run(off), b = run(SlamConfig{});
   ASSERT_EQ(a.traj.size(), b.traj.size());
   double moved_m = 0;
   for (std::size_t i = 0; i < a.traj.size(); ++i)
@@ -225,7 +225,7 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
       "slam:\n  threaded: true\n  features:\n    orb: {n_features: 700, n_levels: 6}\n"
       "  tracker: {min_local_inliers: 25, odometry_frames: 12, odometry_deg: 0.25, odometry_m: 0.01,\n"
       "            odometry_downsample: 4, odometry_max_depth_diff_m: 0.05}\n"
-      "  mapper: {final_global_ba: true, ba: {max_local_keyframes: 12, global_iterations: 7,\n"
+      "  mapper: {final_global_ba: false, ba: {max_local_keyframes: 12, global_iterations: 7,\n"
       "           max_keyframe_step_deg: 2.5, max_keyframe_step_m: 0.08}}\n"
       "  T_c_r: {t: [0.1, 0.0, -0.05], q: [0, 0, 0.7071067811865476, 0.7071067811865476]}\n");
   const SlamConfig c = slam_config_from_yaml(node["slam"], "test.yaml");
@@ -235,7 +235,7 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
   EXPECT_DOUBLE_EQ(c.features.orb.scale_factor, 1.2);  // default kept
   EXPECT_EQ(c.tracker.min_local_inliers, 25);
   EXPECT_EQ(c.mapper.ba.max_local_keyframes, 12);
-  EXPECT_TRUE(c.mapper.final_global_ba);
+  EXPECT_FALSE(c.mapper.final_global_ba);  // the default is on
   EXPECT_EQ(c.mapper.ba.global_iterations, 7);
   EXPECT_EQ(c.tracker.odometry_frames, 12);
   EXPECT_DOUBLE_EQ(c.tracker.odometry_deg, 0.25);

@@ -142,6 +142,10 @@ class LoopCloser {
 
 // Full bundle adjustment of every keyframe and point (the root of each sub-map fixed), written back into
 // the map. Returns the number of outlier observations (left in the map, down-weighted by Huber).
-int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConfig& config);
+// hold_large_steps: a keyframe the solve would move further than config.max_keyframe_step_deg / _m
+// is held where it was and the map solved again (local BA's rule; for the end-of-run refinement,
+// not for loop or merge corrections, whose seams legitimately move keyframes far).
+int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConfig& config,
+                             bool hold_large_steps = false);
 
 }  // namespace s3m::slam

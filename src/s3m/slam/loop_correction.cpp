@@ -126,7 +126,7 @@ void LoopCloser::weld(Map& map, KeyframeId cur_id, const Verified& v, const std:
   map.apply_corrected_poses(optimised);
 }
 
-int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConfig& config) {
+int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConfig& config, bool hold_large_steps) {
   BaProblem problem;
   std::map<KeyframeId, int> frame_of;
   for (const auto& [id, kf] : map.keyframes()) {
@@ -144,7 +144,14 @@ int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConf
       problem.obs.push_back(keypoint_ba_observation(*map.keyframe(k).features, idx, frame_of.at(k), point));
   }
   if (problem.obs.empty()) return 0;
-  const BaResult r = bundle_adjust(problem, camera, config);
+  const BaProblem before = problem;
+  BaResult r = bundle_adjust(problem, camera, config);
+  if (hold_large_steps && hold_keyframes_moved_too_far(before, problem, config) > 0) {
+    const std::vector<char> held = problem.fixed;
+    problem = before;
+    problem.fixed = held;
+    r = bundle_adjust(problem, camera, config);
+  }
   for (const auto& [id, f] : frame_of) map.set_keyframe_pose(id, problem.T_c_w[size_t(f)].inverse());
   for (size_t i = 0; i < point_ids.size(); ++i) map.set_point_position(point_ids[i], problem.p_w[i]);
   return r.n_outliers;

@@ -293,7 +293,7 @@ void System::finish() {
   if (config_.mapper.final_global_ba && !localize_only_ && map_.n_keyframes() >= 2) {
     BaConfig ba = config_.mapper.ba;
     ba.first_iterations = ba.second_iterations = ba.global_iterations;
-    n_global_ba_outliers_ = global_bundle_adjustment(map_, camera_, ba);
+    n_global_ba_outliers_ = global_bundle_adjustment(map_, camera_, ba, /*hold_large_steps=*/true);
   }
 }
 
