@@ -1,5 +1,6 @@
 #include "s3m/slam/bundle_adjustment.hpp"
 
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -121,6 +122,17 @@ void BaConfig::validate() const {
   require(max_local_keyframes >= 1, "ba.max_local_keyframes must be >= 1");
   require(global_iterations >= 1, "ba.global_iterations must be >= 1");
   require(max_keyframe_step_deg > 0 && max_keyframe_step_m > 0, "ba: max_keyframe_step_deg and _m must be > 0");
+}
+
+int hold_keyframes_moved_too_far(const BaProblem& before, BaProblem& after, const BaConfig& config) {
+  int n = 0;
+  for (std::size_t f = 0; f < after.T_c_w.size(); ++f) {
+    const SE3 step = after.T_c_w[f] * before.T_c_w[f].inverse();
+    if (!before.fixed[f] && (rotation_angle_rad(step.linear()) > config.max_keyframe_step_deg * M_PI / 180.0 ||
+                             step.translation().norm() > config.max_keyframe_step_m))
+      after.fixed[f] = 1, ++n;
+  }
+  return n;
 }
 
 BaResult bundle_adjust(BaProblem& P, const PinholeCamera& cam, const BaConfig& cfg) {

@@ -176,8 +176,8 @@ class Tracker {
   // the tracker's close depth except right after the first keyframe (all of them, like its points).
   void prepare_last_frame(Frame cur, double depth_limit_m);
   void note_visible(PointId id, int visible, int found);
-  bool follow_merges(const LocalMapSnapshot& snapshot);
-  void keep_images(const RgbdFrame& frame);  // last_frame_ = frame's images  // false: a sub-map this one never joined
+  bool follow_merges(const LocalMapSnapshot& snapshot);  // false: a sub-map this one never joined
+  void keep_images(const RgbdFrame& frame);              // last_frame_ = frame's images
 
   PinholeCamera camera_;
   features::FeatureConfig feature_config_;

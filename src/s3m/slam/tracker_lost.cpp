@@ -36,7 +36,6 @@ void Tracker::track_lost(Frame& cur, const RgbdFrame& frame, TrackerOutput& out)
 std::optional<SE3> Tracker::dead_reckon(const RgbdFrame& frame, bool& measured) {
   measured = false;
   if (!coast_velocity_) return std::nullopt;
-  const SE3 predicted = *coast_velocity_ * last_.T_c_w;
   if (coasted_ < config_.odometry_frames && !last_frame_.depth_m.empty()) {
     if (const std::optional<SE3> motion = odometry_.align(last_frame_, frame, *coast_velocity_)) {
       // Accepted when a second estimate agrees: the velocity (smooth motion), else the same
@@ -59,7 +58,7 @@ std::optional<SE3> Tracker::dead_reckon(const RgbdFrame& frame, bool& measured) 
       }
     }
   }
-  if (coasted_ < config_.coast_frames) return predicted;
+  if (coasted_ < config_.coast_frames) return *coast_velocity_ * last_.T_c_w;  // the velocity's prediction
   return std::nullopt;
 }
 
@@ -91,9 +90,7 @@ bool Tracker::bridge(Frame& cur, const RgbdFrame& frame, const SE3& guess, Track
   auto visibility = visibility_;
   track_local_map(cur);
   const int n_inliers = cur.n_map_matched();
-  const SE3 d = cur.T_c_w * guess.inverse();
-  if (n_inliers < config_.bridge_min_inliers || rotation_angle_rad(d.linear()) * 180.0 / M_PI > config_.bridge_deg ||
-      d.translation().norm() > config_.bridge_m) {
+  if (n_inliers < config_.bridge_min_inliers || !motions_agree(cur.T_c_w, guess, config_.bridge_deg, config_.bridge_m)) {
     visibility_ = std::move(visibility);
     return false;
   }
