@@ -8,7 +8,9 @@
 // `s3m merge A C` does the same offline; runs that cannot be merged say why.
 #include <cmath>
 #include <cstdio>
+#include <array>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -18,6 +20,7 @@
 #include "s3m/features/bow_vocabulary.hpp"
 #include "s3m/core/classes.hpp"
 #include "s3m/io/gt_voxels.hpp"
+#include "s3m/io/tum_dataset.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/mapping/map_io.hpp"
 #include "s3m/mapping/metrics.hpp"
@@ -146,6 +149,59 @@ double miou_on(const std::string& map_ot, const std::string& gt_path, const SE3&
   return classes.empty() ? 0.0 : sum / double(classes.size());
 }
 
+// The ground-truth voxels a flight's camera hit: every depth pixel the pipeline maps (the preset's
+// stride and range), back-projected with the true pose, lands in one. A run's area as the sensor saw
+// it, apart from any run's pose error and from the metric's one-voxel tolerance (which lets a map
+// "cover" voxels next to a surface no camera saw).
+std::set<std::size_t> hit_by_camera(const std::string& dataset, const std::string& gt_path) {
+  const io::TumDataset d = io::TumDataset::open(dataset);
+  const io::GtVoxelMap gt = io::read_gt_voxels(gt_path);
+  auto key = [&](const Eigen::Vector3d& p) {
+    return std::array<long, 3>{std::lround(std::floor(p.x() / gt.resolution_m)),
+                               std::lround(std::floor(p.y() / gt.resolution_m)),
+                               std::lround(std::floor(p.z() / gt.resolution_m))};
+  };
+  std::map<std::array<long, 3>, std::size_t> index;
+  for (std::size_t i = 0; i < gt.centres_w.size(); ++i) index[key(gt.centres_w[i].cast<double>())] = i;
+  const pipeline::CloudConfig cc = sim_preset().cloud;
+  std::set<std::size_t> out;
+  for (std::size_t f = 0; f < d.size(); ++f) {
+    const cv::Mat depth = d.load(f).depth_m;
+    const SE3 T_w_c = d.groundtruth_at(d.timestamp(f)).value();
+    for (int v = 0; v < depth.rows; v += cc.pixel_stride)
+      for (int u = 0; u < depth.cols; u += cc.pixel_stride) {
+        const double z = depth.at<float>(v, u);
+        if (z < cc.min_depth_m || z > cc.max_depth_m) continue;
+        const auto it = index.find(key(T_w_c * d.camera().backproject(u, v, z)));
+        if (it != index.end()) out.insert(it->second);
+      }
+  }
+  return out;
+}
+
+// Whether run Y's own map holds free every cell near ground-truth voxel i that run X's map holds
+// occupied (each map under its own alignment): the two sessions' evidence disagrees there, and a
+// log-odds map of both follows the weight of it.
+bool contradicted(const mapping::SemanticOcTree& x, const SE3& T_x_gt, const mapping::SemanticOcTree& y,
+                  const SE3& T_y_gt, const Eigen::Vector3f& centre_gt) {
+  const auto* tx = &x;
+  const auto* ty = &y;
+  const Eigen::Vector3f cx = T_x_gt.cast<float>() * centre_gt, cy = T_y_gt.cast<float>() * centre_gt;
+  const float r = float(tx->getResolution());
+  int occupied = 0, freed = 0;
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz) {
+        const Eigen::Vector3f o(dx * r, dy * r, dz * r);
+        const auto* n = tx->search(cx.x() + o.x(), cx.y() + o.y(), cx.z() + o.z());
+        if (!n || !tx->isNodeOccupied(n)) continue;
+        ++occupied;
+        const auto* m = ty->search(cy.x() + o.x(), cy.y() + o.y(), cy.z() + o.z());
+        freed += m && !ty->isNodeOccupied(m);
+      }
+  return occupied > 0 && freed == occupied;
+}
+
 std::size_t union_size(const std::set<std::size_t>& a, const std::set<std::size_t>& b) {
   std::set<std::size_t> u = a;
   u.insert(b.begin(), b.end());
@@ -190,6 +246,9 @@ struct MapComparison {
   double union_a, union_c, union_merged;       // on the voxels either run observed
   double a_on_a, merged_on_a, c_on_c, merged_on_c;  // on each run's own observed voxels
   std::size_t covered_a, covered_c, covered_union, covered_merged;
+  // On the voxels a camera hit: covered by A or C, by the merged map, and what the merged map
+  // misses of the union, split into voxels the other run's own map holds free and the rest.
+  std::size_t hit_union, hit_merged, missed_contradicted, missed_other;
 };
 
 MapComparison compare_maps(const std::string& merged_ot, const SE3& T_merged_gt, double own_merged) {
@@ -204,13 +263,33 @@ MapComparison compare_maps(const std::string& merged_ot, const SE3& T_merged_gt,
                   miou_on(a_ot, gt, T_a, seen), miou_on(c_ot, gt, T_c, seen), miou_on(merged_ot, gt, T_merged_gt, seen),
                   miou_on(a_ot, gt, T_a, seen_a), miou_on(merged_ot, gt, T_merged_gt, seen_a),
                   miou_on(c_ot, gt, T_c, seen_c), miou_on(merged_ot, gt, T_merged_gt, seen_c),
-                  ca.size(), cc.size(), union_size(ca, cc), cm.size()};
+                  ca.size(), cc.size(), union_size(ca, cc), cm.size(), 0, 0, 0, 0};
+  std::set<std::size_t> hit = hit_by_camera(flight_a_dir(), gt);
+  for (std::size_t i : hit_by_camera(flight_c_dir(), gt)) hit.insert(i);
+  const io::GtVoxelMap voxels = io::read_gt_voxels(gt);
+  const auto tree_a = mapping::load_semantic_map(a_ot), tree_c = mapping::load_semantic_map(c_ot);
+  for (std::size_t i : hit) {
+    const bool in_a = ca.count(i), in_c = cc.count(i);
+    if (!in_a && !in_c) continue;
+    ++m.hit_union;
+    if (cm.count(i)) {
+      ++m.hit_merged;
+      continue;
+    }
+    const Eigen::Vector3f& g = voxels.centres_w[i];
+    const bool explained = (!in_a || contradicted(*tree_a, T_a, *tree_c, T_c, g)) &&
+                           (!in_c || contradicted(*tree_c, T_c, *tree_a, T_a, g));
+    ++(explained ? m.missed_contradicted : m.missed_other);
+  }
   std::printf("  map mIoU, own observed space: A %.4f, C %.4f, merged %.4f\n"
               "  on the voxels either run observed (%zu): A %.4f, C %.4f, merged %.4f\n"
               "  where A looked: A %.4f, merged %.4f; where C looked: C %.4f, merged %.4f\n"
               "  ground-truth voxels covered (1-voxel tolerance): A %zu, C %zu, union %zu, merged %zu\n",
               m.own_a, m.own_c, m.own_merged, seen.size(), m.union_a, m.union_c, m.union_merged, m.a_on_a,
               m.merged_on_a, m.c_on_c, m.merged_on_c, m.covered_a, m.covered_c, m.covered_union, m.covered_merged);
+  std::printf("  of the voxels a camera hit (%zu): union %zu, merged %zu; the merged map misses %zu of the union, "
+              "%zu where the other run's own map holds them free, %zu otherwise\n",
+              hit.size(), m.hit_union, m.hit_merged, m.hit_union - m.hit_merged, m.missed_contradicted, m.missed_other);
   return m;
 }
 
@@ -221,17 +300,24 @@ MapComparison compare_maps(const std::string& merged_ot, const SE3& T_merged_gt,
 // seam error (A's area scored 0.872 instead of 0.885).
 // mIoU: met (session 9, with the tracker's keyframe_decay_ratio and mapper.min_new_points 300):
 // online 0.876 vs C 0.867 on the union, 0.889 / 0.880 where A / C looked; offline 0.876.
-// Coverage: the union counts each run's covered voxels under that run's own best alignment; the
-// merged map holds C's part at C's poses in A's world, whose seam error (C's own drift relative to
-// the merge point plus the seam's) moves surface voxels of the area only C saw by one voxel: not
-// met strictly, 42 797 online and 42 806 offline of the union's 42 932 (99.7 %, docs/RESULTS.md,
-// issue 23's note). The coverage bound holds that within 1 %.
+// Coverage, counted with the metric's one-voxel tolerance: 42 799 online and 42 802 offline of the
+// union's 42 922 (99.7 %). Most of the shortfall is not area: of the union's voxels the merged map
+// misses, 397 of 430 (online) were hit by neither camera; a run's map "covered" them only through the
+// tolerance, next to a surface it saw, and the merged map, built from the same clouds at slightly
+// different poses, covers other such voxels instead (307 outside the union). Of the voxels a camera
+// hit (its depth back-projected with the true pose), the merged map covers all of the union's 38 638
+// but 33 online and 31 offline; 29 / 25 of those are held occupied by one run's map and free by the
+// other's own map (each under its own alignment: the other flight's rays pass through them, e.g. the
+// top edge of a shelf seen at a grazing angle), where a log-odds map of both sessions follows the
+// weight of the evidence; 4 / 6 are plain misses. docs/RESULTS.md, issue 23.
 void expect_merged_map_at_least_as_good(const MapComparison& m) {
   EXPECT_GE(m.union_merged, std::max(m.union_a, m.union_c));
   EXPECT_GT(m.union_merged, std::min(m.union_a, m.union_c) + 0.1) << "the merged map knows both areas";
   EXPECT_GE(m.merged_on_a, m.a_on_a) << "merging must not spoil where A looked";
   EXPECT_GE(m.merged_on_c, m.c_on_c) << "nor where C looked";
   EXPECT_GE(m.covered_merged, 0.99 * m.covered_union);
+  EXPECT_GE(m.hit_merged, 0.998 * m.hit_union) << "the merged map covers what the cameras saw";
+  EXPECT_LE(m.missed_other, 0.0005 * m.hit_union) << "and misses of it only what the other run's map holds free";
   EXPECT_GT(m.covered_merged, std::max(m.covered_a, m.covered_c)) << "more than either run alone";
 }
 
