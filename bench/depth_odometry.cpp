@@ -76,10 +76,10 @@ int main(int argc, char** argv) {
         if (const auto m = odometry.align(prev, cur, guess)) {
           measured.add(*m * truth.inverse());
           // The tracker's rule (tracker_lost.cpp): agreement with the velocity, else with a restart.
-          bool ok = slam::motions_agree(*m, guess, tracker.odometry_deg, tracker.odometry_m);
+          bool ok = s3m::poses_agree(*m, guess, tracker.odometry_deg, tracker.odometry_m);
           if (!ok) {
             const auto again = odometry.align(prev, cur, SE3::Identity());
-            ok = again && slam::motions_agree(*m, *again, tracker.odometry_deg, tracker.odometry_m);
+            ok = again && s3m::poses_agree(*m, *again, tracker.odometry_deg, tracker.odometry_m);
             restarted += ok;
           }
           if (ok) accepted.add(*m * truth.inverse());

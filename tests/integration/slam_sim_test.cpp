@@ -143,7 +143,8 @@ TEST(SlamOnSimulator, FastTurnTowardsFarWallsStaysTracked) {
 // prediction is right to 0.1 deg there (the turn is smooth), and the 26 points' pose agrees with it:
 // tracker.coast_frames bridges the turn with a keyframe of all its depth. Measured here (tracking
 // and local mapping only, so no relocalisation and no loop closing): 0 LOST and 1.5 cm with the
-// bridge; without it 176 LOST (tracking never comes back). The CLI: 0.39 cm over all 300 frames.
+// bridge; without it 176 LOST (tracking never comes back). The CLI: 0.34 cm over all 300 frames
+// (0.39 before the final global BA of session 12).
 TEST(SlamOnSimulator, SmoothFastTurnIntoUnmappedSpaceIsBridged) {
   const sim::SimConfig sc = flight("living_room", "loop", /*noise=*/false, /*seed=*/202);
   const FlightResult bridged = fly(sc);
@@ -163,7 +164,8 @@ TEST(SlamOnSimulator, SmoothFastTurnIntoUnmappedSpaceIsBridged) {
 // enough depth becomes a keyframe at the measured pose. Measured here (tracking and local mapping
 // only, no loop closing): 2 LOST, 4 ODOMETRY, 1.4 cm; without the odometry 168 LOST (tracking
 // never comes back), 1.04 m. The CLI: 2 LOST (frames 133-134, one plane in view, which the
-// odometry's own check and the agreement with the velocity refuse), 0.51 cm over 298 frames.
+// odometry's own check and the agreement with the velocity refuse), 0.39 cm over 298 frames (0.51
+// before the final global BA of session 12).
 TEST(SlamOnSimulator, TurnPastAPlainWallIsCarriedByDepthOdometry) {
   const sim::SimConfig sc = flight("living_room", "loop", /*noise=*/false, /*seed=*/101);
   const FlightResult carried = fly(sc);

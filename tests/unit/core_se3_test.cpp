@@ -53,6 +53,22 @@ TEST(Se3, KnownExpValues) {
   EXPECT_NEAR(rotation_angle_rad(T.linear()), M_PI / 2, 1e-12);
 }
 
+// a = d * b with d a 2 deg turn and a 5 cm step: they agree within (2 deg, 5 cm) and not within
+// less of either, in both orders. b sits 3 m from the origin, turned 60 deg: a^-1 * b would move
+// 14.7 cm (the step expressed in b's frame), so this pins the a * b^-1 definition.
+TEST(Se3, PosesAgreeComparesTheTransformBetweenThem) {
+  const SE3 d = make_se3(Vec3(0.03, 0.04, 0.0), Quat(Eigen::AngleAxisd(2.0 * M_PI / 180.0, Vec3::UnitZ())));
+  const SE3 b = make_se3(Vec3(3.0, 0.0, 0.0), Quat(Eigen::AngleAxisd(M_PI / 3.0, Vec3::UnitY())));
+  const SE3 a = d * b;
+  EXPECT_TRUE(poses_agree(a, b, 2.0 + 1e-9, 0.05 + 1e-9));
+  EXPECT_TRUE(poses_agree(b, a, 2.0 + 1e-9, 0.05 + 1e-9));
+  EXPECT_FALSE(poses_agree(a, b, 2.0 - 1e-6, 1.0));
+  EXPECT_FALSE(poses_agree(a, b, 10.0, 0.05 - 1e-6));
+  EXPECT_FALSE(poses_agree(b, a, 10.0, 0.05 - 1e-6));
+  EXPECT_GT((a.inverse() * b).translation().norm(), 0.1);
+  EXPECT_TRUE(poses_agree(b, b, 1e-6, 1e-12));
+}
+
 TEST(Se3, OrthonormalizeFixesDrift) {
   SE3 T = make_se3(Vec3(1, 0, 0), Quat(Eigen::AngleAxisd(0.3, Vec3::UnitX())));
   T.linear()(0, 1) += 1e-4;

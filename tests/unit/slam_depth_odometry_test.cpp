@@ -85,7 +85,7 @@ TEST(DepthOdometry, TwoStartsAgreeOnAWellConditionedPairOnly) {
     const Pair p = room_pair(0.0);
     const auto from_truth = odometry.align(p.prev, p.cur, p.T_cur_prev), from_rest = odometry.align(p.prev, p.cur, SE3::Identity());
     ASSERT_TRUE(from_truth && from_rest);
-    EXPECT_TRUE(motions_agree(*from_truth, *from_rest, t.odometry_deg, t.odometry_m));
+    EXPECT_TRUE(poses_agree(*from_truth, *from_rest, t.odometry_deg, t.odometry_m));
   }
   // Facing the room's +x wall (3 m away) from 0.6 m: camera z along +x, x along -y, y along -z.
   Mat3 R;
@@ -103,7 +103,7 @@ TEST(DepthOdometry, TwoStartsAgreeOnAWellConditionedPairOnly) {
   if (from_truth && from_rest)
     std::printf(", %.1f mm apart", 1000 * (*from_truth * from_rest->inverse()).translation().norm());
   std::printf("\n");
-  EXPECT_FALSE(from_truth && from_rest && motions_agree(*from_truth, *from_rest, t.odometry_deg, t.odometry_m));
+  EXPECT_FALSE(from_truth && from_rest && poses_agree(*from_truth, *from_rest, t.odometry_deg, t.odometry_m));
 }
 
 }  // namespace

@@ -37,6 +37,11 @@ Vec3 so3_log(const Mat3& R) {
   return aa.angle() * aa.axis();
 }
 
+bool poses_agree(const SE3& a, const SE3& b, double max_deg, double max_m) {
+  const SE3 d = a * b.inverse();
+  return rotation_angle_rad(d.linear()) <= max_deg * M_PI / 180.0 && d.translation().norm() <= max_m;
+}
+
 double rotation_angle_rad(const Mat3& R) {
   // atan2 of (sin, cos) instead of acos(cos): acos loses precision near 0 (an exact identity could
   // read as ~1e-8 rad), which matters for error metrics such as RPE.

@@ -25,6 +25,11 @@ Vec6 se3_log(const SE3& T);
 // Rotation angle of R in radians, in [0, pi].
 double rotation_angle_rad(const Mat3& R);
 
+// Whether two estimates of one transform agree: a * b^-1 turns by at most max_deg [deg] and moves by
+// at most max_m [m]. E.g. two frame-to-frame motions T_cur_prev, two poses T_c_w of one frame, or a
+// keyframe pose before and after an optimisation.
+bool poses_agree(const SE3& a, const SE3& b, double max_deg, double max_m);
+
 // Re-orthonormalises the rotation part (SVD) so accumulated products stay in SO(3).
 SE3 orthonormalized(const SE3& T);
 

@@ -127,9 +127,8 @@ void BaConfig::validate() const {
 int hold_keyframes_moved_too_far(const BaProblem& before, BaProblem& after, const BaConfig& config) {
   int n = 0;
   for (std::size_t f = 0; f < after.T_c_w.size(); ++f) {
-    const SE3 step = after.T_c_w[f] * before.T_c_w[f].inverse();
-    if (!before.fixed[f] && (rotation_angle_rad(step.linear()) > config.max_keyframe_step_deg * M_PI / 180.0 ||
-                             step.translation().norm() > config.max_keyframe_step_m))
+    if (!before.fixed[f] &&
+        !poses_agree(after.T_c_w[f], before.T_c_w[f], config.max_keyframe_step_deg, config.max_keyframe_step_m))
       after.fixed[f] = 1, ++n;
   }
   return n;

@@ -78,9 +78,4 @@ std::optional<SE3> DepthOdometry::align(const RgbdFrame& prev, const RgbdFrame& 
   return orthonormalized(SE3(M));
 }
 
-bool motions_agree(const SE3& a, const SE3& b, double max_deg, double max_m) {
-  const SE3 d = a * b.inverse();
-  return rotation_angle_rad(d.linear()) <= max_deg * M_PI / 180.0 && d.translation().norm() <= max_m;
-}
-
 }  // namespace s3m::slam

@@ -43,10 +43,4 @@ class DepthOdometry {
   cv::Mat map_x_, map_y_;    // undistortion maps at full resolution (empty: no distortion)
 };
 
-// Whether two estimates of one transform agree within max_deg [deg] and max_m [m] (of a * b^-1):
-// two frame-to-frame motions T_cur_prev (the tracker accepts a measured motion that agrees with its
-// velocity or with the same alignment started from no motion, TrackerConfig::odometry_deg / _m),
-// or two poses T_c_w of one frame (the bridge's dead-reckoned and map-tracked poses, bridge_deg / _m).
-bool motions_agree(const SE3& a, const SE3& b, double max_deg, double max_m);
-
 }  // namespace s3m::slam

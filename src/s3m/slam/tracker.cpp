@@ -155,10 +155,8 @@ void Tracker::set_local_map(std::shared_ptr<const LocalMapSnapshot> snapshot, in
 }
 
 TrackerOutput Tracker::process(const RgbdFrame& frame, int pending_keyframes) {
-  // 1. Features.
-  TrackerOutput out = track(frame, extract(frame), pending_keyframes);
-  if (!out.deferred) keep_images(frame);
-  return out;
+  // 1. Features; the rest is retrack()'s (a frame tracked again later skips this step).
+  return retrack(frame, extract(frame), pending_keyframes);
 }
 
 std::shared_ptr<const features::FrameFeatures> Tracker::extract(const RgbdFrame& frame) const {

@@ -44,7 +44,7 @@ std::optional<SE3> Tracker::dead_reckon(const RgbdFrame& frame, bool& measured) 
       // motion changes by more than the bounds in one frame in 1 of 6 frames of the kitchen, where
       // both starts agree to 0.05 deg (docs/RESULTS.md, session 11).
       auto agrees = [&](const SE3& other) {
-        return motions_agree(*motion, other, config_.odometry_deg, config_.odometry_m);
+        return poses_agree(*motion, other, config_.odometry_deg, config_.odometry_m);
       };
       bool ok = agrees(*coast_velocity_);
       if (!ok) {
@@ -90,7 +90,7 @@ bool Tracker::bridge(Frame& cur, const RgbdFrame& frame, const SE3& guess, Track
   auto visibility = visibility_;
   track_local_map(cur);
   const int n_inliers = cur.n_map_matched();
-  if (n_inliers < config_.bridge_min_inliers || !motions_agree(cur.T_c_w, guess, config_.bridge_deg, config_.bridge_m)) {
+  if (n_inliers < config_.bridge_min_inliers || !poses_agree(cur.T_c_w, guess, config_.bridge_deg, config_.bridge_m)) {
     visibility_ = std::move(visibility);
     return false;
   }
