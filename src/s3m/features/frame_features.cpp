@@ -28,7 +28,19 @@ float keypoint_depth(const cv::Mat& depth, float u, float v, const FeatureConfig
       hi = std::max(hi, d);
     }
   }
-  return (hi - lo) > c.depth_discontinuity_ratio * z ? 0.0f : z;
+  if ((hi - lo) > c.depth_discontinuity_ratio * z) return 0.0f;
+  // The keypoint is sub-pixel and its map point is back-projected from there: on a slanted surface
+  // the nearest pixel's depth is off by up to half a pixel's depth step (3 mm on a floor 2 m away),
+  // as much as the keypoint's own position error. Without an edge nearby, interpolate.
+  const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= depth.cols || y0 + 1 >= depth.rows) return z;
+  const float d00 = depth.at<float>(y0, x0), d01 = depth.at<float>(y0, x0 + 1);
+  const float d10 = depth.at<float>(y0 + 1, x0), d11 = depth.at<float>(y0 + 1, x0 + 1);
+  if (!(d00 > 0.0f && d01 > 0.0f && d10 > 0.0f && d11 > 0.0f)) return z;
+  const float span = std::max(std::max(d00, d01), std::max(d10, d11)) - std::min(std::min(d00, d01), std::min(d10, d11));
+  if (span > c.depth_discontinuity_ratio * z) return z;  // depth_window_px 0 does not look at them
+  const float a = u - float(x0), b = v - float(y0);
+  return (1 - b) * ((1 - a) * d00 + a * d01) + b * ((1 - a) * d10 + a * d11);
 }
 
 // Sigma of a depth z [m] under the sensor model (DepthNoiseConfig).
