@@ -108,3 +108,54 @@ TEST(DepthOdometry, TwoStartsAgreeOnAWellConditionedPairOnly) {
 
 }  // namespace
 }  // namespace s3m::slam
+
+namespace s3m::slam {
+namespace {
+
+// The room pair's view holds two walls meeting in a corner: depth alone fixes five directions, not
+// the vertical slide along the corner, which stays at the guess (no motion).
+TEST(DepthOdometry, ObservableAlignmentMeasuresWhatTheRoomsDepthFixes) {
+  const Pair p = room_pair(0.0);
+  const auto m = DepthOdometry(test::room_camera(), DepthOdometryConfig{}).align_observable(p.prev, p.cur, SE3::Identity());
+  ASSERT_TRUE(m.has_value());
+  EXPECT_EQ(m->observed_directions, 5);
+  const SE3 err = m->T_cur_prev * p.T_cur_prev.inverse();
+  EXPECT_LT(angle_deg(err), 0.05);
+  // What is left is a vertical slide (world z).
+  const SE3 T_w_cur = test::uav_pose(11, 300) * make_se3(so3_exp(Vec3(0.0, -1.5 * M_PI / 180.0, 0.0)), Vec3(0.02, 0.0, 0.0));
+  const Vec3 slide_w = T_w_cur.linear() * (m->T_cur_prev.inverse() * p.T_cur_prev).translation();
+  std::printf("left: %.2f %.2f %.2f mm (world)\n", 1000 * slide_w.x(), 1000 * slide_w.y(), 1000 * slide_w.z());
+  EXPECT_GT(slide_w.norm(), 0.002);  // the guess was off along it and nothing in the depth says so
+  EXPECT_GT(std::abs(slide_w.z()), 0.99 * slide_w.norm());
+  EXPECT_LT(m->rms_m, 0.0005);  // every point back on its surface
+  EXPECT_GT(m->inlier_fraction, 0.8);
+}
+
+// One plain wall head-on, the camera sliding 3 cm along it. The guess is off by what the wall
+// shows (1 cm towards it, 0.5 deg of tilt) and by what it cannot (1 cm more slide, 0.3 deg about
+// its normal): the first is corrected, the second kept exactly as guessed.
+TEST(DepthOdometry, ObservableAlignmentCorrectsWhatOnePlaneShowsAndKeepsTheGuessForTheRest) {
+  const PinholeCamera cam = test::room_camera();
+  Mat3 R;  // camera z along the room's +x, x along -y, y along -z (the wall 0.6 m ahead)
+  R.col(0) = -Vec3::UnitY();
+  R.col(1) = -Vec3::UnitZ();
+  R.col(2) = Vec3::UnitX();
+  const SE3 T_w_prev = make_se3(R, Vec3(2.4, 0.0, 1.5)), T_w_cur = make_se3(R, Vec3(2.4, 0.03, 1.5));
+  const RgbdFrame prev = test::render_room(test::Room{}, cam, T_w_prev, 0, 0.0);
+  const RgbdFrame cur = test::render_room(test::Room{}, cam, T_w_cur, 1, 1 / 30.0);
+  const SE3 truth = T_w_cur.inverse() * T_w_prev;
+  const double deg = M_PI / 180.0;
+  const SE3 shown = make_se3(so3_exp(Vec3(0.5 * deg, 0, 0)), Vec3(0, 0, 0.01));
+  const SE3 hidden = make_se3(so3_exp(Vec3(0, 0, 0.3 * deg)), Vec3(0.01, 0, 0));
+  const auto m = DepthOdometry(cam, DepthOdometryConfig{}).align_observable(prev, cur, hidden * shown * truth);
+  ASSERT_TRUE(m.has_value());
+  EXPECT_EQ(m->observed_directions, 3);
+  EXPECT_LT(m->rms_m, 0.0005);
+  const SE3 left = m->T_cur_prev * truth.inverse();  // what is still off: should be `hidden`
+  const SE3 diff = left * hidden.inverse();
+  EXPECT_LT(angle_deg(diff), 0.02);
+  EXPECT_LT(diff.translation().norm(), 0.001);
+}
+
+}  // namespace
+}  // namespace s3m::slam

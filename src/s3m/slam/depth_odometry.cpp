@@ -16,6 +16,7 @@ void DepthOdometryConfig::validate() const {
   require(downsample >= 1 && downsample <= 8, "tracker.odometry_downsample must be in [1, 8]");
   require(min_depth_m > 0 && max_depth_m > min_depth_m && max_depth_diff_m > 0,
           "tracker odometry: need 0 < min depth < max depth and a positive depth difference");
+  require(min_observed_ratio > 0 && min_observed_ratio < 1, "tracker.odometry_min_observed_ratio must be in (0, 1)");
 }
 
 DepthOdometry::DepthOdometry(const PinholeCamera& camera, const DepthOdometryConfig& config)

@@ -5,7 +5,8 @@
 // texture, the room's corners and the floor still fix the motion densely: on the simulator's
 // living-room loop the dense step is within 0.07 deg / 2.5 mm of the truth per frame with sensor
 // noise, where the constant-velocity guess drifts 0.1-0.3 deg per frame (docs/RESULTS.md, issue 20).
-// A single plane leaves it degenerate, so the caller checks it against its own prediction.
+// A single plane leaves it degenerate, so the caller checks it against its own prediction, and
+// align_observable() measures only what such a view fixes.
 #include <optional>
 
 #include <opencv2/core.hpp>
@@ -21,7 +22,22 @@ struct DepthOdometryConfig {
   double min_depth_m = 0.1;    // depths outside [min, max] are not used [m]
   double max_depth_m = 6.0;
   double max_depth_diff_m = 0.07;  // ICP correspondences further apart in depth are rejected [m]
+  // align_observable(): a direction of the motion counts as measured when the points' information
+  // along it (eigenvalue of the point-to-plane normal equations, rotations scaled by the median
+  // depth so all six are in metres) is at least this fraction of the number of points. A plane
+  // seen head-on gives about 1 for its distance, 0.07-0.11 for its two tilts, 0 for the rest; the
+  // living-room loop's plain wall with the sofa's back gives 0.016 and 0.0003 for two more.
+  double min_observed_ratio = 0.01;
   void validate() const;
+};
+
+// align_observable()'s result: the motion and how much of it the view measured.
+struct ObservableMotion {
+  SE3 T_cur_prev = SE3::Identity();
+  int observed_directions = 0;  // of 6; the rest are the guess's
+  int n_points = 0;             // point-to-plane correspondences at the last iteration
+  double inlier_fraction = 0;   // n_points over the current frame's points with depth
+  double rms_m = 0;             // their point-to-plane residual RMS [m]
 };
 
 class DepthOdometry {
@@ -32,6 +48,15 @@ class DepthOdometry {
   // camera), searched from T_cur_prev_guess; nullopt when the alignment does not converge. Images
   // are undistorted first when the camera has distortion.
   std::optional<SE3> align(const RgbdFrame& prev, const RgbdFrame& cur, const SE3& T_cur_prev_guess) const;
+
+  // Point-to-plane ICP (depth only) that moves the guess only along the directions the view
+  // constrains: the solution remapping of Zhang, Kaess and Singh, "On degeneracy of
+  // optimization-based state estimation problems" (ICRA 2016). A single plane in view fixes its
+  // distance and the two tilts and leaves the slide along it and the turn about its normal to the
+  // guess (the tracker's constant velocity), where align() fails or slides along the valley.
+  // nullopt when fewer than 100 points correspond.
+  std::optional<ObservableMotion> align_observable(const RgbdFrame& prev, const RgbdFrame& cur,
+                                                   const SE3& T_cur_prev_guess) const;
 
  private:
   // Grey image (CV_8UC1) and depth (CV_32FC1 metres, NaN = none) at the odometry's resolution.

@@ -48,7 +48,8 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
                        "min_frames_between_keyframes", "keyframe_ref_ratio", "keyframe_decay_ratio", "close_tracked_min",
                        "close_untracked_min", "max_pending_keyframes", "min_init_depth_points",
                        "coast_frames", "bridge_deg", "bridge_m", "bridge_min_inliers", "odometry_frames",
-                       "odometry_deg", "odometry_m", "odometry_downsample", "odometry_max_depth_diff_m"}, ctx);
+                       "odometry_deg", "odometry_m", "odometry_downsample", "odometry_max_depth_diff_m",
+                       "odometry_min_observed_ratio"}, ctx);
   yaml_get(n, "pose_rounds", c.pose.rounds, ctx);
   yaml_get(n, "pose_iterations", c.pose.iterations, ctx);
   yaml_get(n, "close_depth_m", c.close_depth_m, ctx);
@@ -74,6 +75,7 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
   yaml_get(n, "odometry_m", c.odometry_m, ctx);
   yaml_get(n, "odometry_downsample", c.odometry.downsample, ctx);
   yaml_get(n, "odometry_max_depth_diff_m", c.odometry.max_depth_diff_m, ctx);
+  yaml_get(n, "odometry_min_observed_ratio", c.odometry.min_observed_ratio, ctx);
 }
 
 void read_ba(const YAML::Node& n, BaConfig& c, const std::string& ctx) {

@@ -59,7 +59,9 @@ struct TrackerConfig {
   // on the simulator's living-room loop (docs/RESULTS.md, issue 20). A single plane in view makes
   // the alignment degenerate: it lands centimetres from the velocity and from the other start
   // (DepthOdometry.TwoStartsAgreeOnAWellConditionedPairOnly), while a well-conditioned one agrees
-  // with the other start to 0.05 deg. 0 = off.
+  // with the other start to 0.05 deg. Such a view is then measured along the directions it fixes
+  // and kept at the velocity along the rest (DepthOdometry::align_observable; at least 3 of 6,
+  // half its points on the last frame's surfaces, within the same bounds of the velocity). 0 = off.
   int odometry_frames = 30;
   double odometry_deg = 0.5;   // agreement of the measured motion with a second estimate, rotation [deg]
   double odometry_m = 0.015;   // ... translation [m]
@@ -155,6 +157,8 @@ class Tracker {
   // else LOST (tracker_lost.cpp).
   void track_lost(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
   std::optional<SE3> dead_reckon(const RgbdFrame& frame, bool& measured);  // T_c_w of this frame
+  // The motion T_cur_last depth odometry measures and a second estimate confirms, else nullopt.
+  std::optional<SE3> measure_motion(const RgbdFrame& frame) const;
   // Lost: track from the dead-reckoned pose guess when the local map agrees with it.
   bool bridge(Frame& cur, const RgbdFrame& frame, const SE3& guess, TrackerOutput& out);
   // Lost, measured by depth odometry, nothing to bridge to: a keyframe at that pose.

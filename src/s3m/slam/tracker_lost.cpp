@@ -37,28 +37,34 @@ std::optional<SE3> Tracker::dead_reckon(const RgbdFrame& frame, bool& measured) 
   measured = false;
   if (!coast_velocity_) return std::nullopt;
   if (coasted_ < config_.odometry_frames && !last_frame_.depth_m.empty()) {
-    if (const std::optional<SE3> motion = odometry_.align(last_frame_, frame, *coast_velocity_)) {
-      // Accepted when a second estimate agrees: the velocity (smooth motion), else the same
-      // alignment started from no motion. A well-conditioned alignment has one minimum; a
-      // degenerate one (one plane in view) slides along its valley or fails. A hand-held camera's
-      // motion changes by more than the bounds in one frame in 1 of 6 frames of the kitchen, where
-      // both starts agree to 0.05 deg (docs/RESULTS.md, session 11).
-      auto agrees = [&](const SE3& other) {
-        return poses_agree(*motion, other, config_.odometry_deg, config_.odometry_m);
-      };
-      bool ok = agrees(*coast_velocity_);
-      if (!ok) {
-        const std::optional<SE3> restarted = odometry_.align(last_frame_, frame, SE3::Identity());
-        ok = restarted && agrees(*restarted);
-      }
-      if (ok) {
-        measured = true;
-        coast_velocity_ = *motion;
-        return *motion * last_.T_c_w;
-      }
+    if (const std::optional<SE3> motion = measure_motion(frame)) {
+      measured = true;
+      coast_velocity_ = *motion;
+      return *motion * last_.T_c_w;
     }
   }
   if (coasted_ < config_.coast_frames) return *coast_velocity_ * last_.T_c_w;  // the velocity's prediction
+  return std::nullopt;
+}
+
+std::optional<SE3> Tracker::measure_motion(const RgbdFrame& frame) const {
+  auto agrees = [&](const SE3& a, const SE3& b) { return poses_agree(a, b, config_.odometry_deg, config_.odometry_m); };
+  // 1. Dense RGB-D odometry, accepted when a second estimate agrees: the velocity (smooth motion),
+  //    else the same alignment started from no motion. A well-conditioned alignment has one
+  //    minimum; a degenerate one (one plane in view) slides along its valley or fails. A hand-held
+  //    camera's motion changes by more than the bounds in one frame in 1 of 6 frames of the
+  //    kitchen, where both starts agree to 0.05 deg (docs/RESULTS.md, session 11).
+  if (const std::optional<SE3> motion = odometry_.align(last_frame_, frame, *coast_velocity_)) {
+    if (agrees(*motion, *coast_velocity_)) return motion;
+    const std::optional<SE3> restarted = odometry_.align(last_frame_, frame, SE3::Identity());
+    if (restarted && agrees(*motion, *restarted)) return motion;
+  }
+  // 2. A degenerate view: what it constrains measured, the rest kept from the velocity. At least
+  //    one plane's worth (3 directions), most of the frame overlapping the last one, and within the
+  //    same bounds of the velocity, which it can only correct, not replace.
+  const std::optional<ObservableMotion> m = odometry_.align_observable(last_frame_, frame, *coast_velocity_);
+  if (m && m->observed_directions >= 3 && m->inlier_fraction >= 0.5 && agrees(m->T_cur_prev, *coast_velocity_))
+    return m->T_cur_prev;
   return std::nullopt;
 }
 
