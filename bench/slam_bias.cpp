@@ -88,7 +88,7 @@ void solve_pair(const std::vector<slam::PoseObservation>& obs, const SE3& T_wa, 
     if (res.inlier[k] && slam::reprojection_chi2(obs[k], T_wb.inverse(), cam, c)) c_gt += c;
   }
   auto pixels_only = obs;
-  for (auto& o : pixels_only) o.u_right = -1;
+  for (auto& o : pixels_only) o.u_right = features::kNoRight;
   const SE3 T_wb_mono = slam::optimize_pose(pixels_only, T_wa.inverse(), cam, pc).T_c_w.inverse();
   const Vec3 d_gt = T_wb.translation() - T_wa.translation();
   const Vec3 d_est = T_wb_est.translation() - T_wa.translation();
@@ -207,7 +207,7 @@ void run_slam(const Args& a, const sim::Simulation& simu) {
       const Vec3 pc = P.T_c_w[o.frame] * P.p_w[o.point];
       const double u = cam.fx * pc.x() / pc.z() + cam.cx, v = cam.fy * pc.y() / pc.z() + cam.cy;
       chi2_mono += ((u - o.uv.x()) * (u - o.uv.x()) + (v - o.uv.y()) * (v - o.uv.y())) * o.inv_sigma2;
-      if (o.u_right >= 0) chi2_depth += std::pow(u - cam.bf / pc.z() - o.u_right, 2) * o.inv_sigma2;
+      if (features::has_right(o.u_right)) chi2_depth += std::pow(u - cam.bf / pc.z() - o.u_right, 2) * o.inv_sigma2;
       ++n;
     }
     std::printf("map, keyframes fixed at %s poses: %zu obs, %d outliers, mean chi2 image %.4f depth row %.4f\n",

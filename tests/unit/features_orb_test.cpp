@@ -154,6 +154,31 @@ TEST(OrbMatcher, DescriptorDistanceAndRotationHistogram) {
   EXPECT_EQ(std::count(keep.begin(), keep.end(), 20), 0);
 }
 
+// A close view (0.4 m: bf / z = 100 px): keypoints left of u = 100 have a negative virtual right
+// coordinate and still have depth. Before session 14 "no depth" was any value < 0 and these lost
+// their depth row in tracking and bundle adjustment.
+TEST(FrameFeatures, KeypointsCloseToTheLeftBorderKeepTheirDepth) {
+  PinholeCamera cam;
+  cam.fx = cam.fy = 500;
+  cam.cx = 320;
+  cam.cy = 240;
+  cam.bf = 40;
+  const cv::Mat img = textured_image(640, 480, 5);
+  const cv::Mat depth(480, 640, CV_32FC1, cv::Scalar(0.4f));
+  const auto f = compute_frame_features(img, depth, cam, OrbExtractor(OrbConfig{}), FeatureConfig{});
+  int negative = 0;
+  for (int i = 0; i < f.size(); ++i) {
+    ASSERT_TRUE(f.has_depth(i));
+    EXPECT_TRUE(has_right(f.u_right[i])) << f.keypoints[i].pt;
+    EXPECT_FLOAT_EQ(f.depth_m[i], 0.4f);
+    EXPECT_FLOAT_EQ(f.u_right[i], static_cast<float>(f.keypoints[i].pt.x - 40.0 / f.depth_m[i]));
+    negative += f.u_right[i] < 0;
+  }
+  EXPECT_GT(negative, 20);
+  EXPECT_FALSE(has_right(kNoRight));
+  EXPECT_TRUE(has_right(-400.0));  // u = 0 at 0.1 m, the default minimum depth
+}
+
 TEST(FrameFeatures, DepthRightCoordinateAndDiscontinuities) {
   PinholeCamera cam;
   cam.fx = cam.fy = 500;

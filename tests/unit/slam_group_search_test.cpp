@@ -30,7 +30,7 @@ std::shared_ptr<features::FrameFeatures> features_at(const std::vector<Eigen::Ve
     set_descriptor(f->descriptors, int(k), ids[k]);
   }
   f->depth_m.assign(px.size(), 2.0f);
-  f->u_right.assign(px.size(), -1.0f);
+  f->u_right.assign(px.size(), features::kNoRight);
   f->depth_sigma_m.assign(px.size(), 0.0f);
   f->grid.build(f->keypoints, 640, 480);
   return f;

@@ -67,7 +67,7 @@ TEST(PoseOptimizer, ExactDataGivesExactPoseAndZeroChi2) {
     PoseObservation o;
     o.p_w = T_c_w.inverse() * p_c;
     o.uv = cam.project(p_c);
-    o.u_right = (i % 2) ? o.uv.x() - cam.bf / p_c.z() : -1;
+    o.u_right = (i % 2) ? o.uv.x() - cam.bf / p_c.z() : features::kNoRight;
     obs.push_back(o);
   }
   const auto res = optimize_pose(obs, se3_exp(Vec6::Constant(0.02)) * T_c_w, cam);

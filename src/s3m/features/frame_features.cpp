@@ -131,7 +131,7 @@ FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m,
   // 3. Undistort, 4. virtual right coordinate, 5. grid.
   f.keypoints = std::move(raw);
   if (camera.has_distortion()) undistort_keypoints(f.keypoints, camera);
-  f.u_right.assign(f.keypoints.size(), -1.0f);
+  f.u_right.assign(f.keypoints.size(), kNoRight);
   for (std::size_t i = 0; i < f.keypoints.size(); ++i)
     if (f.depth_m[i] > 0.0f) f.u_right[i] = static_cast<float>(f.keypoints[i].pt.x - camera.bf / f.depth_m[i]);
   f.grid.build(f.keypoints, camera.width, camera.height);

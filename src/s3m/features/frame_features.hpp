@@ -59,11 +59,18 @@ class FeatureGrid {
   std::vector<std::vector<int>> cells_;
 };
 
+// The virtual right coordinate u - bf / z of a keypoint without depth. A real one can be negative:
+// a keypoint closer to the left border than bf / z pixels (40 px at 1 m, 80 px at 0.5 m with the
+// default bf) has u - bf / z < 0. Until session 14 "no depth" was any value < 0, so those keypoints
+// lost their depth in tracking, bundle adjustment and matching (issue 20).
+inline constexpr float kNoRight = -1e9f;
+inline bool has_right(double u_right) { return u_right > -1e8; }
+
 struct FrameFeatures {
   std::vector<cv::KeyPoint> keypoints;  // undistorted, level-0 pixels; octave = pyramid level
   cv::Mat descriptors;                  // N x 32 CV_8U
   std::vector<float> depth_m;           // per keypoint; 0 = no (trusted) depth
-  std::vector<float> u_right;           // per keypoint [px]; < 0 = no depth
+  std::vector<float> u_right;           // per keypoint [px]; kNoRight = no depth (has_right())
   // Per keypoint: sigma of depth_m [m] (DepthNoiseConfig "sensor"); 0 = no depth, or the depth is
   // weighted through u_right ("virtual_right").
   std::vector<float> depth_sigma_m;

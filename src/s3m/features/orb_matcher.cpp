@@ -54,7 +54,7 @@ std::vector<int> match_by_projection(const FrameFeatures& f, const std::vector<P
     int best = std::numeric_limits<int>::max(), second = best, best_idx = -1, best_level = -1, second_level = -1;
     for (int i : f.in_area(Q.u, Q.v, Q.radius_px, Q.min_level, Q.max_level)) {
       if (taken[i]) continue;
-      if (Q.u_right >= 0 && f.u_right[i] >= 0 && std::abs(Q.u_right - f.u_right[i]) > Q.radius_px) continue;
+      if (has_right(Q.u_right) && has_right(f.u_right[i]) && std::abs(Q.u_right - f.u_right[i]) > Q.radius_px) continue;
       const int d = descriptor_distance(Q.descriptor, f.descriptor(i));
       if (d < best) {
         second = best;

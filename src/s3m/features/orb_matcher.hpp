@@ -22,7 +22,7 @@ int descriptor_distance(const std::uint8_t* a, const std::uint8_t* b);
 // A 3D point (or a keypoint of another frame) predicted to appear in a frame.
 struct ProjectionQuery {
   double u = 0, v = 0;        // predicted pixel [px]
-  double u_right = -1;        // predicted virtual right coordinate [px]; < 0: no check
+  double u_right = kNoRight;  // predicted virtual right coordinate [px]; kNoRight: no check
   int min_level = 0, max_level = -1;  // keypoint levels allowed (max < 0: any)
   double radius_px = 10;      // search window half-size
   const std::uint8_t* descriptor = nullptr;

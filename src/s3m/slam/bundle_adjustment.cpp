@@ -74,7 +74,7 @@ bool solve(BaProblem& P, const PinholeCamera& cam, const BaConfig& cfg, const st
     const auto& o = P.obs[k];
     Block& b = blocks[o.frame];
     double* p = P.p_w[o.point].data();
-    if (o.u_right >= 0)
+    if (features::has_right(o.u_right))
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ReprojectionCost<3>, 3, 4, 3, 3>(
                                    new ReprojectionCost<3>(o, cam)),
                                &huber_stereo, b.q, b.t, p);
@@ -146,7 +146,7 @@ BaResult bundle_adjust(BaProblem& P, const PinholeCamera& cam, const BaConfig& c
       const auto& o = P.obs[k];
       bool in_front = true;
       const double chi2 = chi2_of(o, P.T_c_w[o.frame], P.p_w[o.point], cam, in_front);
-      res.outlier[k] = !in_front || chi2 > (o.u_right >= 0 ? cfg.chi2_stereo : cfg.chi2_mono);
+      res.outlier[k] = !in_front || chi2 > (features::has_right(o.u_right) ? cfg.chi2_stereo : cfg.chi2_mono);
       res.n_outliers += res.outlier[k];
     }
   };

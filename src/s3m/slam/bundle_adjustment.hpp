@@ -31,7 +31,7 @@ struct BaConfig {
 struct BaObservation {
   int frame = 0, point = 0;                      // indices into BaProblem's arrays
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();  // measured undistorted pixel [px]
-  double u_right = -1;                           // virtual right coordinate [px]; < 0 monocular
+  double u_right = features::kNoRight;           // virtual right coordinate [px]; kNoRight: monocular
   double inv_sigma2 = 1;                         // 1 / level sigma^2 [1/px^2]
   // The depth row: measured inverse depth [1/m] and its weight [m^2]; inv_rho_sigma2 = 0: the
   // virtual right coordinate with inv_sigma2 (PoseObservation's rule).

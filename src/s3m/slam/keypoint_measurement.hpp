@@ -39,7 +39,7 @@ class DepthRow {
       : u_right_(o.u_right), rho_(o.rho), w2_(o.inv_sigma2), wr2_(o.inv_rho_sigma2),
         w_(std::sqrt(o.inv_sigma2)), wr_(o.inv_rho_sigma2 > 0 ? std::sqrt(o.inv_rho_sigma2) : 0.0) {}
 
-  bool present() const { return u_right_ >= 0; }  // no depth: a monocular (2-row) observation
+  bool present() const { return features::has_right(u_right_); }  // else monocular (2 rows)
 
   // Whitened residual for the predicted pixel column pu [px] and inverse depth iz [1/m].
   template <class T>

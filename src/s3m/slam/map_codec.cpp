@@ -2,7 +2,7 @@
 //   i64 next keyframe id | i64 next point id
 //   u32 keyframes x { i64 id, i32 frame index, f64 t_s, pose, f64 scale factor, u32 levels,
 //                     u32 n keypoints x {f32 x y size angle response, i32 octave class_id},
-//                     n x 32 B descriptors, n x f32 depth, n x f32 u_right, n x f32 depth sigma,
+//                     n x 32 B descriptors, n x f32 depth, n x f32 u_right (re-derived on load), n x f32 depth sigma,
 //                     n x i64 point,
 //                     u32 x {i64 neighbour, i32 weight}, i64 parent, u32 x i64 child }
 //   u32 points x { i64 id, 3 f64 p_w, 32 B descriptor, 3 f64 normal, f64 min max distance,
@@ -54,6 +54,12 @@ std::shared_ptr<const features::FrameFeatures> get_features(ByteReader& r, const
   r.get_bytes(f->depth_m.data(), n * sizeof(float), "keypoint depths");
   r.get_bytes(f->u_right.data(), n * sizeof(float), "keypoint right coordinates");
   r.get_bytes(f->depth_sigma_m.data(), n * sizeof(float), "keypoint depth sigmas");
+  // The stored right coordinates are re-derived from depth (as FrameFeatures makes them): maps
+  // written before session 14 hold -1 both for "no depth" and for keypoints with depth whose
+  // u - bf / z was negative, which then lost their depth (features::kNoRight).
+  for (std::uint32_t i = 0; i < n; ++i)
+    f->u_right[i] = f->depth_m[i] > 0.0f ? static_cast<float>(f->keypoints[i].pt.x - camera.bf / f->depth_m[i])
+                                         : features::kNoRight;
   f->grid.build(f->keypoints, camera.width, camera.height);
   return f;
 }

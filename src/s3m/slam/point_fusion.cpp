@@ -45,7 +45,7 @@ int fuse_points(Map& map, KeyframeId kf_id, const std::vector<PointId>& points, 
       const auto& kp = F.keypoints[i];
       const double inv_s2 = F.pyramid.inv_sigma2[kp.octave];
       double e2 = (vis.uv - Eigen::Vector2d(kp.pt.x, kp.pt.y)).squaredNorm();
-      if (F.u_right[i] >= 0) {  // the depth row as in bundle adjustment
+      if (features::has_right(F.u_right[i])) {  // the depth row as in bundle adjustment
         PoseObservation m;
         set_keypoint_measurement(F, i, m);
         if (e2 * inv_s2 + DepthRow(m).chi2(vis.uv.x(), vis.depth_m, cam.bf) > cfg.chi2_stereo) continue;

@@ -23,7 +23,7 @@ int fuse_points(Map& map, KeyframeId kf, const std::vector<PointId>& points, con
 // scale-invariance distance range and viewing cone). Sets predicted pixel, distance and level.
 struct Visibility {
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();
-  double u_right = -1;  // predicted virtual right coordinate [px]
+  double u_right = features::kNoRight;  // predicted virtual right coordinate [px]
   double depth_m = 0;   // predicted depth [m]
   double dist_m = 0;
   double view_cos = 1;

@@ -34,7 +34,7 @@ int residual_and_jacobian(const PoseObservation& o, const SE3& T_c_w, const Pinh
   Jx.leftCols<3>().setIdentity();
   Jx.rightCols<3>() = -skew(p);
   J = Jp * Jx;
-  return o.u_right >= 0 ? 3 : 2;
+  return features::has_right(o.u_right) ? 3 : 2;
 }
 
 }  // namespace
@@ -55,7 +55,7 @@ bool fits_pose(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& 
                const PoseOptimizerConfig& config) {
   double chi2 = 0;
   const bool in_front = reprojection_chi2(o, T_c_w, camera, chi2);
-  return in_front && chi2 <= (o.u_right >= 0 ? config.chi2_stereo : config.chi2_mono);
+  return in_front && chi2 <= (features::has_right(o.u_right) ? config.chi2_stereo : config.chi2_mono);
 }
 
 bool reprojection_chi2(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& camera, double& chi2) {

@@ -19,9 +19,9 @@ namespace s3m::slam {
 struct PoseObservation {
   Vec3 p_w = Vec3::Zero();             // point in the world [m]
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();  // measured undistorted pixel [px]
-  double u_right = -1;                 // measured virtual right coordinate [px]; < 0: monocular
+  double u_right = features::kNoRight;  // measured virtual right coordinate [px]; kNoRight: monocular
   double inv_sigma2 = 1;               // 1 / sigma^2 of the keypoint's level [1/px^2]
-  // The depth row (when u_right >= 0, keypoint_measurement.hpp): with inv_rho_sigma2 > 0 the
+  // The depth row (when features::has_right(u_right), keypoint_measurement.hpp): with inv_rho_sigma2 > 0 the
   // measured inverse depth rho = 1/z [1/m] with that weight [m^2]; else the virtual right
   // coordinate with inv_sigma2.
   double rho = 0;
