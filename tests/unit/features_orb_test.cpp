@@ -14,6 +14,16 @@ namespace s3m::features {
 namespace {
 
 // Blocky random texture at several scales: corners everywhere, deterministic.
+// VGA, f = 500 px, principal point at the centre, bf = 40 px*m.
+PinholeCamera vga_camera() {
+  PinholeCamera cam;
+  cam.fx = cam.fy = 500;
+  cam.cx = 320;
+  cam.cy = 240;
+  cam.bf = 40;
+  return cam;
+}
+
 cv::Mat textured_image(int w, int h, unsigned seed) {
   cv::Mat img(h, w, CV_8UC1, cv::Scalar(128));
   std::mt19937 rng(seed);
@@ -158,11 +168,7 @@ TEST(OrbMatcher, DescriptorDistanceAndRotationHistogram) {
 // coordinate and still have depth. Before session 14 "no depth" was any value < 0 and these lost
 // their depth row in tracking and bundle adjustment.
 TEST(FrameFeatures, KeypointsCloseToTheLeftBorderKeepTheirDepth) {
-  PinholeCamera cam;
-  cam.fx = cam.fy = 500;
-  cam.cx = 320;
-  cam.cy = 240;
-  cam.bf = 40;
+  const PinholeCamera cam = vga_camera();
   const cv::Mat img = textured_image(640, 480, 5);
   const cv::Mat depth(480, 640, CV_32FC1, cv::Scalar(0.4f));
   const auto f = compute_frame_features(img, depth, cam, OrbExtractor(OrbConfig{}), FeatureConfig{});
@@ -180,11 +186,7 @@ TEST(FrameFeatures, KeypointsCloseToTheLeftBorderKeepTheirDepth) {
 }
 
 TEST(FrameFeatures, DepthRightCoordinateAndDiscontinuities) {
-  PinholeCamera cam;
-  cam.fx = cam.fy = 500;
-  cam.cx = 320;
-  cam.cy = 240;
-  cam.bf = 40;
+  const PinholeCamera cam = vga_camera();
   const cv::Mat img = textured_image(640, 480, 9);
   cv::Mat depth(480, 640, CV_32FC1, cv::Scalar(2.0f));
   depth.colRange(320, 640).setTo(3.0f);  // a depth edge at u = 320
