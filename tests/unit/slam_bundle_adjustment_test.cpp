@@ -165,10 +165,14 @@ double deg_between(const SE3& a, const SE3& b) { return rotation_angle_rad((a.in
 
 TEST(LocalBundleAdjustment, CorrectsSmallKeyframeErrorsAndHoldsKeyframesItWouldMoveTooFar) {
   SE3 truth;
-  // 0.5 deg: within max_keyframe_step_deg (1), corrected to the pose its observations say.
-  auto [small, st_small] = local_ba_with_wrong_keyframe(0.5, BaConfig{}, truth);
+  // 0.3 deg: within max_keyframe_step_deg (0.5), corrected to the pose its observations say.
+  auto [small, st_small] = local_ba_with_wrong_keyframe(0.3, BaConfig{}, truth);
   EXPECT_EQ(st_small.n_held_keyframes, 0);
   EXPECT_LT(deg_between(small, truth), 0.01);
+  // 0.7 deg: over the limit since session 14 (it was 1 deg), held.
+  auto [mid, st_mid] = local_ba_with_wrong_keyframe(0.7, BaConfig{}, truth);
+  EXPECT_EQ(st_mid.n_held_keyframes, 1);
+  EXPECT_NEAR(deg_between(mid, truth), 0.7, 1e-6);
   // 3 deg: a step that large is taken for a degenerate window; the keyframe stays where it was.
   auto [large, st_large] = local_ba_with_wrong_keyframe(3.0, BaConfig{}, truth);
   EXPECT_EQ(st_large.n_held_keyframes, 1);
@@ -185,7 +189,7 @@ TEST(LocalBundleAdjustment, CorrectsSmallKeyframeErrorsAndHoldsKeyframesItWouldM
 // whose seams move keyframes far on purpose, call it without.
 TEST(GlobalBundleAdjustment, EndOfRunSolveHoldsKeyframesItWouldMoveTooFar) {
   SE3 truth;
-  auto [small, st0] = local_ba_with_wrong_keyframe(0.5, BaConfig{}, truth, Solve::kGlobalHold);
+  auto [small, st0] = local_ba_with_wrong_keyframe(0.3, BaConfig{}, truth, Solve::kGlobalHold);
   EXPECT_LT(deg_between(small, truth), 0.01);
   auto [held, st1] = local_ba_with_wrong_keyframe(3.0, BaConfig{}, truth, Solve::kGlobalHold);
   EXPECT_NEAR(deg_between(held, truth), 3.0, 1e-6);
