@@ -102,6 +102,12 @@ std::vector<int> FeatureGrid::in_area(const std::vector<cv::KeyPoint>& kps, doub
   return out;
 }
 
+void set_right_coordinates(FrameFeatures& f, double bf) {
+  f.u_right.assign(f.keypoints.size(), kNoRight);
+  for (std::size_t i = 0; i < f.keypoints.size(); ++i)
+    if (f.depth_m[i] > 0.0f) f.u_right[i] = static_cast<float>(f.keypoints[i].pt.x - bf / f.depth_m[i]);
+}
+
 FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m, const PinholeCamera& camera,
                                      const OrbExtractor& extractor, const FeatureConfig& config) {
   require(!rgb.empty() && (rgb.type() == CV_8UC3 || rgb.type() == CV_8UC1),
@@ -131,9 +137,7 @@ FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m,
   // 3. Undistort, 4. virtual right coordinate, 5. grid.
   f.keypoints = std::move(raw);
   if (camera.has_distortion()) undistort_keypoints(f.keypoints, camera);
-  f.u_right.assign(f.keypoints.size(), kNoRight);
-  for (std::size_t i = 0; i < f.keypoints.size(); ++i)
-    if (f.depth_m[i] > 0.0f) f.u_right[i] = static_cast<float>(f.keypoints[i].pt.x - camera.bf / f.depth_m[i]);
+  set_right_coordinates(f, camera.bf);
   f.grid.build(f.keypoints, camera.width, camera.height);
   return f;
 }

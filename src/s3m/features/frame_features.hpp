@@ -91,6 +91,10 @@ struct FrameFeatures {
   }
 };
 
+// Fills f.u_right from f's keypoints and depths: u - bf / z [px], kNoRight without depth. The one
+// rule, for extraction and for maps loaded from disk.
+void set_right_coordinates(FrameFeatures& f, double bf);
+
 // Extracts ORB from rgb (CV_8UC3 BGR or CV_8UC1), undistorts keypoints when the camera has
 // distortion, and reads depth (CV_32F metres, same size; may be empty = no depth) at the raw
 // keypoint pixels.

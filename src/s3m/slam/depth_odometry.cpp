@@ -35,21 +35,13 @@ DepthOdometry::DepthOdometry(const PinholeCamera& camera, const DepthOdometryCon
   }
 }
 
-void DepthOdometry::prepare(const RgbdFrame& frame, cv::Mat& grey, cv::Mat& depth) const {
+cv::Mat DepthOdometry::prepare_depth(const RgbdFrame& frame) const {
   require(!frame.rgb.empty() && !frame.depth_m.empty() && frame.rgb.size() == frame.depth_m.size(),
           "DepthOdometry: frame " + std::to_string(frame.index) + " needs colour and depth of one size");
-  if (frame.rgb.channels() == 3)
-    cv::cvtColor(frame.rgb, grey, cv::COLOR_BGR2GRAY);
-  else
-    grey = frame.rgb;
-  depth = frame.depth_m;
-  if (!map_x_.empty()) {
-    cv::remap(grey, grey, map_x_, map_y_, cv::INTER_LINEAR);
-    cv::remap(depth, depth, map_x_, map_y_, cv::INTER_NEAREST);  // never blend two surfaces' depths
-  }
+  cv::Mat depth = frame.depth_m;
+  if (!map_x_.empty()) cv::remap(depth, depth, map_x_, map_y_, cv::INTER_NEAREST);  // never blend two surfaces' depths
   if (config_.downsample > 1) {
     const double s = 1.0 / config_.downsample;
-    cv::resize(grey, grey, cv::Size(), s, s, cv::INTER_AREA);
     cv::resize(depth, depth, cv::Size(), s, s, cv::INTER_NEAREST);
   } else {
     depth = depth.clone();
@@ -57,13 +49,27 @@ void DepthOdometry::prepare(const RgbdFrame& frame, cv::Mat& grey, cv::Mat& dept
   // OpenCV's odometry reads missing depth as NaN (0 would be a point on the camera centre).
   depth.setTo(std::numeric_limits<float>::quiet_NaN(),
               (depth < config_.min_depth_m) | (depth > config_.max_depth_m));
+  return depth;
+}
+
+cv::Mat DepthOdometry::prepare_grey(const RgbdFrame& frame) const {
+  cv::Mat grey;
+  if (frame.rgb.channels() == 3)
+    cv::cvtColor(frame.rgb, grey, cv::COLOR_BGR2GRAY);
+  else
+    grey = frame.rgb;
+  if (!map_x_.empty()) cv::remap(grey, grey, map_x_, map_y_, cv::INTER_LINEAR);
+  if (config_.downsample > 1) {
+    const double s = 1.0 / config_.downsample;
+    cv::resize(grey, grey, cv::Size(), s, s, cv::INTER_AREA);
+  }
+  return grey;
 }
 
 std::optional<SE3> DepthOdometry::align(const RgbdFrame& prev, const RgbdFrame& cur,
                                         const SE3& T_cur_prev_guess) const {
-  cv::Mat grey0, depth0, grey1, depth1;
-  prepare(prev, grey0, depth0);
-  prepare(cur, grey1, depth1);
+  const cv::Mat depth0 = prepare_depth(prev), depth1 = prepare_depth(cur);
+  const cv::Mat grey0 = prepare_grey(prev), grey1 = prepare_grey(cur);
   // Per pyramid level, finest first; 0.25 of the pixels with a usable gradient or normal.
   const auto odometry = cv::rgbd::RgbdICPOdometry::create(
       K_, float(config_.min_depth_m), float(config_.max_depth_m), float(config_.max_depth_diff_m), 0.25f,

@@ -59,8 +59,10 @@ class DepthOdometry {
                                                    const SE3& T_cur_prev_guess) const;
 
  private:
-  // Grey image (CV_8UC1) and depth (CV_32FC1 metres, NaN = none) at the odometry's resolution.
-  void prepare(const RgbdFrame& frame, cv::Mat& grey, cv::Mat& depth) const;
+  // Depth (CV_32FC1 metres, NaN = none; checks the frame) and grey image (CV_8UC1) at the
+  // odometry's resolution, undistorted.
+  cv::Mat prepare_depth(const RgbdFrame& frame) const;
+  cv::Mat prepare_grey(const RgbdFrame& frame) const;
 
   PinholeCamera camera_;
   DepthOdometryConfig config_;

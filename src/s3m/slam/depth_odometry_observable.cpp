@@ -116,9 +116,7 @@ double median_depth(const std::vector<Vec3>& points) {
 std::optional<ObservableMotion> DepthOdometry::align_observable(const RgbdFrame& prev, const RgbdFrame& cur,
                                                                 const SE3& T_cur_prev_guess) const {
   constexpr int kMinPoints = 100, kIterations = 20;
-  cv::Mat grey0, depth0, grey1, depth1;
-  prepare(prev, grey0, depth0);
-  prepare(cur, grey1, depth1);
+  const cv::Mat depth0 = prepare_depth(prev), depth1 = prepare_depth(cur);  // depth only: no colour term
   const Intrinsics k{K_.at<float>(0, 0), K_.at<float>(1, 1), K_.at<float>(0, 2), K_.at<float>(1, 2)};
   // 1. Target: the previous frame's vertices and normals; source: the current frame's vertices.
   Target target{vertices(depth0, k), {}, k, config_.max_depth_diff_m, config_.max_depth_diff_m / 4, 1.0};

@@ -57,9 +57,7 @@ std::shared_ptr<const features::FrameFeatures> get_features(ByteReader& r, const
   // The stored right coordinates are re-derived from depth (as FrameFeatures makes them): maps
   // written before session 14 hold -1 both for "no depth" and for keypoints with depth whose
   // u - bf / z was negative, which then lost their depth (features::kNoRight).
-  for (std::uint32_t i = 0; i < n; ++i)
-    f->u_right[i] = f->depth_m[i] > 0.0f ? static_cast<float>(f->keypoints[i].pt.x - camera.bf / f->depth_m[i])
-                                         : features::kNoRight;
+  features::set_right_coordinates(*f, camera.bf);
   f->grid.build(f->keypoints, camera.width, camera.height);
   return f;
 }
