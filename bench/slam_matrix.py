@@ -50,13 +50,14 @@ def sim_rows(args):
     """The selected simulator rows as dicts (row id, scene, trajectory, noise, seed, group)."""
     if args.scenes == "none":
         return []
-    if args.quick:
-        combos = QUICK
-    else:
-        combos = [(s, t, n, k) for s, t, n, k in itertools.product(SCENES, TRAJECTORIES, (False, True), SEEDS)]
-    pick = lambda value, allowed: allowed is None or value in allowed  # noqa: E731
     seeds = None if args.seeds is None else {SEEDS[int(k) - 1] if int(k) <= len(SEEDS) else int(k)
                                              for k in args.seeds.split(",")}
+    if args.quick:
+        combos = QUICK
+    else:  # seed values beyond the fixed three (--seeds 404) are flown too
+        all_seeds = SEEDS + sorted((seeds or set()) - set(SEEDS))
+        combos = [(s, t, n, k) for s, t, n, k in itertools.product(SCENES, TRAJECTORIES, (False, True), all_seeds)]
+    pick = lambda value, allowed: allowed is None or value in allowed  # noqa: E731
     noise = {"on": {True}, "off": {False}, "both": {True, False}}[args.noise]
     rows = []
     for scene, traj, noisy, seed in combos:
