@@ -54,9 +54,9 @@ def sim_rows(args):
                                              for k in args.seeds.split(",")}
     if args.quick:
         combos = QUICK
-    else:  # seed values beyond the fixed three (--seeds 404) are flown too
-        all_seeds = SEEDS + sorted((seeds or set()) - set(SEEDS))
-        combos = [(s, t, n, k) for s, t, n, k in itertools.product(SCENES, TRAJECTORIES, (False, True), all_seeds)]
+    else:  # the selected seeds, also values beyond the fixed three (--seeds 404)
+        flown = SEEDS if seeds is None else sorted(seeds)
+        combos = [(s, t, n, k) for s, t, n, k in itertools.product(SCENES, TRAJECTORIES, (False, True), flown)]
     pick = lambda value, allowed: allowed is None or value in allowed  # noqa: E731
     noise = {"on": {True}, "off": {False}, "both": {True, False}}[args.noise]
     rows = []
