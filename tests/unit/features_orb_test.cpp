@@ -37,11 +37,30 @@ cv::Mat textured_image(int w, int h, unsigned seed) {
 }
 
 TEST(ScalePyramid, ExactScales) {
-  const auto p = ScalePyramid::make(1.2, 3);
+  const auto p = ScalePyramid::make(1.2, 3, 1.0);
   ASSERT_EQ(p.n_levels(), 3);
   EXPECT_DOUBLE_EQ(p.scale[2], 1.44);
   EXPECT_DOUBLE_EQ(p.inv_sigma2[1], 1.0 / 1.44);
   EXPECT_DOUBLE_EQ(p.sigma2[2], 1.44 * 1.44);
+}
+
+// sigma of level l = scale^exponent: with 0.75 level 2 (scale 1.44) has sigma 1.2^1.5, variance
+// 1.2^3 = 1.728; the scales themselves do not change; exponent 0 weighs every level alike.
+TEST(ScalePyramid, LevelSigmaExponentScalesOnlyTheVariances) {
+  const auto p = ScalePyramid::make(1.2, 3, 0.75);
+  EXPECT_DOUBLE_EQ(p.scale[2], 1.44);
+  EXPECT_NEAR(p.sigma2[2], 1.728, 1e-12);
+  EXPECT_NEAR(p.sigma2[1], std::pow(1.2, 1.5), 1e-12);
+  EXPECT_NEAR(p.inv_sigma2[2] * p.sigma2[2], 1.0, 1e-15);
+  EXPECT_EQ(p.sigma_exponent, 0.75);
+  const auto flat = ScalePyramid::make(1.2, 8, 0.0);
+  for (int l = 0; l < 8; ++l) EXPECT_EQ(flat.sigma2[l], 1.0) << "level " << l;
+  OrbConfig c;
+  EXPECT_EQ(OrbExtractor(c).pyramid().sigma2[1], ScalePyramid::make(1.2, 8, c.level_sigma_exponent).sigma2[1]);
+  c.level_sigma_exponent = -0.1;
+  EXPECT_THROW(c.validate(), std::exception);
+  c.level_sigma_exponent = 2.5;
+  EXPECT_THROW(c.validate(), std::exception);
 }
 
 TEST(Quadtree, KeepsIsolatedWeakCornersOverAStrongCluster) {

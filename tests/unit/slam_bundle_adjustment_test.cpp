@@ -127,7 +127,7 @@ std::pair<SE3, LocalBaStats> local_ba_with_wrong_keyframe(double error_deg, cons
   for (int i = 0; i < 120; ++i) P_w.emplace_back(-1.0 + 0.2 * (i % 12), -0.6 + 0.15 * (i / 12), 2.0 + 0.1 * (i % 7));
   auto features_at = [&](const SE3& T_w_c) {
     auto f = std::make_shared<features::FrameFeatures>();
-    f->pyramid = features::ScalePyramid::make(1.2, 4);
+    f->pyramid = features::ScalePyramid::make(1.2, 4, 1.0);
     f->descriptors = cv::Mat::zeros(int(P_w.size()), 32, CV_8U);
     for (std::size_t i = 0; i < P_w.size(); ++i) {
       const Vec3 p = T_w_c.inverse() * P_w[i];

@@ -21,7 +21,7 @@ void set_descriptor(cv::Mat& d, int row, int i) {
 // Features at the given pixels (level 0), descriptor ids[k] for pixel k, depth 2 m.
 std::shared_ptr<features::FrameFeatures> features_at(const std::vector<Eigen::Vector2d>& px, const std::vector<int>& ids) {
   auto f = std::make_shared<features::FrameFeatures>();
-  f->pyramid = features::ScalePyramid::make(1.2, 4);
+  f->pyramid = features::ScalePyramid::make(1.2, 4, 1.0);
   f->descriptors = cv::Mat::zeros(static_cast<int>(px.size()), 32, CV_8U);
   for (std::size_t k = 0; k < px.size(); ++k) {
     cv::KeyPoint kp(cv::Point2f(float(px[k].x()), float(px[k].y())), 31.0f);

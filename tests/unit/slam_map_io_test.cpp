@@ -143,6 +143,49 @@ TEST(SlamMapIo, LoadedMapRelocalisesEveryKeyframeImage) {
   fs::remove(a);
 }
 
+// Version 2 files (before features.orb.level_sigma_exponent) had no exponent after each keyframe's
+// pyramid (f64 scale factor, u32 levels). Removing it from a version 3 file and framing the payload
+// as version 2 gives exactly what the old writer wrote; it loads with ORB-SLAM's exponent 1 (the
+// weights those keyframes were made with) and everything else as saved.
+TEST(SlamMapIo, Version2MapsLoadWithOrbSlamLevelSigmas) {
+  const Built& b = built();
+  const double exponent = SlamConfig{}.features.orb.level_sigma_exponent;
+  ASSERT_NE(exponent, 1.0) << "the test tells version 2's exponent 1 from the default";
+  const std::string v3 = serialise_slam_map(b.map, b.index, b.loops, room_camera());
+  constexpr std::size_t kHead = 8 + 4 + 8, kTail = 8 + 8;  // magic, version, length | checksum, end marker
+  std::string payload = v3.substr(kHead, v3.size() - kHead - kTail);
+  ByteWriter pattern;
+  pattern.put(1.2), pattern.put<std::uint32_t>(8), pattern.put(exponent);
+  const std::string& pat = pattern.bytes();
+  int removed = 0;
+  for (std::size_t at = payload.find(pat); at != std::string::npos; at = payload.find(pat, at + pat.size() - 8)) {
+    payload.erase(at + pat.size() - 8, 8);
+    ++removed;
+  }
+  ASSERT_EQ(removed, b.map.n_keyframes());
+  const BinaryFormat v2{"S3MSLAM\0", "S3MSLEND", 2, "SLAM map", ""};
+  const fs::path old = temp_file("v2");
+  write(old, frame_payload(v2, payload));
+  const LoadedSlamMap m = load_slam_map(old.string(), room_camera(), vocabulary());
+  ASSERT_EQ(m.map.n_keyframes(), b.map.n_keyframes());
+  ASSERT_EQ(m.map.n_points(), b.map.n_points());
+  for (const auto& [id, kf] : b.map.keyframes()) {
+    const auto& pyr = m.map.keyframe(id).features->pyramid;
+    EXPECT_EQ(pyr.sigma_exponent, 1.0) << "keyframe " << id;
+    EXPECT_DOUBLE_EQ(pyr.sigma2[7], std::pow(1.2, 14)) << "keyframe " << id;
+    EXPECT_TRUE(m.map.keyframe(id).T_w_c.isApprox(kf.T_w_c, 0.0));
+    EXPECT_EQ(m.map.keyframe(id).points, kf.points);
+  }
+  // Saved again it is a version 3 file holding the exponent 1 it was loaded with.
+  const std::string again = serialise_slam_map(m.map, m.index, m.loop_edges, m.camera);
+  EXPECT_EQ(again[8], 3);
+  ByteWriter one;
+  one.put(1.2), one.put<std::uint32_t>(8), one.put(1.0);
+  EXPECT_NE(again.find(one.bytes()), std::string::npos);
+  EXPECT_EQ(again.size(), v3.size());
+  fs::remove(old);
+}
+
 TEST(SlamMapIo, BadFilesNameTheFileAndTheProblem) {
   const fs::path good = temp_file("good"), bad = temp_file("bad");
   const std::string bytes = serialise_slam_map(built().map, built().index, built().loops, room_camera());
@@ -159,7 +202,7 @@ TEST(SlamMapIo, BadFilesNameTheFileAndTheProblem) {
   std::string v1 = bytes;
   v1[8] = 1;  // u32 version after the 8 magic bytes: version 1 had no keypoint depth sigmas
   write(bad, v1);
-  EXPECT_NE(load_error(bad).find("version 1 is not supported (expected version 2)"), std::string::npos)
+  EXPECT_NE(load_error(bad).find("version 1 is not supported (expected version 2 to 3)"), std::string::npos)
       << load_error(bad);
   std::string flipped = bytes;
   flipped[bytes.size() / 2] ^= 0x10;

@@ -10,7 +10,7 @@ namespace {
 
 std::shared_ptr<const features::FrameFeatures> fake_features(int n) {
   auto f = std::make_shared<features::FrameFeatures>();
-  f->pyramid = features::ScalePyramid::make(1.2, 4);
+  f->pyramid = features::ScalePyramid::make(1.2, 4, 1.0);
   for (int i = 0; i < n; ++i) {
     cv::KeyPoint k(cv::Point2f(100.0f + i, 100.0f), 31.0f);
     k.octave = i % 2;
@@ -90,7 +90,7 @@ TEST(Map, ErasedKeyframePoseStillResolves) {
 }
 
 TEST(Map, PredictLevelFromDistanceRange) {
-  const auto pyr = features::ScalePyramid::make(1.2, 8);
+  const auto pyr = features::ScalePyramid::make(1.2, 8, 1.0);
   EXPECT_EQ(predict_level(2.0, 2.0, pyr), 0);
   EXPECT_EQ(predict_level(2.0 / 1.1, 2.0, pyr), 1);
   EXPECT_EQ(predict_level(2.0 / 1.44 - 1e-6, 2.0, pyr), 3);  // just closer than level 2's limit

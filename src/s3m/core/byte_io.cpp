@@ -77,16 +77,20 @@ std::string read_binary_file(const std::string& path, const BinaryFormat& f) {
   return ss.str();
 }
 
-std::string_view unframe_payload(const std::string& path, const std::string& bytes, const BinaryFormat& f) {
+std::string_view unframe_payload(const std::string& path, const std::string& bytes, const BinaryFormat& f,
+                                 std::uint32_t* version_out) {
   if (bytes.size() < 8 || std::memcmp(bytes.data(), f.magic, 8) != 0)
     throw ParseError(path, 0, fmt::format("not an s3m {} (bad magic bytes)", f.name), f.expected);
   ByteReader r(path, bytes, f.expected);
   char magic[8];
   r.get_bytes(magic, 8, "magic");
   const auto version = r.get<std::uint32_t>("version");
-  if (version != f.version)
+  const std::uint32_t oldest = f.oldest_version > 0 ? f.oldest_version : f.version;
+  if (version < oldest || version > f.version)
     throw ParseError(path, 0, fmt::format("{} format version {} is not supported", f.name, version),
-                     fmt::format("version {}", f.version));
+                     oldest == f.version ? fmt::format("version {}", f.version)
+                                         : fmt::format("version {} to {}", oldest, f.version));
+  if (version_out) *version_out = version;
   const auto length = r.get<std::uint64_t>("payload length");
   if (bytes.size() < kFraming || length != bytes.size() - kFraming)
     throw ParseError(path, 0,

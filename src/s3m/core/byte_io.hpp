@@ -74,12 +74,15 @@ struct BinaryFormat {
   std::uint32_t version;
   const char* name;        // for messages: "SLAM map"
   const char* expected;    // for messages: "an s3m SLAM map (slam_map.bin written by 's3m run --out')"
+  std::uint32_t oldest_version = 0;  // older versions still read (0: only `version`)
 };
 std::string frame_payload(const BinaryFormat& format, std::string_view payload);
 // The whole file at path (ParseError: missing or unreadable).
 std::string read_binary_file(const std::string& path, const BinaryFormat& format);
 // Checks magic, version, size, checksum and end marker of bytes read from path; returns the
 // payload (a view into bytes). ParseError naming path and the problem otherwise.
-std::string_view unframe_payload(const std::string& path, const std::string& bytes, const BinaryFormat& format);
+// version (optional): the file's version, from format.oldest_version up to format.version.
+std::string_view unframe_payload(const std::string& path, const std::string& bytes, const BinaryFormat& format,
+                                 std::uint32_t* version = nullptr);
 
 }  // namespace s3m

@@ -43,24 +43,27 @@ void OrbConfig::validate() const {
   require(min_fast_threshold > 0 && ini_fast_threshold >= min_fast_threshold,
           "orb FAST thresholds: need 0 < min_fast_threshold <= ini_fast_threshold");
   require(cell_px >= 8, "orb.cell_px must be >= 8");
+  require(level_sigma_exponent >= 0 && level_sigma_exponent <= 2, "orb.level_sigma_exponent must be in [0, 2]");
 }
 
-ScalePyramid ScalePyramid::make(double scale_factor, int n_levels) {
+ScalePyramid ScalePyramid::make(double scale_factor, int n_levels, double sigma_exponent) {
   ScalePyramid p;
   p.scale_factor = scale_factor;
   p.log_scale_factor = std::log(scale_factor);
+  p.sigma_exponent = sigma_exponent;
   double s = 1.0;
   for (int l = 0; l < n_levels; ++l, s *= scale_factor) {
     p.scale.push_back(s);
     p.inv_scale.push_back(1.0 / s);
-    p.sigma2.push_back(s * s);
-    p.inv_sigma2.push_back(1.0 / (s * s));
+    const double sigma2 = std::pow(s, 2 * sigma_exponent);
+    p.sigma2.push_back(sigma2);
+    p.inv_sigma2.push_back(1.0 / sigma2);
   }
   return p;
 }
 
 OrbExtractor::OrbExtractor(const OrbConfig& config)
-    : config_(config), pyramid_(ScalePyramid::make(config.scale_factor, config.n_levels)) {
+    : config_(config), pyramid_(ScalePyramid::make(config.scale_factor, config.n_levels, config.level_sigma_exponent)) {
   config_.validate();
   // Geometric share of the features per level, proportional to the level's image area^(1/2).
   const double f = 1.0 / config_.scale_factor;

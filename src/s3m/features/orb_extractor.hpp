@@ -14,6 +14,10 @@ struct OrbConfig {
   int n_features = 1000;        // total over all levels
   double scale_factor = 1.2;    // between consecutive pyramid levels
   int n_levels = 8;
+  // Keypoint position sigma of level l = scale_factor^(l * level_sigma_exponent) px (ScalePyramid).
+  // ORB-SLAM's 1 (sigma = the level's scale) over-states how much worse coarse levels are: the
+  // residuals measured per level grow like an exponent of 0.5-0.8 (docs/RESULTS.md, issue 20).
+  double level_sigma_exponent = 0.75;
   int ini_fast_threshold = 20;  // FAST threshold tried first in each cell [grey levels]
   int min_fast_threshold = 7;   // fallback for low-contrast cells
   int cell_px = 30;             // cell size of the threshold fallback
@@ -22,14 +26,16 @@ struct OrbConfig {
   void validate() const;
 };
 
-// Scale of every pyramid level (level 0 = 1) and the inverse squared scales used as measurement
-// information in the optimisers (sigma of a level-l keypoint = scale[l] px).
+// Scale of every pyramid level (level 0 = 1) and the keypoint position variance per level used as
+// measurement information in the optimisers: sigma of a level-l keypoint = scale[l]^sigma_exponent
+// px (1 = ORB-SLAM's sigma = scale).
 struct ScalePyramid {
   std::vector<double> scale, inv_scale, sigma2, inv_sigma2;
   double scale_factor = 1.2;
   double log_scale_factor = 0.0;
+  double sigma_exponent = 1.0;
 
-  static ScalePyramid make(double scale_factor, int n_levels);
+  static ScalePyramid make(double scale_factor, int n_levels, double sigma_exponent);
   int n_levels() const { return static_cast<int>(scale.size()); }
 };
 

@@ -1,6 +1,6 @@
-// The Map inside slam_map.bin, version 2:
+// The Map inside slam_map.bin, version 3 (version 2: no f64 level sigma exponent, read as 1):
 //   i64 next keyframe id | i64 next point id
-//   u32 keyframes x { i64 id, i32 frame index, f64 t_s, pose, f64 scale factor, u32 levels,
+//   u32 keyframes x { i64 id, i32 frame index, f64 t_s, pose, f64 scale factor, u32 levels, f64 level sigma exponent,
 //                     u32 n keypoints x {f32 x y size angle response, i32 octave class_id},
 //                     n x 32 B descriptors, n x f32 depth, n x f32 u_right (re-derived on load), n x f32 depth sigma,
 //                     n x i64 point,
@@ -19,6 +19,7 @@ namespace {
 void put_features(ByteWriter& w, const features::FrameFeatures& f) {
   w.put(f.pyramid.scale_factor);
   w.put<std::uint32_t>(std::uint32_t(f.pyramid.n_levels()));
+  w.put(f.pyramid.sigma_exponent);
   w.put<std::uint32_t>(std::uint32_t(f.size()));
   for (const cv::KeyPoint& k : f.keypoints) {
     w.put(k.pt.x), w.put(k.pt.y), w.put(k.size), w.put(k.angle), w.put(k.response);
@@ -30,13 +31,18 @@ void put_features(ByteWriter& w, const features::FrameFeatures& f) {
   w.put_bytes(f.depth_sigma_m.data(), f.depth_sigma_m.size() * sizeof(float));
 }
 
-std::shared_ptr<const features::FrameFeatures> get_features(ByteReader& r, const PinholeCamera& camera) {
+std::shared_ptr<const features::FrameFeatures> get_features(ByteReader& r, const PinholeCamera& camera,
+                                                            std::uint32_t version) {
   auto f = std::make_shared<features::FrameFeatures>();
   const auto scale_factor = r.get<double>("pyramid scale factor");
   const auto levels = r.get<std::uint32_t>("pyramid levels");
-  if (!(scale_factor > 1.0 && scale_factor < 4.0) || levels < 1 || levels > 32)
-    r.fail(fmt::format("corrupt scale pyramid (factor {}, {} levels)", scale_factor, levels));
-  f->pyramid = features::ScalePyramid::make(scale_factor, int(levels));
+  // Version 2 keyframes were weighted with ORB-SLAM's sigma = scale; they keep it.
+  const double sigma_exponent = version >= 3 ? r.get<double>("level sigma exponent") : 1.0;
+  if (!(scale_factor > 1.0 && scale_factor < 4.0) || levels < 1 || levels > 32 ||
+      !(sigma_exponent >= 0 && sigma_exponent <= 2))
+    r.fail(fmt::format("corrupt scale pyramid (factor {}, {} levels, sigma exponent {})", scale_factor, levels,
+                       sigma_exponent));
+  f->pyramid = features::ScalePyramid::make(scale_factor, int(levels), sigma_exponent);
   const std::uint32_t n = r.get_count("keypoint count", 28 + 32 + 4 + 4 + 4 + 8);
   f->keypoints.resize(n);
   for (cv::KeyPoint& k : f->keypoints) {
@@ -74,13 +80,13 @@ void put_keyframe(ByteWriter& w, const KeyFrame& kf) {
   for (KeyframeId c : kf.children) w.put<std::int64_t>(c);
 }
 
-KeyFrame get_keyframe(ByteReader& r, const PinholeCamera& camera) {
+KeyFrame get_keyframe(ByteReader& r, const PinholeCamera& camera, std::uint32_t version) {
   KeyFrame kf;
   kf.id = r.get<std::int64_t>("keyframe id");
   kf.frame_index = r.get<std::int32_t>("keyframe frame index");
   kf.t_s = r.get<double>("keyframe time");
   kf.T_w_c = get_pose(r, "keyframe pose");
-  kf.features = get_features(r, camera);
+  kf.features = get_features(r, camera, version);
   kf.points.resize(kf.features->size());
   for (PointId& p : kf.points) p = r.get<std::int64_t>("keyframe point id");
   for (std::uint32_t n = r.get_count("covisibility count", 12); n > 0; --n) {
@@ -179,7 +185,7 @@ void MapIo::encode(const Map& map, ByteWriter& w) {
   }
 }
 
-Map MapIo::decode(ByteReader& r, const PinholeCamera& camera) {
+Map MapIo::decode(ByteReader& r, const PinholeCamera& camera, std::uint32_t version) {
   Map m;
   m.next_kf_id_ = r.get<std::int64_t>("next keyframe id");
   m.next_point_id_ = r.get<std::int64_t>("next point id");
@@ -187,7 +193,7 @@ Map MapIo::decode(ByteReader& r, const PinholeCamera& camera) {
     if (!inserted) r.fail(fmt::format("inconsistent map: {} {} appears twice", what, id));
   };
   for (std::uint32_t n = r.get_count("keyframe count", 100); n > 0; --n) {
-    KeyFrame kf = get_keyframe(r, camera);
+    KeyFrame kf = get_keyframe(r, camera, version);
     const KeyframeId id = kf.id;
     unique(m.keyframes_.emplace(id, std::move(kf)).second, "keyframe", id);
   }

@@ -12,8 +12,8 @@ class MapIo {
  public:
   static void encode(const Map& map, ByteWriter& w);
   // Reads what encode wrote and checks its consistency (r.fail() on any violation). camera: the
-  // map's own, for the keypoint grids.
-  static Map decode(ByteReader& r, const PinholeCamera& camera);
+  // map's own, for the keypoint grids. version: the file's (map_io.cpp lists what each one holds).
+  static Map decode(ByteReader& r, const PinholeCamera& camera, std::uint32_t version);
   // A live or culled keyframe of map.
   static bool knows_keyframe(const Map& map, KeyframeId id) { return map.keyframes_.count(id) || map.culled_.count(id); }
 };

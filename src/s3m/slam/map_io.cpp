@@ -1,5 +1,6 @@
 // slam_map.bin: file framing, the session checks and the BoW index (the Map's own encoding is in
-// map_codec.cpp). Layout of the payload, version 2 (version 1 had no keypoint depth sigmas):
+// map_codec.cpp). Layout of the payload, version 3 (version 2, still read, had no level sigma
+// exponent per keyframe; version 1 had no keypoint depth sigmas):
 //   camera (fx fy cx cy f64, width height i32, depth_factor f64, dist 5 x f64, bf f64)
 //   vocabulary checksum u64 | vocabulary words u64 | direct level i32
 //   Map (map_codec.cpp) | loop edges: u32 n x {i64 current, i64 loop}
@@ -19,8 +20,8 @@
 namespace s3m::slam {
 namespace {
 
-const BinaryFormat kFormat{"S3MSLAM\0", "S3MSLEND", 2, "SLAM map",
-                           "an s3m SLAM map (slam_map.bin written by 's3m run --out')"};
+const BinaryFormat kFormat{"S3MSLAM\0", "S3MSLEND", 3, "SLAM map",
+                           "an s3m SLAM map (slam_map.bin written by 's3m run --out')", 2};
 
 void put_camera(ByteWriter& w, const PinholeCamera& c) {
   w.put(c.fx), w.put(c.fy), w.put(c.cx), w.put(c.cy);
@@ -123,7 +124,8 @@ LoadedSlamMap load(const std::string& path, const PinholeCamera* camera,
   require(vocabulary && !vocabulary->empty(), "load_slam_map: a vocabulary is needed to use a SLAM map");
   // 1. Framing: magic, version, size, checksum.
   const std::string bytes = read_binary_file(path, kFormat);
-  ByteReader r(path, unframe_payload(path, bytes, kFormat), kFormat.expected);
+  std::uint32_t version = 0;
+  ByteReader r(path, unframe_payload(path, bytes, kFormat, &version), kFormat.expected);
   // 2. Session checks first: a map of another camera or vocabulary is useless however sound it is.
   const PinholeCamera map_camera = get_camera(r);
   if (const std::string d = camera ? camera_mismatch(map_camera, *camera) : ""; !d.empty())
@@ -139,7 +141,7 @@ LoadedSlamMap load(const std::string& path, const PinholeCamera* camera,
   const auto stored_level = r.get<std::int32_t>("direct index level");
   // 3. The map, its loop edges, and the BoW index (stored vectors, or recomputed when the session
   //    matches at another direct-index level).
-  LoadedSlamMap out{MapIo::decode(r, map_camera), KeyFrameBowIndex(std::move(vocabulary), direct_level), {},
+  LoadedSlamMap out{MapIo::decode(r, map_camera, version), KeyFrameBowIndex(std::move(vocabulary), direct_level), {},
                     map_camera};
   for (std::uint32_t n = r.get_count("loop edge count", 16); n > 0; --n) {
     const auto cur = r.get<std::int64_t>("loop edge"), loop = r.get<std::int64_t>("loop edge");

@@ -11,7 +11,7 @@ namespace {
 void read_orb(const YAML::Node& n, features::OrbConfig& c, const std::string& ctx) {
   if (!n) return;
   check_known_keys(n, {"n_features", "scale_factor", "n_levels", "ini_fast_threshold", "min_fast_threshold",
-                       "cell_px", "parallel_levels"}, ctx);
+                       "cell_px", "parallel_levels", "level_sigma_exponent"}, ctx);
   yaml_get(n, "n_features", c.n_features, ctx);
   yaml_get(n, "scale_factor", c.scale_factor, ctx);
   yaml_get(n, "n_levels", c.n_levels, ctx);
@@ -19,6 +19,7 @@ void read_orb(const YAML::Node& n, features::OrbConfig& c, const std::string& ct
   yaml_get(n, "min_fast_threshold", c.min_fast_threshold, ctx);
   yaml_get(n, "cell_px", c.cell_px, ctx);
   yaml_get(n, "parallel_levels", c.parallel_levels, ctx);
+  yaml_get(n, "level_sigma_exponent", c.level_sigma_exponent, ctx);
 }
 
 void read_depth_noise(const YAML::Node& n, features::DepthNoiseConfig& c, const std::string& ctx) {
