@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "s3m/core/error.hpp"
 #include "s3m/slam/bundle_adjustment.hpp"
 #include "s3m/slam/loop_closer.hpp"
 
@@ -101,6 +102,52 @@ TEST(BundleAdjustment, FixedFramesDoNotMove) {
   bundle_adjust(P, cam, BaConfig{});
   EXPECT_TRUE(P.T_c_w[1].isApprox(T1, 1e-12));
   EXPECT_LT((P.p_w[0] - truth).norm(), 1e-4);
+}
+
+// A pose link alone fixes the free frame's pose relative to the held one: from 1 cm / 0.5 deg off,
+// the solve lands on the measurement (any error in the residual's frame convention would not).
+TEST(BundleAdjustment, PoseLinkPutsAFrameAtItsMeasuredRelativePose) {
+  const SE3 T_w_0 = se3_exp((Vec6() << 0.3, -0.2, 1.0, 0.1, 0.4, -0.2).finished());
+  const SE3 T_0_1 = se3_exp((Vec6() << 0.2, 0.05, -0.1, 0.02, -0.3, 0.1).finished());  // 1 in 0's camera
+  BaProblem P;
+  const SE3 off = se3_exp((Vec6() << 0.01, 0, 0, 0, 0.5 * M_PI / 180, 0).finished());
+  P.T_c_w = {T_w_0.inverse(), (T_w_0 * T_0_1 * off).inverse()};
+  P.fixed = {1, 0};
+  P.links.push_back({0, 1, T_0_1, 0.001, 0.001});
+  bundle_adjust(P, PinholeCamera{}, BaConfig{});
+  const SE3 got = P.T_c_w[0] * P.T_c_w[1].inverse();
+  EXPECT_LT(rotation_angle_rad((got.inverse() * T_0_1).linear()), 1e-9);
+  EXPECT_LT((got.translation() - T_0_1.translation()).norm(), 1e-9);
+  EXPECT_TRUE(P.T_c_w[0].isApprox(T_w_0.inverse(), 1e-12)) << "held";
+}
+
+// Two links that disagree by 4 mm in x, sigmas 1 and 2 mm: the solve is their weighted mean,
+// (0.1 / 1^2 + 0.104 / 2^2) / (1 / 1^2 + 1 / 2^2) = 0.1008 m.
+TEST(BundleAdjustment, PoseLinksWeighByTheirSigmas) {
+  BaProblem P;
+  P.T_c_w = {SE3::Identity(), SE3::Identity()};
+  P.fixed = {1, 0};
+  const auto shift = [](double x) { return make_se3(Mat3::Identity(), Vec3(x, 0, 0)); };
+  P.links.push_back({0, 1, shift(0.100), 0.01, 0.001});
+  P.links.push_back({0, 1, shift(0.104), 0.01, 0.002});
+  bundle_adjust(P, PinholeCamera{}, BaConfig{});
+  EXPECT_NEAR(P.T_c_w[1].inverse().translation().x(), 0.1008, 1e-9);
+  P.links[1].from = 2;
+  EXPECT_THROW(bundle_adjust(P, PinholeCamera{}, BaConfig{}), Error) << "a link to a frame the problem lacks";
+}
+
+// A keyframe tied to its neighbour by a pose link is not held for moving far: it is not the
+// degenerate few-points case the rule is for.
+TEST(BundleAdjustment, LinkedFramesAreNotHeldForLargeSteps) {
+  BaProblem before;
+  before.T_c_w.assign(3, SE3::Identity());
+  before.fixed = {1, 0, 0};
+  before.links.push_back({0, 1, SE3::Identity(), 0.001, 0.001});
+  BaProblem after = before;
+  const SE3 turned = make_se3(so3_exp(Vec3(0, 3 * M_PI / 180, 0)), Vec3::Zero());
+  after.T_c_w[1] = after.T_c_w[2] = turned;
+  EXPECT_EQ(hold_keyframes_moved_too_far(before, after, BaConfig{}), 1);
+  EXPECT_EQ(after.fixed, (std::vector<char>{1, 0, 1}));
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/slam/depth_odometry.hpp"
+#include "s3m/slam/keyframe_links.hpp"
 #include "s3m/slam/tracker.hpp"
 #include "slam_synthetic_room.hpp"
 
@@ -49,6 +50,49 @@ TEST(DepthOdometry, DepthNoiseCostsLittleAtFullResolution) {
   const SE3 err = *T * p.T_cur_prev.inverse();
   EXPECT_LT(angle_deg(err), 0.1);
   EXPECT_LT(err.translation().norm(), 0.003);
+}
+
+// KeyframeLinker: two keyframes of the room 10 UAV frames apart, the second tracked 0.3 deg / 5 mm
+// off; the link measured between their images is the true relative pose, not the tracked one.
+// A link that disagrees with the tracked poses by more than max_deg, or crosses sub-maps, is none.
+KeyFrame room_keyframe(const SE3& T_w_c, int submap) {
+  KeyFrame k;
+  k.T_w_c = T_w_c;
+  k.features = std::make_shared<features::FrameFeatures>();
+  k.submap = submap;
+  return k;
+}
+
+TEST(KeyframeLinker, MeasuresTheTrueRelativePoseOfConsecutiveKeyframes) {
+  const PinholeCamera cam = test::room_camera();
+  const SE3 T_w_a = test::uav_pose(20, 300), T_w_b = test::uav_pose(30, 300);
+  const RgbdFrame a = test::render_room(test::Room{}, cam, T_w_a, 20, 0.0, 0.0);
+  const RgbdFrame b = test::render_room(test::Room{}, cam, T_w_b, 30, 1 / 3.0, 0.0);
+  const SE3 tracking_error = make_se3(so3_exp(Vec3(0.0, 0.3 * M_PI / 180, 0.0)), Vec3(0.005, 0.0, 0.0));
+  const auto link_with_b_at = [&](const SE3& T_w_b_tracked, int submap_b) {
+    Map map;
+    const KeyframeId ka = map.add_keyframe(room_keyframe(T_w_a, 0));
+    const KeyframeId kb = map.add_keyframe(room_keyframe(T_w_b_tracked, submap_b));
+    KeyframeLinker linker(cam, DenseLinkConfig{});
+    EXPECT_FALSE(linker.link(ka, a, map).has_value()) << "the first keyframe has nothing to link to";
+    auto l = linker.link(kb, b, map);
+    if (l) {
+      EXPECT_EQ(l->from, ka);
+      EXPECT_EQ(l->to, kb);
+      EXPECT_EQ(linker.links().size(), 1u);
+    }
+    return l;
+  };
+  const auto l = link_with_b_at(T_w_b * tracking_error, 0);
+  ASSERT_TRUE(l.has_value());
+  const SE3 err = (T_w_a.inverse() * T_w_b).inverse() * l->T_from_to;
+  EXPECT_GT(angle_deg(T_w_a.inverse() * T_w_b), 2.0) << "a real motion between the keyframes";
+  EXPECT_LT(angle_deg(err), 0.02);
+  EXPECT_LT(err.translation().norm(), 0.001);
+  EXPECT_NEAR(l->sigma_rad, DenseLinkConfig{}.sigma_deg * M_PI / 180, 1e-15);
+  const SE3 far_off = make_se3(so3_exp(Vec3(0.0, 3.0 * M_PI / 180, 0.0)), Vec3::Zero());
+  EXPECT_FALSE(link_with_b_at(T_w_b * far_off, 0).has_value()) << "3 deg from the tracked poses";
+  EXPECT_FALSE(link_with_b_at(T_w_b, 1).has_value()) << "another sub-map";
 }
 
 TEST(DepthOdometry, RejectsBadConfigAndMismatchedImages) {

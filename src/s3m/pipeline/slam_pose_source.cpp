@@ -53,6 +53,12 @@ class SlamPoses final : public PoseSource {
 
   std::vector<KeyframePoses> finish() override {
     system_.finish();
+    if (const slam::KeyframeLinkSummary s = system_.keyframe_link_summary(); s.n_links > 0)
+      spdlog::info("SLAM: {} dense keyframe links, median {:.3f} deg / {:.1f} mm from tracking: {}", s.n_links,
+                   s.median_disagreement_deg, 1000 * s.median_disagreement_m,
+                   s.trusted ? "used in the final BA"
+                             : "not used (over slam.mapper.dense_links.max_median_deg / _m: do depth and colour "
+                               "line up?)");
     return corrected_poses(system_.late_corrections());
   }
   io::Trajectory camera_trajectory() const override { return without_lost(system_.camera_trajectory()); }

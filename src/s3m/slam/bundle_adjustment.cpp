@@ -1,5 +1,6 @@
 #include "s3m/slam/bundle_adjustment.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -37,6 +38,36 @@ struct ReprojectionCost {
   }
   double u, v, w, fx, fy, cx, cy, bf;
   DepthRow depth;
+};
+
+// Error of a measured relative pose T_from_to given both frames' world-to-camera poses:
+// T_from_to(est) = T_c_w[from] * T_c_w[to]^-1; rows: the rotation of meas^-1 * est as an angle-axis
+// vector over sigma_rad, its translation over sigma_m.
+struct PoseLinkCost {
+  explicit PoseLinkCost(const BaPoseLink& l) : t_meas(l.T_from_to.translation()), w_r(1 / l.sigma_rad), w_t(1 / l.sigma_m) {
+    const Quat q(l.T_from_to.linear());
+    q_meas_inv[0] = q.w(), q_meas_inv[1] = -q.x(), q_meas_inv[2] = -q.y(), q_meas_inv[3] = -q.z();
+  }
+  template <typename T>
+  bool operator()(const T* q_f, const T* t_f, const T* q_t, const T* t_t, T* r) const {
+    // R_est = R_f R_t^T, t_est = t_f - R_est t_t.
+    const T q_t_inv[4] = {q_t[0], -q_t[1], -q_t[2], -q_t[3]};
+    T q_est[4], rt[3], q_err[4];
+    ceres::QuaternionProduct(q_f, q_t_inv, q_est);
+    ceres::UnitQuaternionRotatePoint(q_est, t_t, rt);
+    const T t_est[3] = {t_f[0] - rt[0], t_f[1] - rt[1], t_f[2] - rt[2]};
+    const T qm[4] = {T(q_meas_inv[0]), T(q_meas_inv[1]), T(q_meas_inv[2]), T(q_meas_inv[3])};
+    ceres::QuaternionProduct(qm, q_est, q_err);
+    ceres::QuaternionToAngleAxis(q_err, r);
+    const T dt[3] = {t_est[0] - T(t_meas.x()), t_est[1] - T(t_meas.y()), t_est[2] - T(t_meas.z())};
+    T dt_m[3];
+    ceres::UnitQuaternionRotatePoint(qm, dt, dt_m);  // in the measurement's `from` frame
+    for (int k = 0; k < 3; ++k) r[k] *= T(w_r), r[3 + k] = T(w_t) * dt_m[k];
+    return true;
+  }
+  Vec3 t_meas;
+  double q_meas_inv[4];
+  double w_r, w_t;
 };
 
 struct Block {
@@ -84,6 +115,11 @@ bool solve(BaProblem& P, const PinholeCamera& cam, const BaConfig& cfg, const st
                                &huber_mono, b.q, b.t, p);
     used_frames.insert(o.frame);
   }
+  for (const BaPoseLink& l : P.links) {
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PoseLinkCost, 6, 4, 3, 4, 3>(new PoseLinkCost(l)), nullptr,
+                             blocks[l.from].q, blocks[l.from].t, blocks[l.to].q, blocks[l.to].t);
+    used_frames.insert(l.from), used_frames.insert(l.to);
+  }
   if (used_frames.empty()) return false;
   for (int f : used_frames) {
     problem.SetManifold(blocks[f].q, &quat_manifold);
@@ -125,9 +161,11 @@ void BaConfig::validate() const {
 }
 
 int hold_keyframes_moved_too_far(const BaProblem& before, BaProblem& after, const BaConfig& config) {
+  std::vector<char> linked(after.T_c_w.size(), 0);
+  for (const BaPoseLink& l : before.links) linked[std::size_t(l.from)] = linked[std::size_t(l.to)] = 1;
   int n = 0;
   for (std::size_t f = 0; f < after.T_c_w.size(); ++f) {
-    if (!before.fixed[f] &&
+    if (!before.fixed[f] && !linked[f] &&
         !poses_agree(after.T_c_w[f], before.T_c_w[f], config.max_keyframe_step_deg, config.max_keyframe_step_m))
       after.fixed[f] = 1, ++n;
   }
@@ -136,6 +174,10 @@ int hold_keyframes_moved_too_far(const BaProblem& before, BaProblem& after, cons
 
 BaResult bundle_adjust(BaProblem& P, const PinholeCamera& cam, const BaConfig& cfg) {
   require(P.fixed.size() == P.T_c_w.size(), "bundle_adjust: one fixed flag per frame");
+  for (const BaPoseLink& l : P.links)
+    require(l.from >= 0 && l.to >= 0 && std::size_t(std::max(l.from, l.to)) < P.T_c_w.size() && l.from != l.to &&
+                l.sigma_rad > 0 && l.sigma_m > 0,
+            "bundle_adjust: a pose link needs two different frames of the problem and sigmas > 0");
   BaResult res;
   res.outlier.assign(P.obs.size(), 0);
   // 1. Robust solve, 2. drop the observations beyond the chi2 thresholds, 3. solve again.

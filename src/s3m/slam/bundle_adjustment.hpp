@@ -44,11 +44,21 @@ struct BaObservation {
 // Keypoint idx of f observed in BaProblem frame `frame` as point `point`.
 BaObservation keypoint_ba_observation(const features::FrameFeatures& f, int idx, int frame, int point);
 
+// A measured relative pose between two frames (a dense RGB-D alignment of two keyframes'
+// images, keyframe_links.hpp): residual = the measurement's error in rotation [rad] and
+// translation [m], each divided by its sigma.
+struct BaPoseLink {
+  int from = 0, to = 0;               // indices into BaProblem's frames
+  SE3 T_from_to = SE3::Identity();    // maps `to` camera points into the `from` camera
+  double sigma_rad = 1, sigma_m = 1;
+};
+
 struct BaProblem {
   std::vector<SE3> T_c_w;       // frame poses (world-to-camera)
   std::vector<char> fixed;      // per frame: 1 = held constant
   std::vector<Vec3> p_w;        // points [m]
   std::vector<BaObservation> obs;
+  std::vector<BaPoseLink> links;
 };
 
 struct BaResult {
@@ -67,7 +77,9 @@ struct LocalBaStats {
 };
 
 // Marks in after.fixed every keyframe free in `before` whose solved pose (after) moved further than
-// config.max_keyframe_step_deg / _m from its pose in `before`; returns how many. The caller solves
+// config.max_keyframe_step_deg / _m from its pose in `before`; returns how many. Frames with a pose
+// link are exempt: their images tie them to their neighbour, and the final global BA with links
+// moves keyframes at the far end of a drifted flight by more than the limit, legitimately. The caller solves
 // again from `before` with those held: such a step is a degenerate solve (a keyframe joined to the
 // rest through few points), not a correction (issue 20, session 11).
 int hold_keyframes_moved_too_far(const BaProblem& before, BaProblem& after, const BaConfig& config);

@@ -33,6 +33,9 @@ DepthOdometry::DepthOdometry(const PinholeCamera& camera, const DepthOdometryCon
     cv::initUndistortRectifyMap(K, dist, cv::Mat(), K, cv::Size(camera_.width, camera_.height), CV_32FC1, map_x_,
                                 map_y_);
   }
+  // Per pyramid level, finest first; 0.25 of the pixels with a usable gradient or normal.
+  odometry_ = cv::rgbd::RgbdICPOdometry::create(K_, float(config_.min_depth_m), float(config_.max_depth_m),
+                                                float(config_.max_depth_diff_m), 0.25f, std::vector<int>{7, 7, 7, 10});
 }
 
 cv::Mat DepthOdometry::prepare_depth(const RgbdFrame& frame) const {
@@ -70,15 +73,11 @@ std::optional<SE3> DepthOdometry::align(const RgbdFrame& prev, const RgbdFrame& 
                                         const SE3& T_cur_prev_guess) const {
   const cv::Mat depth0 = prepare_depth(prev), depth1 = prepare_depth(cur);
   const cv::Mat grey0 = prepare_grey(prev), grey1 = prepare_grey(cur);
-  // Per pyramid level, finest first; 0.25 of the pixels with a usable gradient or normal.
-  const auto odometry = cv::rgbd::RgbdICPOdometry::create(
-      K_, float(config_.min_depth_m), float(config_.max_depth_m), float(config_.max_depth_diff_m), 0.25f,
-      std::vector<int>{7, 7, 7, 10});
   // OpenCV's Rt maps the source frame's points into the destination's: T_cur_prev.
   cv::Mat init(4, 4, CV_64F), Rt;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) init.at<double>(r, c) = T_cur_prev_guess.matrix()(r, c);
-  if (!odometry->compute(grey0, depth0, cv::Mat(), grey1, depth1, cv::Mat(), Rt, init)) return std::nullopt;
+  if (!odometry_->compute(grey0, depth0, cv::Mat(), grey1, depth1, cv::Mat(), Rt, init)) return std::nullopt;
   Eigen::Matrix4d M;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) M(r, c) = Rt.at<double>(r, c);

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include <opencv2/core.hpp>
+#include <opencv2/rgbd.hpp>
 
 #include "s3m/core/camera.hpp"
 #include "s3m/core/rgbd_frame.hpp"
@@ -67,6 +68,10 @@ class DepthOdometry {
   PinholeCamera camera_;
   DepthOdometryConfig config_;
   cv::Mat K_;                // intrinsics at the odometry's resolution
+  // Created once: its normals computer precomputes per-pixel terms on first use (~300 ms at VGA),
+  // which a fresh odometry per call paid every time. Not safe to share between threads (its
+  // cache is mutable); each thread has its own DepthOdometry.
+  cv::Ptr<cv::rgbd::RgbdICPOdometry> odometry_;
   cv::Mat map_x_, map_y_;    // undistortion maps at full resolution (empty: no distortion)
 };
 

@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "s3m/core/rgbd_frame.hpp"
 #include "s3m/core/se3.hpp"
 #include "s3m/features/frame_features.hpp"
 #include "s3m/slam/map.hpp"
@@ -31,6 +32,9 @@ struct KeyFrameRequest {
   // (ORB-SLAM's RGB-D initialisation). A first view of far walls (3-4 m) otherwise leaves the next
   // frames ~100 points to track, too few to hold on (the simulator's office at rest, issue 20).
   bool first_of_map = false;
+  // Deep copies of the frame's colour and depth for the dense link to the previous keyframe
+  // (MapperConfig::dense_links, keyframe_links.hpp); empty when those are off.
+  RgbdFrame image;
 };
 
 struct SnapshotPoint {

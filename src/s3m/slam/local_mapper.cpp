@@ -16,19 +16,23 @@ void MapperConfig::validate() const {
   require(redundant_ratio > 0 && redundant_ratio <= 1, "mapper.redundant_ratio must be in (0, 1]");
   require(snapshot_keyframes >= 1 && fuse_neighbours >= 0, "mapper: snapshot_keyframes >= 1, fuse_neighbours >= 0");
   ba.validate();
+  dense_links.validate();
 }
 
 LocalMapper::LocalMapper(Map& map, const PinholeCamera& camera, const MapperConfig& config)
     : map_(map), camera_(camera), config_(config) {
   config_.validate();
+  if (config_.dense_links.enabled) linker_.emplace(camera, config_.dense_links);
 }
 
 KeyframeId LocalMapper::process(const KeyFrameRequest& request) {
   Stopwatch sw;
   stats_ = {};
-  // 1. Keyframe with tracking's matches; 2. new points from depth; 3. cull weak recent points;
-  // 4. fuse duplicates with the neighbours; 5. local BA; 6. drop redundant keyframes.
+  // 1. Keyframe with tracking's matches, and its dense link to the previous keyframe (at the
+  //    tracked poses); 2. new points from depth; 3. cull weak recent points; 4. fuse duplicates
+  //    with the neighbours; 5. local BA; 6. drop redundant keyframes.
   const KeyframeId kf = insert_keyframe(request);
+  if (linker_ && !request.image.rgb.empty()) linker_->link(kf, request.image, map_);
   create_points(kf, request.first_of_map);
   cull_recent_points(kf);
   fuse_with_neighbours(kf);

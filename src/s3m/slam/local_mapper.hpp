@@ -3,10 +3,12 @@
 // with numbered steps; owns nothing but a reference to the Map (the caller, slam::System, decides
 // which thread that is, and runs loop closing and makes tracking's snapshot after it).
 #include <deque>
+#include <optional>
 #include <utility>
 
 #include "s3m/core/camera.hpp"
 #include "s3m/slam/bundle_adjustment.hpp"
+#include "s3m/slam/keyframe_links.hpp"
 #include "s3m/slam/local_map.hpp"
 #include "s3m/slam/map.hpp"
 #include "s3m/slam/point_fusion.hpp"
@@ -32,6 +34,8 @@ struct MapperConfig {
   // noisy (21 rows better, 4 worse; flights that revisit gain most); the kitchen moves by ~1 %
   // either way (docs/RESULTS.md). Before the sensor depth weight it had made runs slightly worse.
   bool final_global_ba = true;
+  // Dense RGB-D links between consecutive keyframes, constraints of the final global BA.
+  DenseLinkConfig dense_links;
   BaConfig ba;
   FusionConfig fusion;
   void validate() const;
@@ -49,6 +53,10 @@ class LocalMapper {
   // Returns the new keyframe's id (make_snapshot(map, id, ...) is what tracking continues with).
   KeyframeId process(const KeyFrameRequest& request);
   const MapperStats& last_stats() const { return stats_; }
+  // The dense keyframe links measured so far when the run's links are trusted, else none; and
+  // their summary (empty when dense_links is off).
+  std::vector<KeyframeLink> links() const { return linker_ ? linker_->trusted_links() : std::vector<KeyframeLink>{}; }
+  KeyframeLinkSummary link_summary() const { return linker_ ? linker_->summary() : KeyframeLinkSummary{}; }
 
  private:
   KeyframeId insert_keyframe(const KeyFrameRequest& r);
@@ -60,6 +68,7 @@ class LocalMapper {
   Map& map_;
   PinholeCamera camera_;
   MapperConfig config_;
+  std::optional<KeyframeLinker> linker_;
   std::deque<std::pair<PointId, KeyframeId>> recent_points_;  // (point, keyframe that created it)
   MapperStats stats_;
 };

@@ -15,6 +15,7 @@
 #include "s3m/core/camera.hpp"
 #include "s3m/features/bow_matcher.hpp"
 #include "s3m/slam/bundle_adjustment.hpp"
+#include "s3m/slam/keyframe_links.hpp"
 #include "s3m/slam/loop_detector.hpp"
 #include "s3m/slam/loop_geometry.hpp"
 #include "s3m/slam/loop_keyframe_index.hpp"
@@ -145,7 +146,9 @@ class LoopCloser {
 // hold_large_steps: a keyframe the solve would move further than config.max_keyframe_step_deg / _m
 // is held where it was and the map solved again (local BA's rule; for the end-of-run refinement,
 // not for loop or merge corrections, whose seams legitimately move keyframes far).
+// links: measured relative poses of keyframe pairs (keyframe_links.hpp), constraints next to the
+// keypoints; a link naming a keyframe no longer in the map is skipped.
 int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConfig& config,
-                             bool hold_large_steps = false);
+                             bool hold_large_steps = false, const std::vector<KeyframeLink>& links = {});
 
 }  // namespace s3m::slam

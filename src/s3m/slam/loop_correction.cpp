@@ -126,7 +126,8 @@ void LoopCloser::weld(Map& map, KeyframeId cur_id, const Verified& v, const std:
   map.apply_corrected_poses(optimised);
 }
 
-int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConfig& config, bool hold_large_steps) {
+int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConfig& config, bool hold_large_steps,
+                             const std::vector<KeyframeLink>& links) {
   BaProblem problem;
   std::map<KeyframeId, int> frame_of;
   for (const auto& [id, kf] : map.keyframes()) {
@@ -144,6 +145,11 @@ int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConf
       problem.obs.push_back(keypoint_ba_observation(*map.keyframe(k).features, idx, frame_of.at(k), point));
   }
   if (problem.obs.empty()) return 0;
+  for (const KeyframeLink& l : links) {
+    const auto a = frame_of.find(l.from), b = frame_of.find(l.to);
+    if (a != frame_of.end() && b != frame_of.end())
+      problem.links.push_back({a->second, b->second, l.T_from_to, l.sigma_rad, l.sigma_m});
+  }
   const BaProblem before = problem;
   BaResult r = bundle_adjust(problem, camera, config);
   if (hold_large_steps && hold_keyframes_moved_too_far(before, problem, config) > 0) {

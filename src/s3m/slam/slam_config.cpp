@@ -93,10 +93,24 @@ void read_ba(const YAML::Node& n, BaConfig& c, const std::string& ctx) {
   yaml_get(n, "global_iterations", c.global_iterations, ctx);
 }
 
+void read_dense_links(const YAML::Node& n, DenseLinkConfig& c, const std::string& ctx) {
+  if (!n) return;
+  check_known_keys(n, {"enabled", "sigma_deg", "sigma_m", "max_deg", "max_m", "downsample", "max_median_deg",
+                       "max_median_m"}, ctx);
+  yaml_get(n, "enabled", c.enabled, ctx);
+  yaml_get(n, "sigma_deg", c.sigma_deg, ctx);
+  yaml_get(n, "sigma_m", c.sigma_m, ctx);
+  yaml_get(n, "max_deg", c.max_deg, ctx);
+  yaml_get(n, "max_m", c.max_m, ctx);
+  yaml_get(n, "downsample", c.downsample, ctx);
+  yaml_get(n, "max_median_deg", c.max_median_deg, ctx);
+  yaml_get(n, "max_median_m", c.max_median_m, ctx);
+}
+
 void read_mapper(const YAML::Node& n, MapperConfig& c, const std::string& ctx) {
   if (!n) return;
   check_known_keys(n, {"close_depth_m", "min_new_points", "min_found_ratio", "fuse_neighbours", "local_ba",
-                       "cull_keyframes", "redundant_ratio", "snapshot_keyframes", "final_global_ba", "ba"},
+                       "cull_keyframes", "redundant_ratio", "snapshot_keyframes", "final_global_ba", "dense_links", "ba"},
                    ctx);
   yaml_get(n, "close_depth_m", c.close_depth_m, ctx);
   yaml_get(n, "min_new_points", c.min_new_points, ctx);
@@ -107,6 +121,7 @@ void read_mapper(const YAML::Node& n, MapperConfig& c, const std::string& ctx) {
   yaml_get(n, "redundant_ratio", c.redundant_ratio, ctx);
   yaml_get(n, "snapshot_keyframes", c.snapshot_keyframes, ctx);
   yaml_get(n, "final_global_ba", c.final_global_ba, ctx);
+  read_dense_links(n["dense_links"], c.dense_links, ctx);
   read_ba(n["ba"], c.ba, ctx);
 }
 

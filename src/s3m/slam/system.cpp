@@ -257,6 +257,8 @@ TrackResult System::track(const RgbdFrame& frame) {
   //    the tracker needs although mapping is max_pending behind waits for one answer first, so at
   //    most max_pending + 1 are ever unanswered (see send()).
   if (out.wants_local_map) move_local_map(out.tracked_points, frame.index);
+  if (out.keyframe && config_.mapper.dense_links.enabled)
+    out.keyframe->image = {frame.index, frame.t_s, frame.rgb.clone(), frame.depth_m.clone(), {}};
   if (out.keyframe) {
     if (config_.threaded) {
       receive_mapped(config_.tracker.max_pending_keyframes);
@@ -293,7 +295,7 @@ void System::finish() {
   if (config_.mapper.final_global_ba && !localize_only_ && map_.n_keyframes() >= 2) {
     BaConfig ba = config_.mapper.ba;
     ba.first_iterations = ba.second_iterations = ba.global_iterations;
-    n_global_ba_outliers_ = global_bundle_adjustment(map_, camera_, ba, /*hold_large_steps=*/true);
+    n_global_ba_outliers_ = global_bundle_adjustment(map_, camera_, ba, /*hold_large_steps=*/true, mapper_.links());
   }
 }
 

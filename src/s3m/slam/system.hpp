@@ -93,6 +93,9 @@ class System {
   // must not be called afterwards.
   void finish();
   int n_global_ba_outliers() const { return n_global_ba_outliers_; }  // after finish()
+  // The dense keyframe links measured (slam.mapper.dense_links) and whether the final global BA
+  // used them; complete after finish().
+  KeyframeLinkSummary keyframe_link_summary() const { return mapper_.link_summary(); }
   // After finish(): loop closures that reached tracking after the last track() (threaded mode).
   const std::vector<LoopCorrection>& late_corrections() const { return late_corrections_; }
 

@@ -1,0 +1,77 @@
+#pragma once
+// Dense links between consecutive keyframes: the relative pose of two keyframes measured by dense
+// RGB-D alignment of their images (DepthOdometry::align, photometric + point-to-plane ICP over
+// every pixel), a constraint for the final global BA next to the keypoints.
+//
+// Why (issue 20, session 16): the worst simulator rows drift in fast turns, where consecutive
+// keyframes are ~37 deg apart and share a narrow strip; their relative pose rests on a few hundred
+// ORB keypoints with 0.6-0.7 px noise each, and local BA cannot do better than that. Dense
+// alignment of the same two images at full resolution is within 0.0002 deg / 0.3 mm of the truth
+// on noise-free renders and 0.02-0.17 deg / 1-8 mm with sensor noise (docs/RESULTS.md).
+#include <optional>
+#include <vector>
+
+#include "s3m/core/camera.hpp"
+#include "s3m/core/rgbd_frame.hpp"
+#include "s3m/core/se3.hpp"
+#include "s3m/slam/depth_odometry.hpp"
+#include "s3m/slam/map.hpp"
+
+namespace s3m::slam {
+
+struct DenseLinkConfig {
+  bool enabled = true;
+  double sigma_deg = 0.03;   // rotation sigma of a link in the final global BA [deg]
+  double sigma_m = 0.001;    // translation sigma [m]
+  // A measured link further than this from the keyframes' tracked relative pose is a failed
+  // alignment (a narrow overlap, a plain wall) and is dropped.
+  double max_deg = 1.0;
+  double max_m = 0.03;
+  int downsample = 1;        // image shrink before the alignment (1: full resolution; 2 is 10x less accurate)
+  // The links of a run are used only when their median disagreement with the tracked relative
+  // poses is at most this: where the images do not support dense alignment (depth not registered
+  // to colour, as in 7-Scenes: links 0.5-1.8 deg off the ground truth) they disagree with
+  // tracking everywhere and would pull the map away from what the keypoints show.
+  double max_median_deg = 0.2;
+  double max_median_m = 0.005;
+  void validate() const;
+};
+
+struct KeyframeLink {
+  KeyframeId from = kNoId, to = kNoId;  // `from` is the earlier keyframe
+  SE3 T_from_to = SE3::Identity();      // maps `to` camera points into the `from` camera
+  double sigma_rad = 1, sigma_m = 1;     // DenseLinkConfig's, for the BA
+  // How far the measurement is from the keyframes' tracked relative pose when it was made.
+  double disagreement_deg = 0, disagreement_m = 0;
+};
+
+// A run's links and whether they are trusted (DenseLinkConfig::max_median_*).
+struct KeyframeLinkSummary {
+  int n_links = 0;
+  double median_disagreement_deg = 0, median_disagreement_m = 0;
+  bool trusted = false;
+};
+
+// Measures a link from each new keyframe to the one made before it (same sub-map). Keeps only the
+// previous keyframe's images.
+class KeyframeLinker {
+ public:
+  KeyframeLinker(const PinholeCamera& camera, const DenseLinkConfig& config);
+  // image: the new keyframe's colour and depth (deep copies the linker may keep). The link to the
+  // previous keyframe when both still exist in one sub-map and the alignment agrees with their
+  // poses in map; nullopt otherwise.
+  std::optional<KeyframeLink> link(KeyframeId id, RgbdFrame image, const Map& map);
+  const std::vector<KeyframeLink>& links() const { return links_; }
+  KeyframeLinkSummary summary() const;
+  // links() when summary().trusted, else none.
+  std::vector<KeyframeLink> trusted_links() const;
+
+ private:
+  DepthOdometry odometry_;
+  DenseLinkConfig config_;
+  KeyframeId prev_ = kNoId;
+  RgbdFrame prev_image_;
+  std::vector<KeyframeLink> links_;
+};
+
+}  // namespace s3m::slam
