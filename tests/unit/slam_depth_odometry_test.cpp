@@ -2,6 +2,8 @@
 // where the motion between two frames is exact.
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -69,19 +71,20 @@ TEST(KeyframeLinker, MeasuresTheTrueRelativePoseOfConsecutiveKeyframes) {
   const RgbdFrame a = test::render_room(test::Room{}, cam, T_w_a, 20, 0.0, 0.0);
   const RgbdFrame b = test::render_room(test::Room{}, cam, T_w_b, 30, 1 / 3.0, 0.0);
   const SE3 tracking_error = make_se3(so3_exp(Vec3(0.0, 0.3 * M_PI / 180, 0.0)), Vec3(0.005, 0.0, 0.0));
-  const auto link_with_b_at = [&](const SE3& T_w_b_tracked, int submap_b) {
+  const auto link_with_b_at = [&](const SE3& T_w_b_tracked, int submap_b, int queue_capacity = 0) {
     Map map;
     const KeyframeId ka = map.add_keyframe(room_keyframe(T_w_a, 0));
     const KeyframeId kb = map.add_keyframe(room_keyframe(T_w_b_tracked, submap_b));
-    KeyframeLinker linker(cam, DenseLinkConfig{});
-    EXPECT_FALSE(linker.link(ka, a, map).has_value()) << "the first keyframe has nothing to link to";
-    auto l = linker.link(kb, b, map);
-    if (l) {
-      EXPECT_EQ(l->from, ka);
-      EXPECT_EQ(l->to, kb);
-      EXPECT_EQ(linker.links().size(), 1u);
-    }
-    return l;
+    KeyframeLinker linker(cam, DenseLinkConfig{}, queue_capacity);
+    linker.add(ka, a, map);
+    linker.add(kb, b, map);
+    linker.finish();
+    const std::vector<KeyframeLink> links = linker.links();
+    EXPECT_LE(links.size(), 1u) << "the first keyframe has nothing to link to";
+    if (links.empty()) return std::optional<KeyframeLink>{};
+    EXPECT_EQ(links[0].from, ka);
+    EXPECT_EQ(links[0].to, kb);
+    return std::optional<KeyframeLink>{links[0]};
   };
   const auto l = link_with_b_at(T_w_b * tracking_error, 0);
   ASSERT_TRUE(l.has_value());
@@ -93,6 +96,34 @@ TEST(KeyframeLinker, MeasuresTheTrueRelativePoseOfConsecutiveKeyframes) {
   const SE3 far_off = make_se3(so3_exp(Vec3(0.0, 3.0 * M_PI / 180, 0.0)), Vec3::Zero());
   EXPECT_FALSE(link_with_b_at(T_w_b * far_off, 0).has_value()) << "3 deg from the tracked poses";
   EXPECT_FALSE(link_with_b_at(T_w_b, 1).has_value()) << "another sub-map";
+  // On the linker's own thread: the same link, to the last bit (it starts from the poses at add()).
+  const auto threaded = link_with_b_at(T_w_b * tracking_error, 0, 2);
+  ASSERT_TRUE(threaded.has_value());
+  EXPECT_TRUE(threaded->T_from_to.matrix() == l->T_from_to.matrix());
+  EXPECT_EQ(threaded->disagreement_deg, l->disagreement_deg);
+}
+
+// A keyframe linked twice (to the one before and the one after it) is prepared once, and the
+// prepared frames OpenCV has already used align exactly as fresh images do.
+TEST(DepthOdometry, PreparedFramesAlignAsFreshImagesDo) {
+  const PinholeCamera cam = test::room_camera();
+  std::vector<RgbdFrame> f;
+  for (int i : {20, 25, 30}) f.push_back(test::render_room(test::Room{}, cam, test::uav_pose(i, 300), i, i / 30.0, 0.0));
+  DepthOdometryConfig c;
+  c.downsample = 1;
+  const DepthOdometry odometry(cam, c);
+  const DepthOdometry::PreparedFrame p0 = odometry.prepare(f[0]), p1 = odometry.prepare(f[1]), p2 = odometry.prepare(f[2]);
+  // Guesses 0.3 deg / 5 mm off the truth, as tracking gives them.
+  const SE3 off = make_se3(so3_exp(Vec3(0.0, 0.3 * M_PI / 180, 0.0)), Vec3(0.005, 0.0, 0.0));
+  const auto truth = [](int i, int j) { return test::uav_pose(j, 300).inverse() * test::uav_pose(i, 300); };
+  const SE3 g01 = off * truth(20, 25), g12 = off * truth(25, 30);
+  const auto a01 = odometry.align(p0, p1, g01), a12 = odometry.align(p1, p2, g12);
+  const auto b01 = odometry.align(f[0], f[1], g01), b12 = odometry.align(f[1], f[2], g12);
+  ASSERT_TRUE(a01 && a12 && b01 && b12);
+  EXPECT_TRUE(a01->matrix() == b01->matrix());
+  EXPECT_TRUE(a12->matrix() == b12->matrix()) << "frame 1 was the destination before, now the source";
+  EXPECT_LT(angle_deg(truth(25, 30).inverse() * *a12), 0.02);
+  EXPECT_LT((truth(25, 30).inverse() * *a12).translation().norm(), 0.001);
 }
 
 TEST(DepthOdometry, RejectsBadConfigAndMismatchedImages) {

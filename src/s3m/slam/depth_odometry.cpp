@@ -69,15 +69,23 @@ cv::Mat DepthOdometry::prepare_grey(const RgbdFrame& frame) const {
   return grey;
 }
 
+DepthOdometry::PreparedFrame DepthOdometry::prepare(const RgbdFrame& frame) const {
+  return cv::rgbd::OdometryFrame::create(prepare_grey(frame), prepare_depth(frame));
+}
+
 std::optional<SE3> DepthOdometry::align(const RgbdFrame& prev, const RgbdFrame& cur,
                                         const SE3& T_cur_prev_guess) const {
-  const cv::Mat depth0 = prepare_depth(prev), depth1 = prepare_depth(cur);
-  const cv::Mat grey0 = prepare_grey(prev), grey1 = prepare_grey(cur);
+  return align(prepare(prev), prepare(cur), T_cur_prev_guess);
+}
+
+std::optional<SE3> DepthOdometry::align(const PreparedFrame& prev, const PreparedFrame& cur,
+                                        const SE3& T_cur_prev_guess) const {
   // OpenCV's Rt maps the source frame's points into the destination's: T_cur_prev.
   cv::Mat init(4, 4, CV_64F), Rt;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) init.at<double>(r, c) = T_cur_prev_guess.matrix()(r, c);
-  if (!odometry_->compute(grey0, depth0, cv::Mat(), grey1, depth1, cv::Mat(), Rt, init)) return std::nullopt;
+  PreparedFrame src = prev, dst = cur;  // compute() takes the pointers by reference
+  if (!odometry_->compute(src, dst, Rt, init)) return std::nullopt;
   Eigen::Matrix4d M;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) M(r, c) = Rt.at<double>(r, c);

@@ -50,6 +50,14 @@ class DepthOdometry {
   // are undistorted first when the camera has distortion.
   std::optional<SE3> align(const RgbdFrame& prev, const RgbdFrame& cur, const SE3& T_cur_prev_guess) const;
 
+  // A frame made ready for align(): undistorted, at the odometry's resolution, in OpenCV's frame
+  // whose pyramids, normals and masks the first alignment computes and keeps. A keyframe linked to
+  // the one before it and then to the one after it is prepared once (about a quarter of an
+  // alignment's time; identical results). Shared, not thread-safe: one thread at a time.
+  using PreparedFrame = cv::Ptr<cv::rgbd::OdometryFrame>;
+  PreparedFrame prepare(const RgbdFrame& frame) const;
+  std::optional<SE3> align(const PreparedFrame& prev, const PreparedFrame& cur, const SE3& T_cur_prev_guess) const;
+
   // Point-to-plane ICP (depth only) that moves the guess only along the directions the view
   // constrains: the solution remapping of Zhang, Kaess and Singh, "On degeneracy of
   // optimization-based state estimation problems" (ICRA 2016). A single plane in view fixes its

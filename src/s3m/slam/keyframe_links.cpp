@@ -24,32 +24,77 @@ void DenseLinkConfig::validate() const {
   require(max_median_deg > 0 && max_median_m > 0, "mapper.dense_links: max_median_deg and max_median_m must be > 0");
 }
 
-KeyframeLinker::KeyframeLinker(const PinholeCamera& camera, const DenseLinkConfig& config)
+KeyframeLinker::KeyframeLinker(const PinholeCamera& camera, const DenseLinkConfig& config, int queue_capacity)
     : odometry_(camera, odometry_config(config)), config_(config) {
   config_.validate();
+  require(queue_capacity >= 0, "KeyframeLinker: queue_capacity must be >= 0");
+  if (queue_capacity == 0) return;
+  queue_ = std::make_unique<BoundedQueue<Job>>(std::size_t(queue_capacity));
+  worker_ = std::thread([this] { worker_loop(); });
 }
 
-std::optional<KeyframeLink> KeyframeLinker::link(KeyframeId id, RgbdFrame image, const Map& map) {
-  const KeyframeId prev = std::exchange(prev_, id);
-  RgbdFrame prev_image = std::exchange(prev_image_, std::move(image));
-  if (prev == kNoId || !map.has_keyframe(prev) || !map.has_keyframe(id)) return std::nullopt;
-  const KeyFrame &a = map.keyframe(prev), &b = map.keyframe(id);
-  if (a.submap != b.submap) return std::nullopt;
-  const SE3 guess = b.T_w_c.inverse() * a.T_w_c;  // T_cur_prev
-  const std::optional<SE3> T_cur_prev = odometry_.align(prev_image, prev_image_, guess);
-  if (!T_cur_prev || !poses_agree(*T_cur_prev, guess, config_.max_deg, config_.max_m)) return std::nullopt;
+KeyframeLinker::~KeyframeLinker() {
+  if (queue_) queue_->close();
+  if (worker_.joinable()) worker_.join();
+}
+
+void KeyframeLinker::add(KeyframeId id, RgbdFrame image, const Map& map) {
+  Job job{id, std::move(image), kNoId, SE3::Identity()};
+  const KeyframeId prev = std::exchange(last_added_, id);
+  if (prev != kNoId && map.has_keyframe(prev) && map.has_keyframe(id) &&
+      map.keyframe(prev).submap == map.keyframe(id).submap) {
+    job.prev = prev;
+    job.T_cur_prev_tracked = map.keyframe(id).T_w_c.inverse() * map.keyframe(prev).T_w_c;
+  }
+  if (!queue_) return measure(std::move(job));
+  require(queue_->push(std::move(job)), "KeyframeLinker::add after finish()");
+}
+
+void KeyframeLinker::worker_loop() {
+  while (auto job = queue_->pop()) {
+    try {
+      measure(std::move(*job));
+    } catch (...) {
+      std::lock_guard lock(mutex_);
+      if (!error_) error_ = std::current_exception();
+    }
+  }
+}
+
+void KeyframeLinker::finish() {
+  if (queue_) queue_->close();
+  if (worker_.joinable()) worker_.join();
+  std::lock_guard lock(mutex_);
+  if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+}
+
+void KeyframeLinker::measure(Job job) {
+  DepthOdometry::PreparedFrame frame = odometry_.prepare(job.image);
+  const bool linked_to_prepared = job.prev != kNoId && job.prev == prev_id_;
+  DepthOdometry::PreparedFrame prev_frame = std::exchange(prev_frame_, frame);
+  prev_id_ = job.id;
+  if (!linked_to_prepared) return;
+  const SE3& guess = job.T_cur_prev_tracked;
+  const std::optional<SE3> T_cur_prev = odometry_.align(prev_frame, frame, guess);
+  if (!T_cur_prev || !poses_agree(*T_cur_prev, guess, config_.max_deg, config_.max_m)) return;
   const SE3 d = guess.inverse() * *T_cur_prev;
-  links_.push_back({prev, id, T_cur_prev->inverse(), config_.sigma_deg * M_PI / 180, config_.sigma_m,
+  std::lock_guard lock(mutex_);
+  links_.push_back({job.prev, job.id, T_cur_prev->inverse(), config_.sigma_deg * M_PI / 180, config_.sigma_m,
                     rotation_angle_rad(d.linear()) * 180 / M_PI, d.translation().norm()});
-  return links_.back();
+}
+
+std::vector<KeyframeLink> KeyframeLinker::links() const {
+  std::lock_guard lock(mutex_);
+  return links_;
 }
 
 KeyframeLinkSummary KeyframeLinker::summary() const {
+  const std::vector<KeyframeLink> all = links();
   KeyframeLinkSummary s;
-  s.n_links = int(links_.size());
-  if (links_.empty()) return s;
+  s.n_links = int(all.size());
+  if (all.empty()) return s;
   std::vector<double> deg, m;
-  for (const KeyframeLink& l : links_) deg.push_back(l.disagreement_deg), m.push_back(l.disagreement_m);
+  for (const KeyframeLink& l : all) deg.push_back(l.disagreement_deg), m.push_back(l.disagreement_m);
   const auto median = [](std::vector<double>& v) {
     std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
     return v[v.size() / 2];
@@ -61,7 +106,7 @@ KeyframeLinkSummary KeyframeLinker::summary() const {
 }
 
 std::vector<KeyframeLink> KeyframeLinker::trusted_links() const {
-  return summary().trusted ? links_ : std::vector<KeyframeLink>{};
+  return summary().trusted ? links() : std::vector<KeyframeLink>{};
 }
 
 }  // namespace s3m::slam

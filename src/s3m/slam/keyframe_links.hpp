@@ -8,9 +8,13 @@
 // ORB keypoints with 0.6-0.7 px noise each, and local BA cannot do better than that. Dense
 // alignment of the same two images at full resolution is within 0.0002 deg / 0.3 mm of the truth
 // on noise-free renders and 0.02-0.17 deg / 1-8 mm with sensor noise (docs/RESULTS.md).
-#include <optional>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <thread>
 #include <vector>
 
+#include "s3m/core/bounded_queue.hpp"
 #include "s3m/core/camera.hpp"
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/core/se3.hpp"
@@ -52,26 +56,51 @@ struct KeyframeLinkSummary {
   bool trusted = false;
 };
 
-// Measures a link from each new keyframe to the one made before it (same sub-map). Keeps only the
-// previous keyframe's images.
+// Measures a link from each new keyframe to the one made before it (same sub-map): inside add(),
+// or (queue_capacity > 0) on a worker thread of its own fed by a bounded queue, since only the
+// final global BA needs the links and tracking should not wait for them in local mapping. Both
+// give the same links: each alignment starts from the tracked poses taken in add(). Keeps only the
+// previous keyframe's prepared images.
 class KeyframeLinker {
  public:
-  KeyframeLinker(const PinholeCamera& camera, const DenseLinkConfig& config);
-  // image: the new keyframe's colour and depth (deep copies the linker may keep). The link to the
-  // previous keyframe when both still exist in one sub-map and the alignment agrees with their
-  // poses in map; nullopt otherwise.
-  std::optional<KeyframeLink> link(KeyframeId id, RgbdFrame image, const Map& map);
-  const std::vector<KeyframeLink>& links() const { return links_; }
+  KeyframeLinker(const PinholeCamera& camera, const DenseLinkConfig& config, int queue_capacity = 0);
+  ~KeyframeLinker();
+  KeyframeLinker(const KeyframeLinker&) = delete;
+  KeyframeLinker& operator=(const KeyframeLinker&) = delete;
+
+  // The keyframe `id` has just entered map; image: its colour and depth (a deep copy the linker
+  // keeps). Its link to the keyframe added before is measured when both are still in map, in one
+  // sub-map, and kept when the alignment agrees with their poses in map now (max_deg, max_m).
+  // With a worker, blocks while queue_capacity keyframes wait.
+  void add(KeyframeId id, RgbdFrame image, const Map& map);
+  // Waits until every added keyframe is linked and stops the worker; rethrows its error. Call
+  // before reading the links of a threaded linker; add() must not follow.
+  void finish();
+  std::vector<KeyframeLink> links() const;
   KeyframeLinkSummary summary() const;
   // links() when summary().trusted, else none.
   std::vector<KeyframeLink> trusted_links() const;
 
  private:
+  struct Job {
+    KeyframeId id = kNoId;
+    RgbdFrame image;
+    KeyframeId prev = kNoId;                   // kNoId: nothing to link to
+    SE3 T_cur_prev_tracked = SE3::Identity();  // the tracked relative pose at add()
+  };
+  void measure(Job job);  // the worker's (or add()'s) part
+  void worker_loop();
+
   DepthOdometry odometry_;
   DenseLinkConfig config_;
-  KeyframeId prev_ = kNoId;
-  RgbdFrame prev_image_;
+  KeyframeId last_added_ = kNoId;  // add()'s side
+  KeyframeId prev_id_ = kNoId;     // measure()'s side: the last keyframe measured, prepared
+  DepthOdometry::PreparedFrame prev_frame_;
+  mutable std::mutex mutex_;  // guards links_ and error_
   std::vector<KeyframeLink> links_;
+  std::exception_ptr error_;
+  std::unique_ptr<BoundedQueue<Job>> queue_;  // null: measured inside add()
+  std::thread worker_;
 };
 
 }  // namespace s3m::slam

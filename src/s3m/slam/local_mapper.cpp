@@ -19,20 +19,21 @@ void MapperConfig::validate() const {
   dense_links.validate();
 }
 
-LocalMapper::LocalMapper(Map& map, const PinholeCamera& camera, const MapperConfig& config)
+LocalMapper::LocalMapper(Map& map, const PinholeCamera& camera, const MapperConfig& config, int link_queue_capacity)
     : map_(map), camera_(camera), config_(config) {
   config_.validate();
-  if (config_.dense_links.enabled) linker_.emplace(camera, config_.dense_links);
+  if (config_.dense_links.enabled) linker_.emplace(camera, config_.dense_links, link_queue_capacity);
 }
 
 KeyframeId LocalMapper::process(const KeyFrameRequest& request) {
   Stopwatch sw;
   stats_ = {};
-  // 1. Keyframe with tracking's matches, and its dense link to the previous keyframe (at the
-  //    tracked poses); 2. new points from depth; 3. cull weak recent points; 4. fuse duplicates
-  //    with the neighbours; 5. local BA; 6. drop redundant keyframes.
+  // 1. Keyframe with tracking's matches; its dense link to the previous keyframe (from the
+  //    tracked poses) is measured now or queued for the linker's thread; 2. new points from
+  //    depth; 3. cull weak recent points; 4. fuse duplicates with the neighbours; 5. local BA;
+  //    6. drop redundant keyframes.
   const KeyframeId kf = insert_keyframe(request);
-  if (linker_ && !request.image.rgb.empty()) linker_->link(kf, request.image, map_);
+  if (linker_ && !request.image.rgb.empty()) linker_->add(kf, request.image, map_);
   create_points(kf, request.first_of_map);
   cull_recent_points(kf);
   fuse_with_neighbours(kf);

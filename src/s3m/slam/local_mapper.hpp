@@ -49,12 +49,18 @@ struct MapperStats {
 
 class LocalMapper {
  public:
-  LocalMapper(Map& map, const PinholeCamera& camera, const MapperConfig& config);
+  // link_queue_capacity > 0: the dense keyframe links are measured on a thread of their own
+  // (KeyframeLinker), with at most that many keyframes waiting; 0: inside process().
+  LocalMapper(Map& map, const PinholeCamera& camera, const MapperConfig& config, int link_queue_capacity = 0);
   // Returns the new keyframe's id (make_snapshot(map, id, ...) is what tracking continues with).
   KeyframeId process(const KeyFrameRequest& request);
   const MapperStats& last_stats() const { return stats_; }
+  // Waits for the dense keyframe links still being measured (rethrows the linker's error).
+  void finish_links() {
+    if (linker_) linker_->finish();
+  }
   // The dense keyframe links measured so far when the run's links are trusted, else none; and
-  // their summary (empty when dense_links is off).
+  // their summary (empty when dense_links is off). Complete after finish_links().
   std::vector<KeyframeLink> links() const { return linker_ ? linker_->trusted_links() : std::vector<KeyframeLink>{}; }
   KeyframeLinkSummary link_summary() const { return linker_ ? linker_->summary() : KeyframeLinkSummary{}; }
 

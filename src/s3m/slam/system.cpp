@@ -15,7 +15,8 @@ System::System(const PinholeCamera& camera, const SlamConfig& config,
     : camera_(camera),
       config_(config),
       tracker_(camera, config.features, config.tracker, config.mapper.min_new_points),
-      mapper_(map_, camera, config.mapper),
+      // The links serve only the final BA: in threaded mode neither tracking nor mapping waits for them.
+      mapper_(map_, camera, config.mapper, config.threaded ? config.queue_capacity : 0),
       observer_(std::move(observer)),
       requests_(static_cast<std::size_t>(config.queue_capacity)),
       mapped_(static_cast<std::size_t>(config.queue_capacity)) {
@@ -286,6 +287,7 @@ void System::finish() {
   if (mapping_thread_.joinable()) mapping_thread_.join();
   mapped_.close();  // everything is in it now: receiving drains it and cannot block
   receive_mapped(0);
+  mapper_.finish_links();
   late_corrections_ = std::move(corrections_);
   corrections_.clear();
   // One BA over the whole map. Local BA only ever optimises a covisibility window with its border

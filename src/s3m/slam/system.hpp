@@ -5,7 +5,8 @@
 // runs it in its own thread, connected to tracking by two bounded queues (requests one way,
 // mapped keyframes the other), and with slam.mapping_lag_frames >= 1 (the default 1) it is
 // deterministic too (1: the single-thread trajectory). Tracking never touches the Map; the
-// mapping stage owns it.
+// mapping stage owns it. The dense keyframe links (slam.mapper.dense_links) are measured on a
+// third thread in threaded mode (KeyframeLinker), with the same results.
 //
 //   auto vocab = std::make_shared<const features::Vocabulary>(features::Vocabulary::load(path));
 //   slam::System slam(camera, slam::load_slam_config("config/slam_default.yaml"), vocab);
