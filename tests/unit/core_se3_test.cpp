@@ -86,3 +86,27 @@ TEST(Se3, InterpolateEndpointsAndMidpoint) {
   EXPECT_NEAR(M.translation().x(), 1.0, 1e-12);
   EXPECT_NEAR(rotation_angle_rad(M.linear()), 0.5, 1e-12);
 }
+
+TEST(Se3, WeightedMeanOfNearbyPoses) {
+  // About one axis the mean angle is the weighted mean of the angles: (1 x 0.3 + 2 x 0.6) / 3 = 0.5;
+  // the translation (1 x (0, 0, 0) + 2 x (3, 0, 6)) / 3 = (2, 0, 4).
+  const Vec3 z = Vec3(1, 2, 2).normalized();
+  const SE3 A = make_se3(Vec3(0, 0, 0), Quat(Eigen::AngleAxisd(0.3, z)));
+  const SE3 B = make_se3(Vec3(3, 0, 6), Quat(Eigen::AngleAxisd(0.6, z)));
+  const SE3 M = weighted_mean({{A, 1.0}, {B, 2.0}});
+  EXPECT_LT((M.translation() - Vec3(2, 0, 4)).norm(), 1e-12);
+  const Eigen::AngleAxisd aa(M.linear());
+  EXPECT_NEAR(aa.angle(), 0.5, 1e-12);
+  EXPECT_LT((aa.axis() - z).norm(), 1e-9);
+  // One pose, or the same pose twice: itself.
+  EXPECT_LT((weighted_mean({{B, 0.7}}).matrix() - B.matrix()).norm(), 1e-12);
+  EXPECT_LT((weighted_mean({{B, 1.0}, {B, 5.0}}).matrix() - B.matrix()).norm(), 1e-12);
+  // Order does not matter beyond rounding, for poses a few degrees apart about different axes.
+  const SE3 C = make_se3(Vec3(1, 1, 1), Quat(Eigen::AngleAxisd(0.05, Vec3::UnitX())));
+  const SE3 D = make_se3(Vec3(1, 1, 2), Quat(Eigen::AngleAxisd(0.04, Vec3::UnitY())));
+  const SE3 CD = weighted_mean({{C, 1.0}, {D, 3.0}}), DC = weighted_mean({{D, 3.0}, {C, 1.0}});
+  EXPECT_LT(rotation_angle_rad(CD.linear().transpose() * DC.linear()), 1e-4);
+  EXPECT_NEAR(CD.translation().z(), 1.75, 1e-12);
+  EXPECT_THROW(weighted_mean({}), std::exception);
+  EXPECT_THROW(weighted_mean({{A, 0.0}}), std::exception);
+}

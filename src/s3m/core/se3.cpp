@@ -1,5 +1,7 @@
 #include "s3m/core/se3.hpp"
 
+#include "s3m/core/error.hpp"
+
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -84,6 +86,20 @@ SE3 orthonormalized(const SE3& T) {
     R = U * svd.matrixV().transpose();
   }
   return make_se3(R, T.translation());
+}
+
+SE3 weighted_mean(const std::vector<std::pair<SE3, double>>& poses) {
+  require(!poses.empty(), "weighted_mean: no poses");
+  const Mat3 R0 = poses.front().first.linear();
+  Vec3 t = Vec3::Zero(), phi = Vec3::Zero();
+  double sum = 0;
+  for (const auto& [T, w] : poses) {
+    require(w > 0, "weighted_mean: weights must be > 0");
+    t += w * T.translation();
+    phi += w * so3_log(R0.transpose() * T.linear());
+    sum += w;
+  }
+  return make_se3(R0 * so3_exp(phi / sum), t / sum);
 }
 
 SE3 interpolate(const SE3& T0, const SE3& T1, double s) {

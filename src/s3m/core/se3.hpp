@@ -3,6 +3,8 @@
 // so p_a = T_a_b * p_b and T_a_c = T_a_b * T_b_c. Translations in metres, angles in radians.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <utility>
+#include <vector>
 
 namespace s3m {
 
@@ -35,6 +37,11 @@ SE3 orthonormalized(const SE3& T);
 
 // Geodesic interpolation between T0 (s=0) and T1 (s=1).
 SE3 interpolate(const SE3& T0, const SE3& T1, double s);
+
+// Weighted mean of nearby poses (weights > 0, at least one pose): translations averaged, rotations
+// by the weighted mean of their so3_log about the first pose's rotation. Exact for rotations about
+// one axis within pi of the first; meant for estimates of one pose that differ by a few degrees.
+SE3 weighted_mean(const std::vector<std::pair<SE3, double>>& poses);
 
 // Skew-symmetric matrix [v]x.
 Mat3 skew(const Vec3& v);

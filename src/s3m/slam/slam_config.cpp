@@ -47,7 +47,7 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
   check_known_keys(n, {"pose_rounds", "pose_iterations", "close_depth_m", "motion_radius_px", "min_motion_matches",
                        "min_pose_inliers", "local_radius_factor", "min_local_inliers", "max_frames_between_keyframes",
                        "min_frames_between_keyframes", "keyframe_ref_ratio", "keyframe_decay_ratio", "close_tracked_min",
-                       "close_untracked_min", "max_pending_keyframes", "min_init_depth_points",
+                       "close_untracked_min", "max_pending_keyframes", "min_init_depth_points", "anchor_keyframes",
                        "coast_frames", "bridge_deg", "bridge_m", "bridge_min_inliers", "odometry_frames",
                        "odometry_deg", "odometry_m", "odometry_downsample", "odometry_max_depth_diff_m",
                        "odometry_min_observed_ratio"}, ctx);
@@ -67,6 +67,7 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
   yaml_get(n, "close_untracked_min", c.close_untracked_min, ctx);
   yaml_get(n, "max_pending_keyframes", c.max_pending_keyframes, ctx);
   yaml_get(n, "min_init_depth_points", c.min_init_depth_points, ctx);
+  yaml_get(n, "anchor_keyframes", c.anchor_keyframes, ctx);
   yaml_get(n, "coast_frames", c.coast_frames, ctx);
   yaml_get(n, "bridge_deg", c.bridge_deg, ctx);
   yaml_get(n, "bridge_m", c.bridge_m, ctx);

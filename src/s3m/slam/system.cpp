@@ -274,7 +274,9 @@ TrackResult System::track(const RgbdFrame& frame) {
   //    corrections received meanwhile.
   n_lost_ += r.state == TrackState::kLost;
   n_relocalised_ += r.state == TrackState::kRelocalised;
-  if (r.anchor.keyframe != kNoKeyframe) records_.push_back({frame.index, frame.t_s, r.state, r.anchor});
+  if (r.anchor.keyframe != kNoKeyframe)
+    records_.push_back({frame.index, frame.t_s, r.state, r.anchor,
+                        r.anchor.keyframe == out.ref_kf ? std::move(out.anchors) : decltype(out.anchors){}});
   r.corrections = std::move(corrections_);
   corrections_.clear();
   return r;
@@ -301,12 +303,24 @@ void System::finish() {
   }
 }
 
+// A frame tracked against points of several keyframes moves with all of them when BA moves them
+// apart: its pose after BA is the weighted mean of what each anchor keyframe says
+// (TrackerConfig::anchor_keyframes).
+SE3 System::anchored_pose(const FrameRecord& rec) const {
+  const SE3 T = map_.resolve_T_w_kf(rec.anchor.keyframe) * rec.anchor.T_kf_c;
+  std::vector<std::pair<SE3, double>> votes;
+  for (const auto& [a, weight] : rec.anchors)
+    if (map_.submap_of(a.keyframe) == map_.submap_of(rec.anchor.keyframe))
+      votes.push_back({map_.resolve_T_w_kf(a.keyframe) * a.T_kf_c, weight});
+  return votes.empty() ? T : weighted_mean(votes);
+}
+
 std::vector<FramePose> System::camera_trajectory() const {
   std::vector<FramePose> out;
   out.reserve(records_.size());
   for (const auto& rec : records_)
     if (map_.submap_of(rec.anchor.keyframe) == 0)
-      out.push_back({{rec.t_s, map_.resolve_T_w_kf(rec.anchor.keyframe) * rec.anchor.T_kf_c}, rec.frame_index, rec.state});
+      out.push_back({{rec.t_s, anchored_pose(rec)}, rec.frame_index, rec.state});
   return out;
 }
 

@@ -143,11 +143,14 @@ class System {
   int n_keyframes_outside_world() const { return map_.n_keyframes() - map_.n_keyframes_in(0); }
 
  private:
+  struct FrameRecord;
+  SE3 anchored_pose(const FrameRecord& rec) const;
   struct FrameRecord {
     int frame_index;
     double t_s;
     TrackState state;
     KeyframeAnchor anchor;
+    std::vector<std::pair<KeyframeAnchor, double>> anchors;  // TrackerOutput::anchors
   };
   // What the mapping thread receives: a keyframe to map, or a map query to answer.
   struct MapperJob {

@@ -31,6 +31,7 @@ void TrackerConfig::validate() const {
   require(keyframe_ref_ratio > 0 && keyframe_ref_ratio <= 1, "tracker.keyframe_ref_ratio must be in (0, 1]");
   require(keyframe_decay_ratio >= 0 && keyframe_decay_ratio < 1, "tracker.keyframe_decay_ratio must be in [0, 1)");
   require(max_pending_keyframes >= 1 && min_init_depth_points >= 3, "tracker: bad pending/init limits");
+  require(anchor_keyframes >= 1, "tracker.anchor_keyframes must be >= 1");
   require(coast_frames >= 0 && bridge_deg >= 0 && bridge_m >= 0 && bridge_min_inliers >= min_pose_inliers,
           "tracker: coast_frames, bridge_deg and bridge_m must be >= 0, bridge_min_inliers >= min_pose_inliers");
   require(odometry_frames >= 0 && odometry_deg >= 0 && odometry_m >= 0,
@@ -231,8 +232,33 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   }
   out.ref_kf = ref_kf_;
   out.T_ref_c = T_w_ref_.inverse() * out.T_w_c;
+  if (!out.keyframe && config_.anchor_keyframes > 1) out.anchors = weighted_anchors(cur, out.T_w_c);
   // 6. This frame (with fresh visual-odometry points) is the next frame's "last".
   prepare_last_frame(std::move(cur), config_.close_depth_m);
+  return out;
+}
+
+std::vector<std::pair<KeyframeAnchor, double>> Tracker::weighted_anchors(const Frame& cur, const SE3& T_w_c) const {
+  std::vector<std::pair<KeyframeAnchor, double>> out;
+  if (!snapshot_) return out;
+  std::vector<PointId> inliers;
+  for (int i = 0; i < cur.f->size(); ++i)
+    if (cur.matched[i] && cur.pid[i] != kNoId) inliers.push_back(cur.pid[i]);
+  std::sort(inliers.begin(), inliers.end());
+  bool has_ref = false;
+  for (const auto& k : snapshot_->keyframes) {
+    int n = 0;
+    for (PointId p : k.points) n += p != kNoId && std::binary_search(inliers.begin(), inliers.end(), p);
+    if (n == 0) continue;
+    has_ref |= k.id == ref_kf_;
+    out.push_back({{k.id, k.T_w_c.inverse() * T_w_c}, static_cast<double>(n)});
+  }
+  // A keyframe still waiting for local mapping (threaded) is not in the snapshot: single anchor.
+  if (!has_ref) return {};
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
+    return a.second != b.second ? a.second > b.second : a.first.keyframe < b.first.keyframe;
+  });
+  if (static_cast<int>(out.size()) > config_.anchor_keyframes) out.resize(config_.anchor_keyframes);
   return out;
 }
 

@@ -41,6 +41,9 @@ struct TrackerConfig {
   int close_untracked_min = 70;      //     while this many close keypoints could become points
   int max_pending_keyframes = 3;     // no ordinary keyframe while this many wait for local mapping
   int min_init_depth_points = 100;   // keypoints with depth needed to start the map
+  // A frame's pose is stored relative to up to this many keyframes of the local map, weighted by
+  // how many of its inlier points each observes; the trajectory averages what they say after BA.
+  int anchor_keyframes = 4;
   // After tracking is lost: for this many frames the last velocity keeps predicting the pose. A
   // frame whose local-map pose, searched from that prediction, agrees with it (bridge_deg,
   // bridge_m) on at least bridge_min_inliers map points, although fewer than min_local_inliers, is
@@ -76,6 +79,10 @@ struct TrackerOutput {
   std::optional<KeyFrameRequest> keyframe;  // set when this frame becomes a keyframe
   KeyframeId ref_kf = kNoId;                      // keyframe the pose is stored relative to
   SE3 T_ref_c = SE3::Identity();            // pose relative to ref_kf at tracking time
+  // With TrackerConfig::anchor_keyframes > 1: the pose relative to the local map's keyframes that
+  // observe most of its inlier map points (weight = how many each observes). Empty for keyframes,
+  // lost frames and while ref_kf waits for local mapping (then ref_kf alone, as with 1).
+  std::vector<std::pair<KeyframeAnchor, double>> anchors;
   std::shared_ptr<const features::FrameFeatures> features;  // this frame's features (reusable)
   // Tracking failed while keyframes were still being mapped and nothing was changed: retry with
   // retrack() once the pending snapshots have arrived.
@@ -153,6 +160,7 @@ class Tracker {
 
   TrackerOutput track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features, int pending);
   bool initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
+  std::vector<std::pair<KeyframeAnchor, double>> weighted_anchors(const Frame& cur, const SE3& T_w_c) const;
   // Tracking against the map failed: dead reckoning (depth odometry, else the velocity), the bridge,
   // else LOST (tracker_lost.cpp).
   void track_lost(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
