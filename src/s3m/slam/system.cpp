@@ -275,8 +275,7 @@ TrackResult System::track(const RgbdFrame& frame) {
   n_lost_ += r.state == TrackState::kLost;
   n_relocalised_ += r.state == TrackState::kRelocalised;
   if (r.anchor.keyframe != kNoKeyframe)
-    records_.push_back({frame.index, frame.t_s, r.state, r.anchor,
-                        r.anchor.keyframe == out.ref_kf ? std::move(out.anchors) : decltype(out.anchors){}});
+    records_.push_back({frame.index, frame.t_s, r.state, r.anchor, std::move(out.anchors)});  // empty unless tracked
   r.corrections = std::move(corrections_);
   corrections_.clear();
   return r;
@@ -307,12 +306,12 @@ void System::finish() {
 // apart: its pose after BA is the weighted mean of what each anchor keyframe says
 // (TrackerConfig::anchor_keyframes).
 SE3 System::anchored_pose(const FrameRecord& rec) const {
-  const SE3 T = map_.resolve_T_w_kf(rec.anchor.keyframe) * rec.anchor.T_kf_c;
+  const int submap = map_.submap_of(rec.anchor.keyframe);
   std::vector<std::pair<SE3, double>> votes;
   for (const auto& [a, weight] : rec.anchors)
-    if (map_.submap_of(a.keyframe) == map_.submap_of(rec.anchor.keyframe))
-      votes.push_back({map_.resolve_T_w_kf(a.keyframe) * a.T_kf_c, weight});
-  return votes.empty() ? T : weighted_mean(votes);
+    if (map_.submap_of(a.keyframe) == submap) votes.push_back({map_.resolve_T_w_kf(a.keyframe) * a.T_kf_c, weight});
+  if (votes.empty()) return map_.resolve_T_w_kf(rec.anchor.keyframe) * rec.anchor.T_kf_c;
+  return weighted_mean(votes);
 }
 
 std::vector<FramePose> System::camera_trajectory() const {
