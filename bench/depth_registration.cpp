@@ -21,75 +21,25 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "s3m/features/depth_registration.hpp"
 #include "s3m/io/tum_dataset.hpp"
 
 using namespace s3m;
 
 namespace {
 
-struct EdgeFrame {
-  cv::Mat dist_colour;                    // CV_32F distance to the nearest colour edge [px]
-  std::vector<cv::Point2f> depth_edges;  // depth-image pixels on a depth discontinuity
-  std::vector<float> edge_z;             // their depth [m]
-};
+// The edges and their distance are the library's (features/depth_registration.hpp), so this bench
+// measures what `s3m run` decides on; the fit below is its own denser grid (3000 edges per frame).
+using features::EdgeFrame;
+using features::colour_edge_distance;
 
-// Distance [px] of every colour pixel to the nearest colour (Canny) edge.
-cv::Mat colour_edge_distance(const cv::Mat& rgb) {
-  cv::Mat gray, canny, dist;
-  cv::cvtColor(rgb, gray, cv::COLOR_BGR2GRAY);
-  cv::GaussianBlur(gray, gray, cv::Size(5, 5), 1.2);
-  cv::Canny(gray, canny, 40, 100);
-  cv::distanceTransform(255 - canny, dist, cv::DIST_L2, 3);
-  return dist;
-}
-
-// Colour edges of `dist_colour` (colour_edge_distance), depth edges of `depth_m`: normally the same
-// frame's; the time-offset measurements pair a colour image with other frames' depth.
 EdgeFrame edges_of(const cv::Mat& dist_colour, const cv::Mat& depth_m) {
-  EdgeFrame e;
-  e.dist_colour = dist_colour;
-  // A depth edge: the nearer side of a jump of more than 10 % of the depth to a neighbour (the
-  // object border, where the colour edge is too).
-  const cv::Mat& d = depth_m;
-  for (int y = 1; y + 1 < d.rows; ++y)
-    for (int x = 1; x + 1 < d.cols; ++x) {
-      const float z = d.at<float>(y, x);
-      if (!(z > 0.3f)) continue;
-      const float nb[4] = {d.at<float>(y, x + 1), d.at<float>(y, x - 1), d.at<float>(y + 1, x), d.at<float>(y - 1, x)};
-      for (float n : nb)
-        if (n > 0 && n - z > 0.1f * z) {
-          e.depth_edges.emplace_back(float(x), float(y));
-          e.edge_z.push_back(z);
-          break;
-        }
-    }
-  // Every k-th edge pixel is plenty for a 3-parameter fit and keeps the grid search fast.
-  const std::size_t k = e.depth_edges.size() / 3000 + 1;
-  std::vector<cv::Point2f> sub;
-  std::vector<float> sub_z;
-  for (std::size_t i = 0; i < e.depth_edges.size(); i += k) sub.push_back(e.depth_edges[i]), sub_z.push_back(e.edge_z[i]);
-  e.depth_edges.swap(sub);
-  e.edge_z.swap(sub_z);
-  return e;
+  return features::edge_frame(dist_colour, depth_m, 3000);
 }
 
-// fb: depth-dependent shift f_d * b [px m] (the baseline model), added to the constant dx.
 double cost(const std::vector<EdgeFrame>& frames, double s, double dx, double dy, double cx, double cy,
             double fb = 0) {
-  constexpr double kTruncPx = 8.0;
-  double sum = 0;
-  long n = 0;
-  for (const auto& f : frames)
-    for (std::size_t i = 0; i < f.depth_edges.size(); ++i) {
-      const auto& p = f.depth_edges[i];
-      // Inverse of the model: colour pixel of this depth pixel.
-      const double u = cx + (p.x - cx - dx - fb / f.edge_z[i]) / s, v = cy + (p.y - cy - dy) / s;
-      const int iu = static_cast<int>(std::lround(u)), iv = static_cast<int>(std::lround(v));
-      if (iu < 0 || iv < 0 || iu >= f.dist_colour.cols || iv >= f.dist_colour.rows) continue;
-      sum += std::min(kTruncPx, static_cast<double>(f.dist_colour.at<float>(iv, iu)));
-      ++n;
-    }
-  return n ? sum / n : 1e9;
+  return features::edge_distance(frames, s, dx, dy, cx, cy, fb);
 }
 
 struct Registration {

@@ -20,6 +20,7 @@
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/outputs.hpp"
 #include "s3m/pipeline/session_io.hpp"
+#include "s3m/pipeline/unregistered_depth.hpp"
 
 namespace s3m::ros1 {
 namespace {
@@ -137,13 +138,13 @@ void S3mNode::on_frame(const ImageCPtr& rgb, const ImageCPtr& depth, const senso
                        const ImageCPtr& labels) {
   if (finished_) return;
   try {
-    if (!pipeline_) start(*info, rgb->header.frame_id);
     RgbdFrame f;
     f.index = frames_++;
     f.t_s = to_seconds(rgb->header.stamp);
     f.rgb = colour_to_bgr(*rgb);
     f.depth_m = depth_to_metres(*depth);
     if (labels) f.labels = labels_to_ids(*labels);
+    if (!pipeline_) start(*info, rgb->header.frame_id, f);
     stamp_ = rgb->header.stamp;
     pipeline_->process(std::move(f));  // inline: on_outcome() runs before this returns
     if (frames_ % params_.map_every_n_frames == 0) publish_map(stamp_);
@@ -155,10 +156,12 @@ void S3mNode::on_frame(const ImageCPtr& rgb, const ImageCPtr& depth, const senso
   }
 }
 
-void S3mNode::start(const CameraInfo& info, const std::string& camera_frame) {
+void S3mNode::start(const CameraInfo& info, const std::string& camera_frame, const RgbdFrame& first) {
   pipeline::PipelineConfig& c = params_.config;
   const PinholeCamera camera = c.dataset.camera.empty() ? camera_from_info(info, params_.camera_bf)
                                                         : io::load_camera(c.dataset.camera);
+  // A live stream offers one frame before the first is processed (s3m run checks six).
+  ROS_INFO("s3m_node: depth %s", pipeline::resolve_depth_registration(c, {first}, camera).c_str());
   // As s3m run does before its first frame: refuse settings that would take seconds per frame and
   // outgrow the memory (ROS_FATAL and exit 1 from on_frame), unless ~force.
   pipeline::check_cost(c, camera, params_.force, "~force:=true");

@@ -63,7 +63,8 @@ class S3mNode {
   using ImageCPtr = sensor_msgs::ImageConstPtr;
   void on_frame(const ImageCPtr& rgb, const ImageCPtr& depth, const sensor_msgs::CameraInfoConstPtr& info,
                 const ImageCPtr& labels);
-  void start(const sensor_msgs::CameraInfo& info, const std::string& camera_frame);
+  // Builds the pipeline on the first frame (its camera info; `first` decides the depth registration).
+  void start(const sensor_msgs::CameraInfo& info, const std::string& camera_frame, const RgbdFrame& first);
   void on_outcome(const pipeline::FrameOutcome& o, const semantics::LabelMap& labels);
   void publish_poses(const SE3& T_w_c, const ros::Time& stamp);
   void publish_map(const ros::Time& stamp);

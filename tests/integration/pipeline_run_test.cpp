@@ -116,12 +116,16 @@ TEST(PipelineRun, SlamOnlyWritesTrajectoriesAndNoMap) {
   pipeline::RunOptions o = options("slam_only", true);
   o.slam_only = true;
   o.max_frames = 40;
+  o.config.dataset.depth_registration = "auto";  // sim.yaml states it; checked here from the images
   const pipeline::RunResult r = pipeline::run_dataset(o);
   EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(),
             r.metrics["tracked"].get<std::size_t>());
   EXPECT_FALSE(fs::exists(o.out_dir + "/map.ot"));
   EXPECT_TRUE(r.metrics["map"].empty());
   EXPECT_TRUE(r.metrics["segmentation"].empty());
+  // The simulator's depth is registered; the run finds so from its images and says why.
+  const std::string reg = r.metrics["inputs"]["depth_registration"].get<std::string>();
+  EXPECT_EQ(reg.rfind("registered (depth edges", 0), 0u) << reg;
 }
 
 TEST(PipelineRun, BadInputsAreClearErrors) {

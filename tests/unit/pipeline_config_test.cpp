@@ -38,8 +38,11 @@ slam:
   T_c_r: {t: [0.1, 0.0, -0.05], q: [0.0, 0.0, 0.7071067811865476, 0.7071067811865476]}
 threads: {deterministic: true, queue_capacity: 8}
 flow: {integrate: all_frames, segment: integrated}
+dataset: {depth_registration: unregistered}
 )"));
   EXPECT_DOUBLE_EQ(c.cloud.max_depth_m, 3.5);
+  EXPECT_EQ(c.dataset.depth_registration, "unregistered");
+  EXPECT_EQ(PipelineConfig{}.dataset.depth_registration, "auto");
   EXPECT_EQ(c.cloud.pixel_stride, 4);
   EXPECT_DOUBLE_EQ(c.cloud.min_depth_m, CloudConfig{}.min_depth_m);
   EXPECT_TRUE(c.threads.deterministic);
@@ -73,6 +76,9 @@ TEST(PipelineConfig, ErrorsNameFileLineAndExpectation) {
 
   e = error_of("segmenter:\n  type: magic\n");
   EXPECT_NE(e.find("segmenter.type must be auto | onnx | oracle | none"), std::string::npos) << e;
+
+  e = error_of("dataset:\n  depth_registration: maybe\n");
+  EXPECT_NE(e.find("dataset.depth_registration must be auto | registered | unregistered (got 'maybe')"), std::string::npos) << e;
 
   e = error_of("threads: 4\n");
   EXPECT_NE(e.find("section 'threads' is not a map"), std::string::npos) << e;

@@ -207,6 +207,7 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
                   {"map_ply", paths.map_ply},
                   {"slam_map", paths.slam_map},
                   {"kept_clouds", paths.kept_clouds}};
+  if (!info.depth_registration.empty()) m["inputs"]["depth_registration"] = info.depth_registration;
   if (!info.loaded_map.empty()) m["inputs"]["map"] = {{"folder", info.loaded_map}, {"localize_only", info.localize_only}};
   return m;
 }

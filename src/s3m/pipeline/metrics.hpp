@@ -20,6 +20,7 @@ struct RunInfo {
   std::size_t frames_total = 0;
   std::string loaded_map;  // --map folder ("" = none)
   bool localize_only = false;
+  std::string depth_registration;  // resolve_depth_registration(): what was decided and why
 };
 
 // Files a dataset may carry for evaluation (s3m simulator output): ground-truth voxel map.

@@ -50,9 +50,10 @@ void validate_in(const C& c, const std::string& ctx, const std::string& sec) {
 }
 
 void load_dataset(const YAML::Node& n, DatasetConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"camera", "max_dt_s"}, ctx);
+  check_known_keys(n, {"camera", "max_dt_s", "depth_registration"}, ctx);
   yaml_get(n, "camera", c.camera, ctx);
   yaml_get(n, "max_dt_s", c.max_dt_s, ctx);
+  yaml_get(n, "depth_registration", c.depth_registration, ctx);
 }
 
 void load_cloud(const YAML::Node& n, CloudConfig& c, const std::string& ctx) {
@@ -113,6 +114,8 @@ void SegmenterConfig::validate() const {
 void DatasetConfig::validate() const {
   require(std::isfinite(max_dt_s) && max_dt_s > 0 && max_dt_s < 1.0,
           "dataset.max_dt_s must be in (0, 1) s (got " + num(max_dt_s) + ")");
+  require(depth_registration == "auto" || depth_registration == "registered" || depth_registration == "unregistered",
+          "dataset.depth_registration must be auto | registered | unregistered (got '" + depth_registration + "')");
 }
 
 void CloudConfig::validate() const {

@@ -31,6 +31,9 @@ enum class SegmentMode {
 struct DatasetConfig {
   std::string camera;      // camera preset ("tum_fr1") or YAML file; empty = <dataset>/camera.yaml
   double max_dt_s = 0.02;  // max rgb/depth timestamp gap when associating by nearest time [s]
+  // "auto" | "registered" | "unregistered": whether depth pixels are the colour pixels' (auto:
+  // checked on a few frames before the first; unregistered_depth.hpp).
+  std::string depth_registration = "auto";
   void validate() const;
 };
 

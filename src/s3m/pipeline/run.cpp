@@ -16,6 +16,7 @@
 #include "s3m/pipeline/report.hpp"
 #include "s3m/pipeline/report_views.hpp"
 #include "s3m/pipeline/session_io.hpp"
+#include "s3m/pipeline/unregistered_depth.hpp"
 
 namespace s3m::pipeline {
 namespace fs = std::filesystem;
@@ -62,17 +63,21 @@ bool same_folder(const std::string& a, const std::string& b) {
 
 // Components the run is made of, built from the options (each factory names what is wrong).
 struct Components {
+  PipelineConfig config;  // o.config with the settings resolved from the data (depth registration)
   std::unique_ptr<FrameSource> source;
   std::unique_ptr<Pipeline> pipeline;
   RunInfo info;
 };
 
 Components build(const RunOptions& o) {
-  Components c{o.open_source ? o.open_source(o.config) : open_tum_source(o.dataset_dir, o.config.dataset), nullptr, {}};
+  Components c{o.config, o.open_source ? o.open_source(o.config) : open_tum_source(o.dataset_dir, o.config.dataset),
+               nullptr, {}};
   const PinholeCamera& cam = c.source->camera();
   c.info.dataset_dir = c.source->name();
   c.info.config_file = o.config.source;
-  auto poses = make_pose_source(o.poses, *c.source, cam, o.config);
+  c.info.depth_registration = resolve_depth_registration(c.config, *c.source);
+  spdlog::info("run: depth {}", c.info.depth_registration);
+  auto poses = make_pose_source(o.poses, *c.source, cam, c.config);
   const SessionFiles session = session_files(o);
   if (!session.slam_map.empty()) poses->load_map(session.slam_map, o.localize_only);
   c.info.poses = poses->name();
@@ -84,14 +89,14 @@ Components build(const RunOptions& o) {
     SegmenterSpec spec = parse_segmenter_spec(o.segmenter);
     spec.model_dir = o.model_dir;
     const std::string sim_sign = simulator_sign(o.open_source ? "" : o.dataset_dir, c.source->has_labels());
-    const SegmenterChoice choice = choose_segmenter(spec, o.config, sim_sign);
-    segmenter = make_segmenter(choice, o.config, c.source->has_labels());
+    const SegmenterChoice choice = choose_segmenter(spec, c.config, sim_sign);
+    segmenter = make_segmenter(choice, c.config, c.source->has_labels());
     c.info.segmenter_reason = choice.reason;
-    map = std::make_unique<MapIntegrator>(o.config.map);
+    map = std::make_unique<MapIntegrator>(c.config.map);
   }
   c.info.segmenter = segmenter ? segmenter->name() : (o.slam_only ? "none (--slam-only)" : "none");
   const bool has_map = map != nullptr;
-  c.pipeline = std::make_unique<Pipeline>(o.config, cam, std::move(poses), std::move(segmenter), std::move(map));
+  c.pipeline = std::make_unique<Pipeline>(c.config, cam, std::move(poses), std::move(segmenter), std::move(map));
   if (has_map && !session.kept_clouds.empty()) {
     if (fs::exists(session.kept_clouds))
       c.pipeline->load_session_clouds(session.kept_clouds);
@@ -121,7 +126,7 @@ RunResult run_dataset(const RunOptions& o) {
   require(!o.out_dir.empty(), "run: an output directory is required (--out)");
   o.config.validate();
   Components c = build(o);
-  if (!o.slam_only) check_cost(o.config, c.source->camera(), o.force);  // before the first frame
+  if (!o.slam_only) check_cost(c.config, c.source->camera(), o.force);  // before the first frame
   create_output_dir(o.out_dir);
 
   RunResult r;
@@ -134,7 +139,7 @@ RunResult run_dataset(const RunOptions& o) {
 
   // The report's camera views: segmentations of a few integrated frames, kept as the run goes.
   CameraViewSampler camera_views;
-  if (o.report && o.config.eval.plots)
+  if (o.report && c.config.eval.plots)
     c.pipeline->set_frame_listener([&camera_views](const FrameOutcome& f, const RgbdFrame&, const semantics::LabelMap& l) {
       camera_views.offer(f, l);
     });
@@ -160,11 +165,11 @@ RunResult run_dataset(const RunOptions& o) {
   // Outputs first (trajectory and map are what a user keeps), then the evaluation of them.
   const bool keep_loaded = r.interrupted && same_folder(o.map_dir, o.out_dir);
   if (keep_loaded) spdlog::warn("run: interrupted: the session loaded from {} is not overwritten", o.out_dir);
-  const OutputPaths paths = write_outputs(*c.pipeline, o.config, o.out_dir, !keep_loaded);
-  r.metrics = compute_metrics(*c.pipeline, *c.source, o.config, c.info, paths);
+  const OutputPaths paths = write_outputs(*c.pipeline, c.config, o.out_dir, !keep_loaded);
+  r.metrics = compute_metrics(*c.pipeline, *c.source, c.config, c.info, paths);
   write_metrics(r.metrics, paths);
-  if (o.report && o.config.eval.plots) {
-    const std::string views = write_report_views(*c.pipeline, *c.source, o.config, paths, camera_views.chosen());
+  if (o.report && c.config.eval.plots) {
+    const std::string views = write_report_views(*c.pipeline, *c.source, c.config, paths, camera_views.chosen());
     if (!views.empty()) spdlog::warn("run: report pictures missing: {}", views);
     const ReportResult rep = make_report(o.out_dir);
     r.report_html = rep.html;

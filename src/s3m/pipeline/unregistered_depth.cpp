@@ -1,0 +1,43 @@
+#include "s3m/pipeline/unregistered_depth.hpp"
+
+#include <algorithm>
+#include <vector>
+
+#include "s3m/features/depth_registration.hpp"
+
+namespace s3m::pipeline {
+
+void use_unregistered_depth_settings(slam::SlamConfig& slam) {
+  const slam::SlamConfig d;
+  auto& f = slam.features;
+  if (f.depth_discontinuity_ratio == d.features.depth_discontinuity_ratio) f.depth_discontinuity_ratio = 0.02;
+  if (f.depth_window_px == d.features.depth_window_px) f.depth_window_px = 3;
+  if (f.depth_noise.model == d.features.depth_noise.model) f.depth_noise.model = "virtual_right";
+  if (slam.mapper.dense_links.enabled == d.mapper.dense_links.enabled) slam.mapper.dense_links.enabled = false;
+}
+
+std::string resolve_depth_registration(PipelineConfig& config, const std::vector<RgbdFrame>& sample,
+                                       const PinholeCamera& camera) {
+  const std::string& mode = config.dataset.depth_registration;
+  std::string why = "dataset.depth_registration: " + mode;
+  bool registered = mode == "registered";
+  if (mode == "auto") {
+    const auto check = features::check_depth_registration(sample, camera.cx, camera.cy);
+    registered = check.registered;
+    why = check.summary;
+  }
+  if (registered) return "registered (" + why + ")";
+  use_unregistered_depth_settings(config.slam);
+  return "not registered (" + why + "): keypoint depth test 0.02 z over 7x7 px, virtual-right depth weight, "
+         "dense keyframe links off, where the config leaves them at their defaults";
+}
+
+std::string resolve_depth_registration(PipelineConfig& config, const FrameSource& source) {
+  std::vector<RgbdFrame> sample;
+  if (config.dataset.depth_registration == "auto")
+    for (std::size_t i = 0; i < std::min<std::size_t>(source.size(), 120) && sample.size() < 6; i += 20)
+      sample.push_back(source.load(i));
+  return resolve_depth_registration(config, sample, source.camera());
+}
+
+}  // namespace s3m::pipeline

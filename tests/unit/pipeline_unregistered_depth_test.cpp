@@ -1,0 +1,112 @@
+// dataset.depth_registration: what a run changes for depth that is not registered to colour, and
+// that a preset's own values and a registered sequence are left alone.
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "s3m/core/error.hpp"
+#include "s3m/pipeline/unregistered_depth.hpp"
+
+namespace s3m::pipeline {
+namespace {
+
+// Frames with boxes before a wall; the depth drawn through "c + s (colour - c) + shift".
+class BoxesSource : public FrameSource {
+ public:
+  BoxesSource(double s, double dx) : s_(s), dx_(dx) { cam_.cx = 320, cam_.cy = 240; }
+  std::size_t size() const override { return 200; }
+  RgbdFrame load(std::size_t index) const override {
+    ++loads;
+    RgbdFrame f;
+    f.index = static_cast<int>(index);
+    f.rgb = cv::Mat(480, 640, CV_8UC3, cv::Scalar(90, 100, 110));
+    f.depth_m = cv::Mat(480, 640, CV_32F, cv::Scalar(3.0f));
+    for (int b = 0; b < 4; ++b) {
+      const int u0 = 60 + 130 * b, v0 = 80 + 40 * b + static_cast<int>(index % 7) * 5, w = 90, h = 120;
+      cv::rectangle(f.rgb, cv::Rect(u0, v0, w, h), cv::Scalar(200, 60 + 40 * b, 220), cv::FILLED);
+      auto d = [&](double u, double v) {
+        return cv::Point(static_cast<int>(std::lround(320 + s_ * (u - 320) + dx_)),
+                         static_cast<int>(std::lround(240 + s_ * (v - 240))));
+      };
+      cv::rectangle(f.depth_m, cv::Rect(d(u0, v0), d(u0 + w, v0 + h)), cv::Scalar(1.0 + 0.2 * b), cv::FILLED);
+    }
+    return f;
+  }
+  const PinholeCamera& camera() const override { return cam_; }
+  const io::Trajectory& groundtruth() const override { return gt_; }
+  bool has_labels() const override { return false; }
+  std::string name() const override { return "boxes"; }
+  std::string eval_dir() const override { return ""; }
+  mutable int loads = 0;
+
+ private:
+  double s_, dx_;
+  PinholeCamera cam_;
+  io::Trajectory gt_;
+};
+
+void expect_unregistered_settings(const slam::SlamConfig& s) {
+  EXPECT_DOUBLE_EQ(s.features.depth_discontinuity_ratio, 0.02);
+  EXPECT_EQ(s.features.depth_window_px, 3);
+  EXPECT_EQ(s.features.depth_noise.model, "virtual_right");
+  EXPECT_FALSE(s.mapper.dense_links.enabled);
+}
+
+void expect_defaults(const slam::SlamConfig& s) {
+  const slam::SlamConfig d;
+  EXPECT_DOUBLE_EQ(s.features.depth_discontinuity_ratio, d.features.depth_discontinuity_ratio);
+  EXPECT_EQ(s.features.depth_window_px, d.features.depth_window_px);
+  EXPECT_EQ(s.features.depth_noise.model, d.features.depth_noise.model);
+  EXPECT_EQ(s.mapper.dense_links.enabled, d.mapper.dense_links.enabled);
+}
+
+TEST(UnregisteredDepth, AutoDetectsUnregisteredDepthAndSwitchesTheSlamSettings) {
+  PipelineConfig c;
+  BoxesSource src(1.10, 8);
+  const std::string why = resolve_depth_registration(c, src);
+  EXPECT_EQ(why.rfind("not registered", 0), 0u) << why;
+  expect_unregistered_settings(c.slam);
+  EXPECT_EQ(src.loads, 6);  // frames 0, 20, ..., 100
+}
+
+TEST(UnregisteredDepth, AutoLeavesRegisteredDepthAlone) {
+  PipelineConfig c;
+  BoxesSource src(1.0, 0);
+  const std::string why = resolve_depth_registration(c, src);
+  EXPECT_EQ(why.rfind("registered", 0), 0u) << why;
+  expect_defaults(c.slam);
+}
+
+TEST(UnregisteredDepth, ASetModeIsObeyedWithoutReadingFrames) {
+  PipelineConfig c;
+  BoxesSource unreg(1.10, 8);
+  c.dataset.depth_registration = "registered";
+  resolve_depth_registration(c, unreg);
+  expect_defaults(c.slam);
+  EXPECT_EQ(unreg.loads, 0);
+  BoxesSource reg(1.0, 0);
+  c.dataset.depth_registration = "unregistered";
+  EXPECT_EQ(resolve_depth_registration(c, reg).rfind("not registered (dataset.depth_registration: unregistered)", 0), 0u);
+  expect_unregistered_settings(c.slam);
+  EXPECT_EQ(reg.loads, 0);
+}
+
+TEST(UnregisteredDepth, APresetsOwnValuesStay) {
+  slam::SlamConfig s;
+  s.features.depth_window_px = 4;
+  s.features.depth_discontinuity_ratio = 0.03;
+  use_unregistered_depth_settings(s);
+  EXPECT_EQ(s.features.depth_window_px, 4);
+  EXPECT_DOUBLE_EQ(s.features.depth_discontinuity_ratio, 0.03);
+  EXPECT_EQ(s.features.depth_noise.model, "virtual_right");  // still at the default: changed
+  EXPECT_FALSE(s.mapper.dense_links.enabled);
+}
+
+TEST(UnregisteredDepth, ModeIsValidated) {
+  PipelineConfig c;
+  EXPECT_EQ(c.dataset.depth_registration, "auto");
+  c.dataset.depth_registration = "sometimes";
+  EXPECT_THROW(c.validate(), Error);
+}
+
+}  // namespace
+}  // namespace s3m::pipeline
