@@ -46,7 +46,7 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
   if (!n) return;
   check_known_keys(n, {"pose_rounds", "pose_iterations", "close_depth_m", "motion_radius_px", "min_motion_matches",
                        "min_pose_inliers", "local_radius_factor", "min_local_inliers", "max_frames_between_keyframes",
-                       "min_frames_between_keyframes", "keyframe_ref_ratio", "keyframe_decay_ratio", "close_tracked_min",
+                       "min_frames_between_keyframes", "keyframe_ref_ratio", "keyframe_decay_ratio", "keyframe_max_deg", "keyframe_max_m", "close_tracked_min",
                        "close_untracked_min", "max_pending_keyframes", "min_init_depth_points", "anchor_keyframes",
                        "coast_frames", "bridge_deg", "bridge_m", "bridge_min_inliers", "odometry_frames",
                        "odometry_deg", "odometry_m", "odometry_downsample", "odometry_max_depth_diff_m",
@@ -63,6 +63,8 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
   yaml_get(n, "min_frames_between_keyframes", c.min_frames_between_keyframes, ctx);
   yaml_get(n, "keyframe_ref_ratio", c.keyframe_ref_ratio, ctx);
   yaml_get(n, "keyframe_decay_ratio", c.keyframe_decay_ratio, ctx);
+  yaml_get(n, "keyframe_max_deg", c.keyframe_max_deg, ctx);
+  yaml_get(n, "keyframe_max_m", c.keyframe_max_m, ctx);
   yaml_get(n, "close_tracked_min", c.close_tracked_min, ctx);
   yaml_get(n, "close_untracked_min", c.close_untracked_min, ctx);
   yaml_get(n, "max_pending_keyframes", c.max_pending_keyframes, ctx);

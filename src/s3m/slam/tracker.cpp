@@ -30,6 +30,7 @@ void TrackerConfig::validate() const {
           "tracker: keyframe frame gaps must be >= 1 / >= 0");
   require(keyframe_ref_ratio > 0 && keyframe_ref_ratio <= 1, "tracker.keyframe_ref_ratio must be in (0, 1]");
   require(keyframe_decay_ratio >= 0 && keyframe_decay_ratio < 1, "tracker.keyframe_decay_ratio must be in [0, 1)");
+  require(keyframe_max_deg >= 0 && keyframe_max_m >= 0, "tracker.keyframe_max_deg / keyframe_max_m must be >= 0");
   require(max_pending_keyframes >= 1 && min_init_depth_points >= 3, "tracker: bad pending/init limits");
   require(anchor_keyframes >= 1, "tracker.anchor_keyframes must be >= 1");
   require(coast_frames >= 0 && bridge_deg >= 0 && bridge_m >= 0 && bridge_min_inliers >= min_pose_inliers,
@@ -302,13 +303,18 @@ bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, in
   const bool need_close = pending == 0 && lacks_close_points(cur);
   const double ref = snapshot_->ref_tracked_points;
   const double ratio = snapshot_->n_map_keyframes < 2 ? 0.4 : config_.keyframe_ref_ratio;
+  const SE3 T_ref_c = T_w_ref_.inverse() * cur.T_c_w.inverse();
+  const bool moved =
+      (config_.keyframe_max_deg > 0 &&
+       Eigen::AngleAxisd(T_ref_c.linear()).angle() > config_.keyframe_max_deg * M_PI / 180.0) ||
+      (config_.keyframe_max_m > 0 && T_ref_c.translation().norm() > config_.keyframe_max_m);
   auto decide = [&](int tracked) {
     const bool failing = tracked < 0.25 * ref;  // under a quarter of the reference's points tracked
     const bool c1a = since >= config_.max_frames_between_keyframes;
     const bool c1b = pending == 0;
     const bool c1c = failing || need_close;
     const bool decayed = tracked < config_.keyframe_decay_ratio * peak_inliers_;
-    const bool c2 = (tracked < ratio * ref || need_close || decayed) && tracked > 15;
+    const bool c2 = (tracked < ratio * ref || need_close || decayed || moved) && tracked > 15;
     // Local mapping is behind: skip ordinary keyframes (tracking stays real-time), but not when
     // tracking is failing — without a new keyframe the map would stop growing exactly where the
     // camera goes and tracking would be lost. The caller then waits for a queue slot (System::track).
