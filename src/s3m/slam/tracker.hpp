@@ -43,8 +43,8 @@ struct TrackerConfig {
   // simulated living-room flight, whose frames were then placed by ever older points. 20 deg /
   // 0.4 m on the 90 matrix rows: noise-free worst 0.495 -> 0.442 cm, noisy worst 0.896 -> 0.658 cm,
   // ~9 % more keyframes, kitchen unchanged; but on the rendered room loop (LoopClosing tests) the
-  // loop correction then moves the first keyframes (the world) by ~1 cm / 0.18 deg (SE3-aligned
-  // the closed loop is better, 0.328 -> 0.311 cm): off until the correction holds its gauge
+  // loop-closed trajectory's first frames (the world) shift by ~1 cm / 0.18 deg (SE3-aligned
+  // the closed loop is better, 0.328 -> 0.311 cm): off until the closed run holds its origin
   // (docs/RESULTS.md, issue 20 session 19).
   double keyframe_max_deg = 0;
   double keyframe_max_m = 0;
