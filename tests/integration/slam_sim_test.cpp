@@ -71,7 +71,7 @@ FlightResult fly(const sim::SimConfig& sc, slam::SlamConfig cfg = {}) {
     const SE3 T_a_b = sim.trajectory().samples[kfs[k - 1].frame_index].T_w_c.inverse() *
                       sim.trajectory().samples[kfs[k].frame_index].T_w_c;
     res.max_keyframe_turn_deg =
-        std::max(res.max_keyframe_turn_deg, Eigen::AngleAxisd(T_a_b.linear()).angle() * 180.0 / M_PI);
+        std::max(res.max_keyframe_turn_deg, rotation_angle_rad(T_a_b.linear()) * 180.0 / M_PI);
   }
   std::printf("%s %s%s: lost %d, odometry %d, ATE camera %.4f m, robot %.4f m, sim3 scale %.4f, keyframes %d, "
               "largest turn between keyframes %.1f deg\n", sc.scene.c_str(), type.c_str(), sc.sensor.noise ? "" : " (no noise)",

@@ -7,6 +7,17 @@
 #include <opencv2/imgproc.hpp>
 
 namespace s3m::features {
+namespace {
+
+// Every `step`-th depth edge of `f`, with the same colour distances.
+EdgeFrame every_kth_edge(const EdgeFrame& f, std::size_t step) {
+  EdgeFrame sub{f.dist_colour, {}, {}};
+  for (std::size_t i = 0; i < f.depth_edges.size(); i += step)
+    sub.depth_edges.push_back(f.depth_edges[i]), sub.edge_z.push_back(f.edge_z[i]);
+  return sub;
+}
+
+}  // namespace
 
 cv::Mat colour_edge_distance(const cv::Mat& bgr) {
   cv::Mat gray, canny, dist;
@@ -35,11 +46,7 @@ EdgeFrame edge_frame(const cv::Mat& dist_colour, const cv::Mat& depth_m, int max
         }
     }
   // A 3-parameter fit needs few edges; the grid search's cost grows with them.
-  const std::size_t k = e.depth_edges.size() / static_cast<std::size_t>(std::max(1, max_edges)) + 1;
-  EdgeFrame sub{e.dist_colour, {}, {}};
-  for (std::size_t i = 0; i < e.depth_edges.size(); i += k)
-    sub.depth_edges.push_back(e.depth_edges[i]), sub.edge_z.push_back(e.edge_z[i]);
-  return sub;
+  return every_kth_edge(e, e.depth_edges.size() / static_cast<std::size_t>(std::max(1, max_edges)) + 1);
 }
 
 double edge_distance(const std::vector<EdgeFrame>& frames, double s, double dx, double dy, double cx, double cy,
@@ -73,11 +80,7 @@ DepthRegistrationFit fit_depth_registration(const std::vector<EdgeFrame>& frames
   };
   // The coarse grid (16 000 models) on every 4th edge: it only has to find the basin.
   std::vector<EdgeFrame> sparse;
-  for (const auto& f : frames) {
-    EdgeFrame s{f.dist_colour, {}, {}};
-    for (std::size_t i = 0; i < f.depth_edges.size(); i += 4) s.depth_edges.push_back(f.depth_edges[i]), s.edge_z.push_back(f.edge_z[i]);
-    sparse.push_back(std::move(s));
-  }
+  for (const auto& f : frames) sparse.push_back(every_kth_edge(f, 4));
   search(sparse, edge_distance(sparse, 1, 0, 0, cx, cy), 0.90, 1.25, 0.01, -20, 20, -20, 20, 2);
   const DepthRegistrationFit coarse = r;
   r.scale = 1, r.dx_px = r.dy_px = 0;

@@ -306,7 +306,7 @@ bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, in
   const SE3 T_ref_c = T_w_ref_.inverse() * cur.T_c_w.inverse();
   const bool moved =
       (config_.keyframe_max_deg > 0 &&
-       Eigen::AngleAxisd(T_ref_c.linear()).angle() > config_.keyframe_max_deg * M_PI / 180.0) ||
+       rotation_angle_rad(T_ref_c.linear()) > config_.keyframe_max_deg * M_PI / 180.0) ||
       (config_.keyframe_max_m > 0 && T_ref_c.translation().norm() > config_.keyframe_max_m);
   auto decide = [&](int tracked) {
     const bool failing = tracked < 0.25 * ref;  // under a quarter of the reference's points tracked
