@@ -5,6 +5,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/pipeline/unregistered_depth.hpp"
+#include "s3m/slam/slam_config.hpp"
 
 namespace s3m::pipeline {
 namespace {
@@ -99,6 +100,18 @@ TEST(UnregisteredDepth, APresetsOwnValuesStay) {
   EXPECT_DOUBLE_EQ(s.features.depth_discontinuity_ratio, 0.03);
   EXPECT_EQ(s.features.depth_noise.model, "virtual_right");  // still at the default: changed
   EXPECT_FALSE(s.mapper.dense_links.enabled);
+}
+
+TEST(UnregisteredDepth, SettingsAreThoseOfTheShippedPreset) {
+  // The library cannot read config/slam_7scenes.yaml; this keeps the two from drifting apart.
+  const slam::SlamConfig preset =
+      slam::load_slam_config(std::string(S3M_TEST_DATA_DIR) + "/../../config/slam_7scenes.yaml");
+  slam::SlamConfig applied;
+  use_unregistered_depth_settings(applied);
+  EXPECT_DOUBLE_EQ(applied.features.depth_discontinuity_ratio, preset.features.depth_discontinuity_ratio);
+  EXPECT_EQ(applied.features.depth_window_px, preset.features.depth_window_px);
+  EXPECT_EQ(applied.features.depth_noise.model, preset.features.depth_noise.model);
+  EXPECT_EQ(applied.mapper.dense_links.enabled, preset.mapper.dense_links.enabled);
 }
 
 TEST(UnregisteredDepth, ModeIsValidated) {
