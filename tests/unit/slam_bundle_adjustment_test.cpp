@@ -11,12 +11,18 @@
 namespace s3m::slam {
 namespace {
 
-TEST(BundleAdjustment, RecoversPosesAndPointsWithOutliers) {
+// A 640x480 camera with a 500 px focal length and an 8 cm stereo baseline (bf 40 px m).
+PinholeCamera test_camera() {
   PinholeCamera cam;
   cam.fx = cam.fy = 500;
   cam.cx = 320;
   cam.cy = 240;
   cam.bf = 40;
+  return cam;
+}
+
+TEST(BundleAdjustment, RecoversPosesAndPointsWithOutliers) {
+  const PinholeCamera cam = test_camera();
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> uxy(-1.5, 1.5), uz(1.5, 3.5), uni(0, 1), big(15, 60);
   std::normal_distribution<double> n01(0, 1);
@@ -156,6 +162,13 @@ TEST(BundleAdjustment, LinkedFramesAreNotHeldForLargeSteps) {
 namespace s3m::slam {
 namespace {
 
+// 120 points on a 12 x 10 grid 2.0-2.6 m in front of the identity pose.
+std::vector<Vec3> wall_points() {
+  std::vector<Vec3> P_w;
+  for (int i = 0; i < 120; ++i) P_w.emplace_back(-1.0 + 0.2 * (i % 12), -0.6 + 0.15 * (i / 12), 2.0 + 0.1 * (i % 7));
+  return P_w;
+}
+
 // Keypoints where the points project from T_w_c, exact depth and right coordinate, one distinct
 // descriptor per point.
 std::shared_ptr<features::FrameFeatures> exact_features(const PinholeCamera& cam, const std::vector<Vec3>& P_w,
@@ -183,15 +196,10 @@ std::shared_ptr<features::FrameFeatures> exact_features(const PinholeCamera& cam
 enum class Solve { kLocal, kGlobal, kGlobalHold };
 std::pair<SE3, LocalBaStats> local_ba_with_wrong_keyframe(double error_deg, const BaConfig& config, SE3& T_w_k_true,
                                                           Solve solve = Solve::kLocal) {
-  PinholeCamera cam;
-  cam.fx = cam.fy = 500;
-  cam.cx = 320;
-  cam.cy = 240;
-  cam.bf = 40;
+  const PinholeCamera cam = test_camera();
   const SE3 T_w_f = SE3::Identity();
   T_w_k_true = make_se3(so3_exp(Vec3(0, 0.05, 0)), Vec3(0.2, 0, 0));
-  std::vector<Vec3> P_w;
-  for (int i = 0; i < 120; ++i) P_w.emplace_back(-1.0 + 0.2 * (i % 12), -0.6 + 0.15 * (i / 12), 2.0 + 0.1 * (i % 7));
+  const std::vector<Vec3> P_w = wall_points();
   auto features_at = [&](const SE3& T_w_c) { return exact_features(cam, P_w, T_w_c); };
   Map map;
   auto add = [&](const SE3& T_true, const SE3& T_stored) {
@@ -256,13 +264,8 @@ TEST(GlobalBundleAdjustment, EndOfRunSolveHoldsKeyframesItWouldMoveTooFar) {
 // would rather move F than disagree with G. Free, F moved with such windows and took the whole
 // trajectory's origin along (issue 20: ~1 cm / 0.16 deg on the rendered room after a loop).
 TEST(LocalBundleAdjustment, NeverMovesTheRootKeyframe) {
-  PinholeCamera cam;
-  cam.fx = cam.fy = 500;
-  cam.cx = 320;
-  cam.cy = 240;
-  cam.bf = 40;
-  std::vector<Vec3> P_w;
-  for (int i = 0; i < 120; ++i) P_w.emplace_back(-1.0 + 0.2 * (i % 12), -0.6 + 0.15 * (i / 12), 2.0 + 0.1 * (i % 7));
+  const PinholeCamera cam = test_camera();
+  const std::vector<Vec3> P_w = wall_points();
   Map map;
   auto add = [&](const SE3& T_true, const SE3& T_stored) {
     KeyFrame k;
