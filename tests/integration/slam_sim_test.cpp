@@ -119,7 +119,7 @@ TEST(SlamOnSimulator, NoiseFreeFastTurnsHoldTheirScaleWithDenseKeyframeLinks) {
 // that keyframe grew to ~1 cm after 15 frames, 0.66 cm ATE on the matrix's row
 // living_room/figure8/clean/s202. Weighted by the inlier points each keyframe observes
 // (tracker.anchor_keyframes), the frame follows the keyframes whose points placed it. Measured
-// here: 0.46 cm (scale 0.9999) with 4 anchors, 0.66 cm (0.9982) with the newest keyframe alone
+// here: 0.46 cm (scale 0.9999) with 4 anchors, 0.66 cm (0.9982) with the newest keyframe alone.
 // The flight is flown with the viewpoint keyframes off (the default since session 20): they shorten
 // the gaps, and then the anchors matter less (0.36 vs 0.39 cm); long gaps still happen where that
 // rule is off or its conditions fail, and this is where the anchors show.

@@ -189,6 +189,16 @@ std::shared_ptr<features::FrameFeatures> exact_features(const PinholeCamera& cam
   return f;
 }
 
+// A keyframe of `map` that sees P_w exactly from T_true (no map points yet), stored at T_stored.
+KeyframeId add_exact_keyframe(Map& map, const PinholeCamera& cam, const std::vector<Vec3>& P_w, const SE3& T_true,
+                              const SE3& T_stored) {
+  KeyFrame k;
+  k.features = exact_features(cam, P_w, T_true);
+  k.points.assign(P_w.size(), kNoId);
+  k.T_w_c = T_stored;
+  return map.add_keyframe(std::move(k));
+}
+
 // Local BA on a two-keyframe map: keyframe F (the oldest, held for the gauge) and keyframe K, which
 // sees F's 120 points exactly from its true pose but is stored rotated by `error_deg` about its
 // y axis. Returns K's pose after local BA around K and the BA's statistics, or (global) after the
@@ -200,15 +210,8 @@ std::pair<SE3, LocalBaStats> local_ba_with_wrong_keyframe(double error_deg, cons
   const SE3 T_w_f = SE3::Identity();
   T_w_k_true = make_se3(so3_exp(Vec3(0, 0.05, 0)), Vec3(0.2, 0, 0));
   const std::vector<Vec3> P_w = wall_points();
-  auto features_at = [&](const SE3& T_w_c) { return exact_features(cam, P_w, T_w_c); };
   Map map;
-  auto add = [&](const SE3& T_true, const SE3& T_stored) {
-    KeyFrame k;
-    k.features = features_at(T_true);
-    k.points.assign(P_w.size(), kNoId);
-    k.T_w_c = T_stored;
-    return map.add_keyframe(std::move(k));
-  };
+  auto add = [&](const SE3& T_true, const SE3& T_stored) { return add_exact_keyframe(map, cam, P_w, T_true, T_stored); };
   const KeyframeId f = add(T_w_f, T_w_f);
   const KeyframeId k = add(T_w_k_true, T_w_k_true * make_se3(so3_exp(Vec3(0, error_deg * M_PI / 180.0, 0)), Vec3::Zero()));
   for (std::size_t i = 0; i < P_w.size(); ++i) map.add_observation(map.add_point(P_w[i], f, int(i)), k, int(i));
@@ -257,7 +260,6 @@ TEST(GlobalBundleAdjustment, EndOfRunSolveHoldsKeyframesItWouldMoveTooFar) {
   EXPECT_LT(deg_between(moved, truth), 0.01);
 }
 
-
 // A sub-map's root keyframe is the world: local BA never moves it, also in a window where held
 // neighbours pull on it. F (root, identity) and K see 120 points exactly; G sees half of them from
 // a pose stored 0.2 deg / 1 cm off, so the window {K, F} (max 2 keyframes, G held outside it)
@@ -267,18 +269,12 @@ TEST(LocalBundleAdjustment, NeverMovesTheRootKeyframe) {
   const PinholeCamera cam = test_camera();
   const std::vector<Vec3> P_w = wall_points();
   Map map;
-  auto add = [&](const SE3& T_true, const SE3& T_stored) {
-    KeyFrame k;
-    k.features = exact_features(cam, P_w, T_true);
-    k.points.assign(P_w.size(), kNoId);
-    k.T_w_c = T_stored;
-    return map.add_keyframe(std::move(k));
-  };
   const SE3 T_w_g = make_se3(so3_exp(Vec3(0, 0.05, 0)), Vec3(0.2, 0, 0));
+  const SE3 T_w_g_stored = T_w_g * make_se3(so3_exp(Vec3(0.2 * M_PI / 180.0, 0, 0)), Vec3(0.01, 0, 0));
   const SE3 T_w_k = make_se3(so3_exp(Vec3(0.03, -0.04, 0)), Vec3(-0.15, 0.05, 0.1));
-  const KeyframeId f = add(SE3::Identity(), SE3::Identity());
-  const KeyframeId g = add(T_w_g, T_w_g * make_se3(so3_exp(Vec3(0.2 * M_PI / 180.0, 0, 0)), Vec3(0.01, 0, 0)));
-  const KeyframeId k = add(T_w_k, T_w_k);
+  const KeyframeId f = add_exact_keyframe(map, cam, P_w, SE3::Identity(), SE3::Identity());
+  const KeyframeId g = add_exact_keyframe(map, cam, P_w, T_w_g, T_w_g_stored);
+  const KeyframeId k = add_exact_keyframe(map, cam, P_w, T_w_k, T_w_k);
   for (std::size_t i = 0; i < P_w.size(); ++i) {
     const PointId p = map.add_point(P_w[i], f, int(i));
     if (i % 2 == 0) map.add_observation(p, g, int(i));
@@ -295,7 +291,7 @@ TEST(LocalBundleAdjustment, NeverMovesTheRootKeyframe) {
   EXPECT_EQ(st.n_local_keyframes, 2);
   EXPECT_EQ(st.n_fixed_keyframes, 1);  // G
   EXPECT_EQ(map.keyframe(f).T_w_c.matrix(), SE3::Identity().matrix()) << "the root stays the world";
-  EXPECT_EQ(map.keyframe(g).T_w_c.matrix(), (T_w_g * make_se3(so3_exp(Vec3(0.2 * M_PI / 180.0, 0, 0)), Vec3(0.01, 0, 0))).matrix());
+  EXPECT_EQ(map.keyframe(g).T_w_c.matrix(), T_w_g_stored.matrix());
   // The window was solved: K moved towards G's view of the points (the pull F no longer follows).
   EXPECT_GT((map.keyframe(k).T_w_c.translation() - k_before.translation()).norm(), 1e-4);
 }

@@ -19,10 +19,9 @@ LocalBaStats local_bundle_adjustment(Map& map, KeyframeId kf_id, const PinholeCa
   // A sub-map's root keyframe defines its world and is never moved (as ORB-SLAM holds keyframe
   // 0): free in a window with fixed neighbours, it drifted with the window and took the whole
   // trajectory's origin with it (issue 20: ~1 cm / 0.16 deg after a loop on the rendered room).
-  auto is_root = [&](KeyframeId id) { return map.keyframe(id).parent == kNoId; };
-  add_frame(kf_id, is_root(kf_id));
+  add_frame(kf_id, map.keyframe(kf_id).is_root());
   for (KeyframeId nb : map.keyframe(kf_id).best_covisible(config.max_local_keyframes - 1))
-    add_frame(nb, is_root(nb));
+    add_frame(nb, map.keyframe(nb).is_root());
   st.n_local_keyframes = static_cast<int>(frame_index.size());
   // 2. Points seen by the window; 3. the other keyframes that see them are held fixed.
   std::map<PointId, int> point_index;

@@ -126,7 +126,7 @@ void LocalMapper::cull_keyframes(KeyframeId id) {
   // the same or a finer scale: it adds nothing to BA but cost.
   for (KeyframeId nb : map_.keyframe(id).best_covisible()) {
     const KeyFrame& k = map_.keyframe(nb);
-    if (k.parent == kNoId) continue;  // the root stays
+    if (k.is_root()) continue;
     const auto& F = *k.features;
     int n_points = 0, n_redundant = 0;
     for (int i = 0; i < F.size(); ++i) {

@@ -133,7 +133,7 @@ int global_bundle_adjustment(Map& map, const PinholeCamera& camera, const BaConf
   for (const auto& [id, kf] : map.keyframes()) {
     frame_of[id] = int(problem.T_c_w.size());
     problem.T_c_w.push_back(kf.T_w_c.inverse());
-    problem.fixed.push_back(kf.parent == kNoId ? 1 : 0);  // the root of each sub-map's tree
+    problem.fixed.push_back(kf.is_root() ? 1 : 0);
   }
   std::vector<PointId> point_ids;
   for (const auto& [pid, p] : map.points()) {

@@ -118,7 +118,7 @@ void Map::erase_point(PointId pid) {
 
 void Map::erase_keyframe(KeyframeId id) {
   KeyFrame& kf = keyframes_.at(id);
-  require(kf.parent != kNoId, "Map::erase_keyframe: the root keyframe cannot be erased");
+  require(!kf.is_root(), "Map::erase_keyframe: the root keyframe cannot be erased");
   for (PointId pid : std::vector<PointId>(kf.points))
     if (pid != kNoId) erase_observation(pid, id);
   for (const auto& [nb, w] : kf.covisibility) keyframes_.at(nb).covisibility.erase(id);

@@ -44,6 +44,9 @@ struct KeyFrame {
   std::map<KeyframeId, int> covisibility;   // neighbour -> number of shared map points
   KeyframeId parent = kNoId;                // spanning tree (strongest covisible older keyframe)
   std::set<KeyframeId> children;
+  // The first keyframe of a sub-map, the root of its tree: it defines that sub-map's world, so
+  // every BA holds it and culling keeps it.
+  bool is_root() const { return parent == kNoId; }
   // The sub-map (world frame) the keyframe belongs to: 0 is the world (the first map of the
   // session, or the loaded one); a session that cannot relocalise starts sub-map 1, 2, ... in a
   // frame of its own until a merge moves it into an older one (map_merge.hpp). Not saved: only the
