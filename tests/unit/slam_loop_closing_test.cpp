@@ -144,7 +144,9 @@ TEST(Relocalisation, TenBlankFramesAreMarkedLostAndTrackingRecovers) {
   EXPECT_LE(first_back, 262);
   const TrackState back = r.states[size_t(first_back)];
   EXPECT_TRUE(back == TrackState::kOk || back == TrackState::kRelocalised) << to_string(back);
-  if (back == TrackState::kRelocalised) EXPECT_GE(r.relocalisations, 1);
+  if (back == TrackState::kRelocalised) {
+    EXPECT_GE(r.relocalisations, 1);
+  }
   for (int i = first_back + 1; i < kFrames; ++i) EXPECT_NE(r.states[size_t(i)], TrackState::kLost) << "frame " << i;
   // The final trajectory has the recovered frame at its recovered pose, not the LOST guess.
   for (const auto& p : r.traj)

@@ -336,7 +336,9 @@ TEST(SlamSession, ExtendingContinuesTheLoadedMapInItsWorld) {
   ASSERT_EQ(b.traj.size(), std::size_t(kFrames));
   // New keyframes continue the loaded ids.
   for (const auto& r : b.results)
-    if (r.keyframe) EXPECT_GE(r.anchor.keyframe, b.keyframes_before) << "frame " << r.frame_index;
+    if (r.keyframe) {
+      EXPECT_GE(r.anchor.keyframe, b.keyframes_before) << "frame " << r.frame_index;
+    }
   const double worst = worst_error_m(b);
   std::printf("extending session B: %d keyframes added, worst position error %.4f m\n", b.keyframes_made, worst);
   EXPECT_LT(worst, 0.03);

@@ -3,11 +3,6 @@
 // texture, so FAST finds corners at every pyramid level) seen by a pinhole camera. Exact depth,
 // optional Gaussian depth noise; deterministic.
 #include <cmath>
-#include <cstdint>
-#include <random>
-#include <vector>
-
-#include <opencv2/imgproc.hpp>
 
 #include "s3m/core/camera.hpp"
 #include "s3m/core/rgbd_frame.hpp"
@@ -15,63 +10,16 @@
 
 namespace s3m::test {
 
-inline double cell_value(int a, int b, int face, int scale) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (std::int64_t v : {std::int64_t(a), std::int64_t(b), std::int64_t(face), std::int64_t(scale)}) {
-    h ^= static_cast<std::uint64_t>(v) + 0x9e3779b97f4a7c15ull;
-    h *= 1099511628211ull;
-    h ^= h >> 29;
-  }
-  return static_cast<double>(h % 1000) / 1000.0;
-}
-
-// Grey level in [0, 255] at wall coordinates (a, b) [m] on a face.
-inline double room_texture(double a, double b, int face) {
-  double v = 0;
-  const double sizes[3] = {0.40, 0.15, 0.06};
-  const double weights[3] = {0.5, 0.3, 0.2};
-  for (int s = 0; s < 3; ++s)
-    v += weights[s] * cell_value(static_cast<int>(std::floor(a / sizes[s])), static_cast<int>(std::floor(b / sizes[s])),
-                                 face, s);
-  return 30.0 + 200.0 * v;
-}
-
 struct Room {
   Vec3 lo{-3.0, -2.5, 0.0}, hi{3.0, 2.5, 3.0};  // world box [m], z up
 };
 
-inline RgbdFrame render_room(const Room& room, const PinholeCamera& cam, const SE3& T_w_c, int index, double t_s,
-                             double depth_noise_m = 0.0, unsigned seed = 1) {
-  RgbdFrame f;
-  f.index = index;
-  f.t_s = t_s;
-  cv::Mat gray(cam.height, cam.width, CV_8UC1);
-  f.depth_m.create(cam.height, cam.width, CV_32FC1);
-  const Mat3 R = T_w_c.linear();
-  const Vec3 o = T_w_c.translation();
-  std::mt19937 rng(seed + 7919u * static_cast<unsigned>(index));
-  std::normal_distribution<double> noise(0.0, 1.0);
-  for (int v = 0; v < cam.height; ++v)
-    for (int u = 0; u < cam.width; ++u) {
-      const Vec3 d_c((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
-      const Vec3 d = R * d_c;
-      double t_best = 1e9;
-      int axis = 0;
-      for (int k = 0; k < 3; ++k) {
-        if (std::abs(d[k]) < 1e-12) continue;
-        const double t = ((d[k] > 0 ? room.hi[k] : room.lo[k]) - o[k]) / d[k];
-        if (t > 0 && t < t_best) t_best = t, axis = k;
-      }
-      const Vec3 p = o + t_best * d;
-      const int face = axis * 2 + (d[axis] > 0 ? 1 : 0);
-      const double a = p[(axis + 1) % 3], b = p[(axis + 2) % 3];
-      gray.at<std::uint8_t>(v, u) = cv::saturate_cast<std::uint8_t>(room_texture(a, b, face));
-      f.depth_m.at<float>(v, u) = static_cast<float>(t_best * (1.0 + depth_noise_m * noise(rng)));  // z = t for d_c.z = 1
-    }
-  cv::GaussianBlur(gray, gray, cv::Size(3, 3), 0.6);
-  cv::cvtColor(gray, f.rgb, cv::COLOR_GRAY2BGR);
-  return f;
-}
+// The room seen from T_w_c: grey texture (as BGR) and exact depth [m] along the optical axis,
+// times (1 + depth_noise_m * N(0, 1)) per pixel when depth_noise_m > 0 (seeded by seed and index).
+// Defined in slam_synthetic_room.cpp, which the sanitizer build compiles optimised and
+// uninstrumented (tests/CMakeLists.txt).
+RgbdFrame render_room(const Room& room, const PinholeCamera& cam, const SE3& T_w_c, int index, double t_s,
+                      double depth_noise_m = 0.0, unsigned seed = 1);
 
 // The room tests' camera: Kinect-like 640x480 intrinsics, bf 40 px*m.
 inline PinholeCamera room_camera() {
