@@ -21,30 +21,10 @@
 #include "s3m/slam/reloc.hpp"
 #include "s3m/slam/slam_config.hpp"
 #include "pipeline_fixture.hpp"
-#include "session_sim_fixture.hpp"
+#include "session_runs.hpp"
 
 namespace s3m::it {
 namespace {
-
-pipeline::RunOptions session_options(const std::string& dataset, const std::string& out) {
-  pipeline::RunOptions o;
-  o.dataset_dir = dataset;
-  o.out_dir = out;
-  o.config = sim_preset();
-  o.config.threads.deterministic = true;
-  o.slam_only = true;  // the SLAM map is under test here; kept clouds: PipelineSessionClouds
-  o.report = false;
-  return o;
-}
-
-// Run A, once for every test process (deterministic, so a cached copy equals a fresh one).
-const std::string& run_a_dir() {
-  static const std::string d = cached_folder(build_stamped(fs::temp_directory_path() / "s3m_it_session_run_a"), "slam_map.bin",
-                                             [](const fs::path& tmp) {
-                                               pipeline::run_dataset(session_options(flight_a_dir(), tmp.string()));
-                                             });
-  return d;
-}
 
 std::string slam_map_of(const std::string& run) { return run + "/" + pipeline::kSlamMapFile; }
 

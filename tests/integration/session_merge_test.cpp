@@ -30,45 +30,12 @@
 #include "s3m/pipeline/session_merge.hpp"
 #include "s3m/slam/map_io.hpp"
 #include "pipeline_fixture.hpp"
-#include "session_sim_fixture.hpp"
+#include "session_runs.hpp"
 
 namespace s3m::it {
 namespace {
 
 using nlohmann::json;
-
-pipeline::RunOptions run_options(const std::string& dataset, const std::string& out) {
-  pipeline::RunOptions o;
-  o.dataset_dir = dataset;
-  o.out_dir = out;
-  o.config = sim_preset();
-  o.config.threads.deterministic = true;
-  o.segmenter = "oracle";
-  o.report = false;
-  return o;
-}
-
-// A run into a folder cached across test processes (deterministic, so a cached copy equals a
-// fresh one); map_dir: the session it continues in.
-std::string cached_run(const std::string& name, const std::string& dataset, const std::string& map_dir = "") {
-  return cached_folder(build_stamped(fs::temp_directory_path() / ("s3m_it_merge_" + name)), "metrics.json", [&](const fs::path& tmp) {
-    pipeline::RunOptions o = run_options(dataset, tmp.string());
-    o.map_dir = map_dir;
-    pipeline::run_dataset(o);
-  });
-}
-const std::string& run_a() {
-  static const std::string d = cached_run("run_a", flight_a_dir());
-  return d;
-}
-const std::string& run_c() {
-  static const std::string d = cached_run("run_c", flight_c_dir());
-  return d;
-}
-const std::string& run_c_in_a() {
-  static const std::string d = cached_run("run_c_in_a", flight_c_dir(), run_a());
-  return d;
-}
 
 json metrics(const std::string& run) { return json::parse(read_bytes(run + "/metrics.json")); }
 
@@ -362,7 +329,7 @@ TEST(MergeSession, TwoSavedRunsMergeOffline) {
   std::printf("  C's trajectory in A's world: ATE with A's alignment %.4f m\n", ate_c);
   EXPECT_LE(ate_c, 0.07);  // C's own drift before the merge point stays (measured 5.6 cm)
   // The merged session is one a later run continues in: C's start, outside A's map, is in it now.
-  pipeline::RunOptions next = run_options(flight_c_dir(), (scratch_dir() / "after_merge").string());
+  pipeline::RunOptions next = merge_run_options(flight_c_dir(), (scratch_dir() / "after_merge").string());
   next.map_dir = o.out_dir;
   next.max_frames = 30;
   next.slam_only = true;
@@ -388,7 +355,7 @@ TEST(MergeSession, RunsThatCannotBeMergedSayWhy) {
   // No overlap: C's first second only (looking where A never looked).
   const std::string c_start = cached_folder(build_stamped(fs::temp_directory_path() / "s3m_it_merge_run_c_start"), "metrics.json",
                                             [&](const fs::path& tmp) {
-                                              pipeline::RunOptions r = run_options(flight_c_dir(), tmp.string());
+                                              pipeline::RunOptions r = merge_run_options(flight_c_dir(), tmp.string());
                                               r.max_frames = 30;
                                               pipeline::run_dataset(r);
                                             });
