@@ -4,6 +4,7 @@
 // written. Only for content that is deterministic, so a complete cached copy equals a fresh one.
 #include <filesystem>
 #include <functional>
+#include <regex>
 #include <string>
 #include <system_error>
 
@@ -24,9 +25,28 @@ inline std::string cached_folder(const std::filesystem::path& dir, const std::st
   return dir.string();
 }
 
+// Removes the copies of stamped's run that other builds made (stamped: base_<size>_<time>, see
+// build_stamped), finished or not: they are never read again, and a session's cached runs are
+// ~400 MB per build, which repeated builds would otherwise pile up in the temp folder.
+inline void remove_other_builds(const std::filesystem::path& stamped, const std::string& base_name) {
+  namespace fs = std::filesystem;
+  static const std::regex kStamp("[0-9]+_-?[0-9]+(\\.tmp[0-9]+)?");
+  const std::string own = stamped.filename().string();
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(stamped.parent_path(), ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() <= base_name.size() + 1 || name.compare(0, base_name.size() + 1, base_name + "_") != 0) continue;
+    const std::string stamp = name.substr(base_name.size() + 1);
+    if (!std::regex_match(stamp, kStamp) || name.compare(0, own.size(), own) == 0) continue;
+    std::error_code ignored;  // another process may be removing it too
+    fs::remove_all(it->path(), ignored);
+  }
+}
+
 // path with this test executable's size and modification time appended: for cached *runs* of
 // s3m, whose content (and file formats) change with the build. Without it a cached run made by an
-// earlier build is reused, e.g. a slam_map.bin of the previous format version.
+// earlier build is reused, e.g. a slam_map.bin of the previous format version. Earlier builds'
+// copies are removed.
 inline std::filesystem::path build_stamped(const std::filesystem::path& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -34,7 +54,9 @@ inline std::filesystem::path build_stamped(const std::filesystem::path& path) {
   if (ec) return path;
   const auto size = fs::file_size(exe, ec);
   const auto time = fs::last_write_time(exe, ec).time_since_epoch().count();
-  return path.string() + "_" + std::to_string(size) + "_" + std::to_string(time);
+  const fs::path stamped = path.string() + "_" + std::to_string(size) + "_" + std::to_string(time);
+  remove_other_builds(stamped, path.filename().string());
+  return stamped;
 }
 
 }  // namespace s3m::it
