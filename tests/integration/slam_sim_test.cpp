@@ -3,6 +3,7 @@
 // trajectory uses the simulated camera mount as T_c_r.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -31,14 +32,30 @@ sim::SimConfig flight(const std::string& scene, const std::string& type, bool no
   return sc;
 }
 
-FlightResult fly(const sim::SimConfig& sc, slam::SlamConfig cfg = {}) {
+// A flight rendered once: most tests fly one flight with several SLAM configurations, and rendering
+// was most of a flight's time. Frame i depends only on the seed and i, so every configuration sees
+// what a fresh render would give. Labels are dropped: the SLAM does not read them.
+struct RenderedFlight {
+  explicit RenderedFlight(const sim::SimConfig& config) : sc(config), sim(config) {
+    for (std::size_t i = 0; i < sim.size(); ++i) {
+      frames.push_back(sim.frame(i));
+      frames.back().labels.release();
+    }
+  }
+  sim::SimConfig sc;
+  sim::Simulation sim;
+  std::vector<RgbdFrame> frames;
+};
+
+FlightResult fly(const RenderedFlight& flown, slam::SlamConfig cfg = {}) {
+  const sim::SimConfig& sc = flown.sc;
+  const sim::Simulation& sim = flown.sim;
   const std::string& type = sc.trajectory.type;
-  const sim::Simulation sim(sc);
   cfg.T_c_r = sim.trajectory().T_c_r;
   slam::System slam(sim.camera(), cfg);
   int lost = 0, odometry = 0;
-  for (std::size_t i = 0; i < sim.size(); ++i) {
-    const auto r = slam.track(sim.frame(i));
+  for (const RgbdFrame& frame : flown.frames) {
+    const auto r = slam.track(frame);
     odometry += r.state == slam::TrackState::kOdometry;
     lost += r.state != slam::TrackState::kOk && r.state != slam::TrackState::kOdometry;
   }
@@ -81,7 +98,7 @@ FlightResult fly(const sim::SimConfig& sc, slam::SlamConfig cfg = {}) {
 }
 
 TEST(SlamOnSimulator, OfficeFigure8UavFlight300FramesAteBelow2cm) {
-  const FlightResult r = fly(flight("office", "figure8"));
+  const FlightResult r = fly(RenderedFlight(flight("office", "figure8")));
   EXPECT_EQ(r.lost, 0);
   EXPECT_LT(r.ate_cam, 0.02);
   EXPECT_LT(r.ate_robot, 0.02);
@@ -91,7 +108,7 @@ TEST(SlamOnSimulator, OfficeFigure8UavFlight300FramesAteBelow2cm) {
 // right coordinate the depth row weighed like ~10 cm at 2 m and local BA shrank such flights by
 // 1-3 % (scale 0.976-0.990); the sensor depth model (features.depth_noise) keeps it within 0.1 %.
 TEST(SlamOnSimulator, NoiseFreeCorridorLawnmowerHasExactScaleAndAteBelow5mm) {
-  const FlightResult r = fly(flight("corridor", "lawnmower", /*noise=*/false));
+  const FlightResult r = fly(RenderedFlight(flight("corridor", "lawnmower", /*noise=*/false)));
   EXPECT_EQ(r.lost, 0);
   EXPECT_LT(r.ate_cam, 0.005);
   EXPECT_NEAR(r.sim3_scale, 1.0, 0.002);
@@ -102,11 +119,11 @@ TEST(SlamOnSimulator, NoiseFreeCorridorLawnmowerHasExactScaleAndAteBelow5mm) {
 // there (this flight: 0.65 cm, scale 1.0039). Dense RGB-D links between consecutive keyframes in the
 // final global BA (slam.mapper.dense_links) measure the same relative poses from every pixel.
 TEST(SlamOnSimulator, NoiseFreeFastTurnsHoldTheirScaleWithDenseKeyframeLinks) {
-  const sim::SimConfig sc = flight("living_room", "uav_sweep", /*noise=*/false, /*seed=*/101);
-  const FlightResult linked = fly(sc);
+  const RenderedFlight flown(flight("living_room", "uav_sweep", /*noise=*/false, /*seed=*/101));
+  const FlightResult linked = fly(flown);
   slam::SlamConfig off;
   off.mapper.dense_links.enabled = false;
-  const FlightResult unlinked = fly(sc, off);
+  const FlightResult unlinked = fly(flown, off);
   EXPECT_EQ(linked.lost, 0);
   EXPECT_LT(linked.ate_cam, 0.005);
   EXPECT_NEAR(linked.sim3_scale, 1.0, 0.002);
@@ -124,13 +141,13 @@ TEST(SlamOnSimulator, NoiseFreeFastTurnsHoldTheirScaleWithDenseKeyframeLinks) {
 // the gaps, and then the anchors matter less (0.36 vs 0.39 cm); long gaps still happen where that
 // rule is off or its conditions fail, and this is where the anchors show.
 TEST(SlamOnSimulator, NoiseFreeFramesFollowTheKeyframesWhosePointsTheyTracked) {
-  const sim::SimConfig sc = flight("living_room", "figure8", /*noise=*/false, /*seed=*/202);
+  const RenderedFlight flown(flight("living_room", "figure8", /*noise=*/false, /*seed=*/202));
   slam::SlamConfig long_gaps;
   long_gaps.tracker.keyframe_max_deg = long_gaps.tracker.keyframe_max_m = 0;
-  const FlightResult anchored = fly(sc, long_gaps);
+  const FlightResult anchored = fly(flown, long_gaps);
   slam::SlamConfig single = long_gaps;
   single.tracker.anchor_keyframes = 1;
-  const FlightResult newest = fly(sc, single);
+  const FlightResult newest = fly(flown, single);
   EXPECT_EQ(anchored.lost, 0);
   EXPECT_LT(anchored.ate_cam, 0.005);
   EXPECT_NEAR(anchored.sim3_scale, 1.0, 0.002);
@@ -144,12 +161,12 @@ TEST(SlamOnSimulator, NoiseFreeFramesFollowTheKeyframesWhosePointsTheyTracked) {
 // moved that far. Measured here: largest turn between keyframes 22.2 deg with the rule (25
 // keyframes), 69.2 deg without (18); ATE 0.36 vs 0.46 cm.
 TEST(SlamOnSimulator, NoiseFreeLongTurnsGetKeyframesByViewpointChange) {
-  const sim::SimConfig sc = flight("living_room", "figure8", /*noise=*/false, /*seed=*/202);
+  const RenderedFlight flown(flight("living_room", "figure8", /*noise=*/false, /*seed=*/202));
   slam::SlamConfig off;
   off.tracker.keyframe_max_deg = 0;
   off.tracker.keyframe_max_m = 0;
-  const FlightResult with_rule = fly(sc);
-  const FlightResult without = fly(sc, off);
+  const FlightResult with_rule = fly(flown);
+  const FlightResult without = fly(flown, off);
   EXPECT_EQ(with_rule.lost, 0);
   EXPECT_LT(with_rule.max_keyframe_turn_deg, 25.0);  // 20 deg plus the last frame's turn
   EXPECT_GT(without.max_keyframe_turn_deg, 60.0);
@@ -176,27 +193,27 @@ TEST(SlamOnSimulator, NoiseFreeLongTurnsGetKeyframesByViewpointChange) {
 // flight too. Measured: 0.77 cm (the decay rule alone, limit off: 0.84 cm; all three off: 17.2 cm).
 // The runs of the older rules have the viewpoint rule off, so each shows what that rule does.
 TEST(SlamOnSimulator, FastTurnIntoNewSpaceGetsItsKeyframeInTime) {
-  const sim::SimConfig sc = flight("office", "loop", /*noise=*/true, /*seed=*/101);
+  const RenderedFlight flown(flight("office", "loop", /*noise=*/true, /*seed=*/101));
   slam::SlamConfig no_limit;
   no_limit.mapper.ba.max_keyframe_step_deg = no_limit.mapper.ba.max_keyframe_step_m = 1e3;
   no_limit.tracker.keyframe_max_deg = no_limit.tracker.keyframe_max_m = 0;
-  const FlightResult with_rule = fly(sc, no_limit);
+  const FlightResult with_rule = fly(flown, no_limit);
   slam::SlamConfig off = no_limit;
   off.tracker.keyframe_decay_ratio = 0.0;
-  const FlightResult without = fly(sc, off);
+  const FlightResult without = fly(flown, off);
   EXPECT_EQ(with_rule.lost, 0);
   EXPECT_LT(with_rule.ate_cam, 0.06);
   EXPECT_GT(without.ate_cam, 1.5 * with_rule.ate_cam);
   slam::SlamConfig limit_only;
   limit_only.tracker.keyframe_decay_ratio = 0.0;
   limit_only.tracker.keyframe_max_deg = limit_only.tracker.keyframe_max_m = 0;
-  const FlightResult held = fly(sc, limit_only);
+  const FlightResult held = fly(flown, limit_only);
   EXPECT_EQ(held.lost, 0);
   EXPECT_LT(held.ate_cam, 0.5 * without.ate_cam);
   slam::SlamConfig viewpoint_only = off;  // decay rule and limit off
   viewpoint_only.tracker.keyframe_max_deg = 20;
   viewpoint_only.tracker.keyframe_max_m = 0.4;
-  const FlightResult turned = fly(sc, viewpoint_only);
+  const FlightResult turned = fly(flown, viewpoint_only);
   EXPECT_EQ(turned.lost, 0);
   EXPECT_LT(turned.ate_cam, 0.5 * without.ate_cam);
 }
@@ -210,14 +227,14 @@ TEST(SlamOnSimulator, FastTurnIntoNewSpaceGetsItsKeyframeInTime) {
 // session 11 (tracker.odometry_frames), which also carry the 100-point run through this turn
 // (0 LOST, 0.98 cm; 300 points with the bridge: 0 LOST, 1.66 cm).
 TEST(SlamOnSimulator, FastTurnTowardsFarWallsStaysTracked) {
-  const sim::SimConfig sc = flight("office", "handheld", /*noise=*/false, /*seed=*/101);
+  const RenderedFlight flown(flight("office", "handheld", /*noise=*/false, /*seed=*/101));
   slam::SlamConfig no_bridge;
   no_bridge.tracker.coast_frames = 0;
   no_bridge.tracker.odometry_frames = 0;
-  const FlightResult with_300 = fly(sc, no_bridge);
+  const FlightResult with_300 = fly(flown, no_bridge);
   slam::SlamConfig orb = no_bridge;
   orb.mapper.min_new_points = 100;
-  const FlightResult with_100 = fly(sc, orb);
+  const FlightResult with_100 = fly(flown, orb);
   EXPECT_EQ(with_300.lost, 0);
   EXPECT_LT(with_300.ate_cam, 0.025);
   EXPECT_GT(with_100.lost, 20);
@@ -232,12 +249,12 @@ TEST(SlamOnSimulator, FastTurnTowardsFarWallsStaysTracked) {
 // bridge; without it 176 LOST (tracking never comes back). The CLI: 0.34 cm over all 300 frames
 // (0.39 before the final global BA of session 12; 0.40 with session 13's keypoint depth).
 TEST(SlamOnSimulator, SmoothFastTurnIntoUnmappedSpaceIsBridged) {
-  const sim::SimConfig sc = flight("living_room", "loop", /*noise=*/false, /*seed=*/202);
-  const FlightResult bridged = fly(sc);
+  const RenderedFlight flown(flight("living_room", "loop", /*noise=*/false, /*seed=*/202));
+  const FlightResult bridged = fly(flown);
   slam::SlamConfig off;
   off.tracker.coast_frames = 0;
   off.tracker.odometry_frames = 0;  // which would carry the turn too
-  const FlightResult without = fly(sc, off);
+  const FlightResult without = fly(flown, off);
   EXPECT_EQ(bridged.lost, 0);
   EXPECT_LT(bridged.ate_cam, 0.025);
   EXPECT_GT(without.lost, 20);
@@ -257,14 +274,14 @@ TEST(SlamOnSimulator, SmoothFastTurnIntoUnmappedSpaceIsBridged) {
 // along the directions the wall and the sofa's back fix (DepthOdometry::align_observable, the rest
 // from the velocity): 0 LOST; refusing views that fix fewer than 3 directions brings the 2 back.
 TEST(SlamOnSimulator, TurnPastAPlainWallIsCarriedByDepthOdometry) {
-  const sim::SimConfig sc = flight("living_room", "loop", /*noise=*/false, /*seed=*/101);
-  const FlightResult carried = fly(sc);
+  const RenderedFlight flown(flight("living_room", "loop", /*noise=*/false, /*seed=*/101));
+  const FlightResult carried = fly(flown);
   slam::SlamConfig off;
   off.tracker.odometry_frames = 0;
-  const FlightResult without = fly(sc, off);
+  const FlightResult without = fly(flown, off);
   slam::SlamConfig distance_only;  // only the wall's distance counts as observed: under 3 directions
   distance_only.tracker.odometry.min_observed_ratio = 0.9;
-  const FlightResult refused = fly(sc, distance_only);
+  const FlightResult refused = fly(flown, distance_only);
   std::printf("carried: %d LOST, %d ODOMETRY, ATE %.2f cm; plane views refused: %d LOST, %.2f cm\n", carried.lost,
               carried.odometry, 100 * carried.ate_cam, refused.lost, 100 * refused.ate_cam);
   EXPECT_EQ(carried.lost, 0);
