@@ -13,15 +13,21 @@
 
 namespace s3m::it {
 
-// SessionMap: the SLAM map is under test (kept clouds: PipelineSessionClouds).
-inline pipeline::RunOptions session_options(const std::string& dataset, const std::string& out) {
+// A deterministic run of the simulator preset, without the report.
+inline pipeline::RunOptions session_run_options(const std::string& dataset, const std::string& out) {
   pipeline::RunOptions o;
   o.dataset_dir = dataset;
   o.out_dir = out;
   o.config = sim_preset();
   o.config.threads.deterministic = true;
-  o.slam_only = true;
   o.report = false;
+  return o;
+}
+
+// SessionMap: the SLAM map is under test (kept clouds: PipelineSessionClouds).
+inline pipeline::RunOptions session_options(const std::string& dataset, const std::string& out) {
+  pipeline::RunOptions o = session_run_options(dataset, out);
+  o.slam_only = true;
   return o;
 }
 
@@ -36,13 +42,8 @@ inline const std::string& run_a_dir() {
 
 // MergeSession: the semantic maps are under test too (oracle labels).
 inline pipeline::RunOptions merge_run_options(const std::string& dataset, const std::string& out) {
-  pipeline::RunOptions o;
-  o.dataset_dir = dataset;
-  o.out_dir = out;
-  o.config = sim_preset();
-  o.config.threads.deterministic = true;
+  pipeline::RunOptions o = session_run_options(dataset, out);
   o.segmenter = "oracle";
-  o.report = false;
   return o;
 }
 
