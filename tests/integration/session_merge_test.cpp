@@ -353,12 +353,7 @@ TEST(MergeSession, RunsThatCannotBeMergedSayWhy) {
     return "";
   };
   // No overlap: C's first second only (looking where A never looked).
-  const std::string c_start = cached_folder(build_stamped(fs::temp_directory_path() / "s3m_it_merge_run_c_start"), "metrics.json",
-                                            [&](const fs::path& tmp) {
-                                              pipeline::RunOptions r = merge_run_options(flight_c_dir(), tmp.string());
-                                              r.max_frames = 30;
-                                              pipeline::run_dataset(r);
-                                            });
+  const std::string c_start = cached_merge_run("run_c_start", flight_c_dir(), "", 30);
   std::string e = error_of(run_a(), c_start);
   EXPECT_NE(e.find("do not overlap"), std::string::npos) << e;
   EXPECT_NE(e.find("keyframe pairs"), std::string::npos) << e;

@@ -47,12 +47,14 @@ inline pipeline::RunOptions merge_run_options(const std::string& dataset, const 
   return o;
 }
 
-// map_dir: the session the run continues in.
-inline std::string cached_merge_run(const std::string& name, const std::string& dataset, const std::string& map_dir = "") {
+// map_dir: the session the run continues in; max_frames < 0: all frames.
+inline std::string cached_merge_run(const std::string& name, const std::string& dataset, const std::string& map_dir = "",
+                                    long max_frames = -1) {
   return cached_folder(build_stamped(std::filesystem::temp_directory_path() / ("s3m_it_merge_" + name)), "metrics.json",
                        [&](const std::filesystem::path& tmp) {
                          pipeline::RunOptions o = merge_run_options(dataset, tmp.string());
                          o.map_dir = map_dir;
+                         o.max_frames = max_frames;
                          pipeline::run_dataset(o);
                        });
 }

@@ -36,20 +36,19 @@ sim::SimConfig flight(const std::string& scene, const std::string& type, bool no
 // was most of a flight's time. Frame i depends only on the seed and i, so every configuration sees
 // what a fresh render would give. Labels are dropped: the SLAM does not read them.
 struct RenderedFlight {
-  explicit RenderedFlight(const sim::SimConfig& config) : sc(config), sim(config) {
+  explicit RenderedFlight(const sim::SimConfig& config) : sim(config) {
     for (std::size_t i = 0; i < sim.size(); ++i) {
       frames.push_back(sim.frame(i));
       frames.back().labels.release();
     }
   }
-  sim::SimConfig sc;
   sim::Simulation sim;
   std::vector<RgbdFrame> frames;
 };
 
 FlightResult fly(const RenderedFlight& flown, slam::SlamConfig cfg = {}) {
-  const sim::SimConfig& sc = flown.sc;
   const sim::Simulation& sim = flown.sim;
+  const sim::SimConfig& sc = sim.config();
   const std::string& type = sc.trajectory.type;
   cfg.T_c_r = sim.trajectory().T_c_r;
   slam::System slam(sim.camera(), cfg);
