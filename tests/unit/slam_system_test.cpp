@@ -229,7 +229,7 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
       "slam:\n  threaded: true\n  features:\n    orb: {n_features: 700, n_levels: 6}\n"
       "  tracker: {min_local_inliers: 25, odometry_frames: 12, odometry_deg: 0.25, odometry_m: 0.01,\n"
       "            odometry_downsample: 4, odometry_max_depth_diff_m: 0.05, anchor_keyframes: 2,\n"
-      "            keyframe_max_deg: 12.5, keyframe_max_m: 0}\n"
+      "            keyframe_max_deg: 12.5, keyframe_max_m: 0, wide_match_ratio: 0}\n"
       "  mapper: {final_global_ba: false, ba: {max_local_keyframes: 12, global_iterations: 7,\n"
       "           max_keyframe_step_deg: 2.5, max_keyframe_step_m: 0.08}}\n"
       "  T_c_r: {t: [0.1, 0.0, -0.05], q: [0, 0, 0.7071067811865476, 0.7071067811865476]}\n");
@@ -249,12 +249,14 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
   EXPECT_EQ(c.tracker.anchor_keyframes, 2);
   EXPECT_DOUBLE_EQ(c.tracker.keyframe_max_deg, 12.5);
   EXPECT_DOUBLE_EQ(c.tracker.keyframe_max_m, 0.0);  // 0 = off, allowed
+  EXPECT_DOUBLE_EQ(c.tracker.wide_match_ratio, 0.0);  // off, allowed
   EXPECT_DOUBLE_EQ(c.tracker.odometry.max_depth_diff_m, 0.05);
   EXPECT_DOUBLE_EQ(c.mapper.ba.max_keyframe_step_deg, 2.5);
   EXPECT_DOUBLE_EQ(c.mapper.ba.max_keyframe_step_m, 0.08);
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_downsample: 0}"), "t.yaml"), ParseError);
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {anchor_keyframes: 0}"), "t.yaml"), ParseError);
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {keyframe_max_deg: -1}"), "t.yaml"), ParseError);
+  EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {wide_match_ratio: 1.5}"), "t.yaml"), ParseError);
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("mapper: {ba: {max_keyframe_step_deg: 0}}"), "t.yaml"), ParseError);
   EXPECT_TRUE(c.T_c_r.translation().isApprox(Vec3(0.1, 0, -0.05)));
   EXPECT_TRUE((c.T_c_r.linear() * Vec3::UnitX()).isApprox(Vec3::UnitY(), 1e-9));
@@ -296,6 +298,7 @@ TEST(SlamConfig, ShippedDefaultPresetMatchesCompiledDefaults) {
   EXPECT_EQ(c.tracker.anchor_keyframes, d.tracker.anchor_keyframes);
   EXPECT_EQ(c.tracker.keyframe_max_deg, d.tracker.keyframe_max_deg);
   EXPECT_EQ(c.tracker.keyframe_max_m, d.tracker.keyframe_max_m);
+  EXPECT_EQ(c.tracker.wide_match_ratio, d.tracker.wide_match_ratio);
   EXPECT_EQ(c.tracker.odometry_deg, d.tracker.odometry_deg);
   EXPECT_EQ(c.tracker.odometry_m, d.tracker.odometry_m);
   EXPECT_EQ(c.tracker.odometry.downsample, d.tracker.odometry.downsample);

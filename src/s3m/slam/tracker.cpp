@@ -26,6 +26,7 @@ void TrackerConfig::validate() const {
   require(motion_radius_px > 0 && local_radius_factor > 0, "tracker: search radii must be > 0");
   require(min_pose_inliers >= 3 && min_local_inliers >= min_pose_inliers,
           "tracker: need 3 <= min_pose_inliers <= min_local_inliers");
+  require(wide_match_ratio <= 1.0, "tracker.wide_match_ratio must be <= 1 (<= 0.7: off)");
   require(max_frames_between_keyframes >= 1 && min_frames_between_keyframes >= 0,
           "tracker: keyframe frame gaps must be >= 1 / >= 0");
   require(keyframe_ref_ratio > 0 && keyframe_ref_ratio <= 1, "tracker.keyframe_ref_ratio must be in (0, 1]");

@@ -1,10 +1,10 @@
 #pragma once
 // Tracking: estimates the camera pose of every frame against the local map.
 // process() steps: 1 features, 2 initialise (first frame), 3 frame-to-frame tracking with the
-// constant-velocity model (fallback: reference keyframe), 4 local-map tracking (a failure goes to
-// track_lost(): depth odometry, the bridge, ODOMETRY or LOST), 5 keyframe decision, 6 bookkeeping
-// for the next frame. It reads only LocalMapSnapshot copies and emits
-// KeyFrameRequests, so it can run in its own thread next to local mapping.
+// constant-velocity model (fallback: reference keyframe; after a wide gap by PnP RANSAC), 4
+// local-map tracking (a failure goes to track_lost(): depth odometry, the bridge, ODOMETRY or
+// LOST), 5 keyframe decision, 6 bookkeeping for the next frame. It reads only LocalMapSnapshot
+// copies and emits KeyFrameRequests, so it can run in its own thread next to local mapping.
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -26,6 +26,10 @@ struct TrackerConfig {
   double motion_radius_px = 15;     // frame-to-frame search window at level 0 [px]
   int min_motion_matches = 20;
   int min_pose_inliers = 10;
+  // When the reference keyframe's matches (ratio test 0.7) do not hold the pose from the last one,
+  // it is searched again with matches at this ratio and a pose from PnP RANSAC on them (a gap of
+  // dropped frames or a sparse recording; docs/RESULTS.md, issue 20 session 22). <= 0.7: off.
+  double wide_match_ratio = 0.8;
   double local_radius_factor = 3.0; // local-map search window factor (times 2.5/4 px per level scale)
   int min_local_inliers = 30;       // below this after local-map tracking the frame is LOST
   int max_frames_between_keyframes = 30;
@@ -186,6 +190,11 @@ class Tracker {
   void restart_from(Frame& cur, const RgbdFrame& frame, TrackState reported, const SE3& velocity, TrackerOutput& out);
   bool track_motion_model(Frame& cur, const SE3& velocity);  // velocity: T_c_w(cur) = velocity * T_c_w(last)
   bool track_reference_keyframe(Frame& cur);
+  static constexpr double kRefRatio = 0.7;  // ratio test of the reference keyframe's first attempt
+  // Brute-force matches of the reference keyframe's map points into cur; returns their number.
+  int match_reference_keyframe(Frame& cur, double ratio) const;
+  // T_c_w from PnP RANSAC on cur's matches; unmatches the rest. nullopt: no consensus.
+  std::optional<SE3> pose_from_matches(Frame& cur) const;
   bool track_local_map(Frame& cur);
   int count_pending_points(const Frame& cur) const;  // pending keyframes' points that fit cur's pose
   int match_last_frame(Frame& cur, double radius_px);

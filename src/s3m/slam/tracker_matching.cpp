@@ -3,6 +3,7 @@
 
 #include "s3m/features/orb_matcher.hpp"
 #include "s3m/slam/point_fusion.hpp"
+#include "s3m/slam/reloc_pnp.hpp"
 #include "s3m/slam/tracker.hpp"
 
 namespace s3m::slam {
@@ -69,23 +70,67 @@ bool Tracker::track_motion_model(Frame& cur, const SE3& velocity) {
 
 bool Tracker::track_reference_keyframe(Frame& cur) {
   if (!snapshot_ || snapshot_->keyframes.empty()) return false;
+  const SE3 T_c_w_last = cur.T_c_w;
+  // 1. Brute-force matches of the keyframe's mapped keypoints, optimised from the last pose: right
+  //    after the first keyframe or a short gap the last pose is close enough for the robust optimiser.
+  if (match_reference_keyframe(cur, kRefRatio) >= 15 && optimize_and_discard(cur) >= config_.min_pose_inliers)
+    return true;
+  // 2. After a wide gap (dropped frames, a fast turn, a sparse recording) it is not: the outliers
+  //    pull the pose away. Looser matches, and the pose from PnP RANSAC on them, no prior trusted.
+  //    When that fails too, the frame goes on as step 1 left it.
+  if (config_.wide_match_ratio <= kRefRatio) return false;
+  Frame wide = Frame::unmatched(cur.f, T_c_w_last);
+  if (match_reference_keyframe(wide, config_.wide_match_ratio) < config_.min_pose_inliers) return false;
+  const std::optional<SE3> T_c_w = pose_from_matches(wide);
+  if (!T_c_w) return false;
+  wide.T_c_w = *T_c_w;
+  if (optimize_and_discard(wide) < config_.min_pose_inliers) return false;
+  cur = std::move(wide);
+  return true;
+}
+
+int Tracker::match_reference_keyframe(Frame& cur, double ratio) const {
   const auto& ref = snapshot_->keyframes.front();
-  // Brute-force matching of the keyframe's mapped keypoints; no pose prior is trusted here.
   std::vector<int> rows;
   for (int i = 0; i < static_cast<int>(ref.points.size()); ++i)
     if (ref.points[i] != kNoId && snapshot_->find(ref.points[i])) rows.push_back(i);
-  if (rows.size() < 15) return false;
+  if (rows.size() < 15) return 0;
   cv::Mat desc(static_cast<int>(rows.size()), 32, CV_8U);
   for (std::size_t r = 0; r < rows.size(); ++r) ref.features->descriptors.row(rows[r]).copyTo(desc.row(int(r)));
-  const auto matches = features::match_brute_force(desc, cur.f->descriptors, features::kMatchStrict, 0.7);
-  if (static_cast<int>(matches.size()) < 15) return false;
+  const auto matches = features::match_brute_force(desc, cur.f->descriptors, features::kMatchStrict, ratio);
   for (const auto& [r, j] : matches) {
     const PointId pid = ref.points[rows[r]];
     cur.pid[j] = pid;
     cur.p_w[j] = snapshot_->find(pid)->p_w;
     cur.matched[j] = 1;
   }
-  return optimize_and_discard(cur) >= config_.min_pose_inliers;
+  return static_cast<int>(matches.size());
+}
+
+std::optional<SE3> Tracker::pose_from_matches(Frame& cur) const {
+  std::vector<Vec3> p_w;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<int> kp;
+  const auto& F = *cur.f;
+  for (int i = 0; i < F.size(); ++i) {
+    if (!cur.matched[i]) continue;
+    p_w.push_back(cur.p_w[i]);
+    uv.emplace_back(F.keypoints[i].pt.x, F.keypoints[i].pt.y);
+    kp.push_back(i);
+  }
+  PinholeCamera undistorted = camera_;  // the keypoints are undistorted already
+  undistorted.dist = {0, 0, 0, 0, 0};
+  PnpConfig pnp;
+  pnp.min_inliers = config_.min_pose_inliers;
+  const PnpResult r = solve_pnp_ransac(p_w, uv, undistorted, pnp);
+  if (!r.success) return std::nullopt;
+  // Only the consensus goes on: one wrong match close to the camera outweighs many right ones in
+  // the first (robust) round of the pose optimiser.
+  std::vector<char> keep(kp.size(), 0);
+  for (int k : r.inliers) keep[size_t(k)] = 1;
+  for (std::size_t k = 0; k < kp.size(); ++k)
+    if (!keep[k]) cur.matched[kp[k]] = 0, cur.pid[kp[k]] = kNoId;
+  return r.T_w_c.inverse();
 }
 
 bool Tracker::track_local_map(Frame& cur) {
