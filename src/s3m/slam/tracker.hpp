@@ -191,8 +191,9 @@ class Tracker {
   bool track_motion_model(Frame& cur, const SE3& velocity);  // velocity: T_c_w(cur) = velocity * T_c_w(last)
   bool track_reference_keyframe(Frame& cur);
   static constexpr double kRefRatio = 0.7;  // ratio test of the reference keyframe's first attempt
-  // Brute-force matches of the reference keyframe's map points into cur; returns their number.
-  int match_reference_keyframe(Frame& cur, double ratio) const;
+  // Brute-force matches of the reference keyframe's map points into cur, set only when there are
+  // at least min_matches (returns whether there were).
+  bool match_reference_keyframe(Frame& cur, double ratio, int min_matches) const;
   // T_c_w from PnP RANSAC on cur's matches; unmatches the rest. nullopt: no consensus.
   std::optional<SE3> pose_from_matches(Frame& cur) const;
   bool track_local_map(Frame& cur);

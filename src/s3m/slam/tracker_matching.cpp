@@ -73,14 +73,14 @@ bool Tracker::track_reference_keyframe(Frame& cur) {
   const SE3 T_c_w_last = cur.T_c_w;
   // 1. Brute-force matches of the keyframe's mapped keypoints, optimised from the last pose: right
   //    after the first keyframe or a short gap the last pose is close enough for the robust optimiser.
-  if (match_reference_keyframe(cur, kRefRatio) >= 15 && optimize_and_discard(cur) >= config_.min_pose_inliers)
+  if (match_reference_keyframe(cur, kRefRatio, 15) && optimize_and_discard(cur) >= config_.min_pose_inliers)
     return true;
   // 2. After a wide gap (dropped frames, a fast turn, a sparse recording) it is not: the outliers
   //    pull the pose away. Looser matches, and the pose from PnP RANSAC on them, no prior trusted.
   //    When that fails too, the frame goes on as step 1 left it.
   if (config_.wide_match_ratio <= kRefRatio) return false;
   Frame wide = Frame::unmatched(cur.f, T_c_w_last);
-  if (match_reference_keyframe(wide, config_.wide_match_ratio) < config_.min_pose_inliers) return false;
+  if (!match_reference_keyframe(wide, config_.wide_match_ratio, config_.min_pose_inliers)) return false;
   const std::optional<SE3> T_c_w = pose_from_matches(wide);
   if (!T_c_w) return false;
   wide.T_c_w = *T_c_w;
@@ -89,22 +89,23 @@ bool Tracker::track_reference_keyframe(Frame& cur) {
   return true;
 }
 
-int Tracker::match_reference_keyframe(Frame& cur, double ratio) const {
+bool Tracker::match_reference_keyframe(Frame& cur, double ratio, int min_matches) const {
   const auto& ref = snapshot_->keyframes.front();
   std::vector<int> rows;
   for (int i = 0; i < static_cast<int>(ref.points.size()); ++i)
     if (ref.points[i] != kNoId && snapshot_->find(ref.points[i])) rows.push_back(i);
-  if (rows.size() < 15) return 0;
+  if (rows.size() < 15) return false;
   cv::Mat desc(static_cast<int>(rows.size()), 32, CV_8U);
   for (std::size_t r = 0; r < rows.size(); ++r) ref.features->descriptors.row(rows[r]).copyTo(desc.row(int(r)));
   const auto matches = features::match_brute_force(desc, cur.f->descriptors, features::kMatchStrict, ratio);
+  if (static_cast<int>(matches.size()) < min_matches) return false;
   for (const auto& [r, j] : matches) {
     const PointId pid = ref.points[rows[r]];
     cur.pid[j] = pid;
     cur.p_w[j] = snapshot_->find(pid)->p_w;
     cur.matched[j] = 1;
   }
-  return static_cast<int>(matches.size());
+  return true;
 }
 
 std::optional<SE3> Tracker::pose_from_matches(Frame& cur) const {
