@@ -15,6 +15,10 @@ simulator needs --rerender. Deterministic runs go through a pool of --jobs worke
   bench/slam_matrix.py --binary OLD_S3M --binary NEW_S3M --quick --modes deterministic --jobs 2
   bench/slam_matrix.py --binary NEW_S3M --baseline old.json --quick              # against a saved run
   bench/slam_matrix.py --binary S3M --scenes office --trajectories figure8,loop --noise off --seeds 1
+  bench/slam_matrix.py --binary S3M --stride 6 --noise on --modes deterministic   # a 5 Hz camera
+
+--stride N replays every Nth frame of each sequence at 30/N Hz (tools/resequence_tum.py, links only,
+cached next to the sequences): a camera that drops frames or runs slowly; row ids get ' @every N'.
 """
 import argparse
 import concurrent.futures as cf
@@ -87,6 +91,25 @@ def seq_dir(args, row):
                                     f"_s{row['seed']}_n{args.frames}")
 
 
+def replay_dir(args, row):
+    """The sequence a row runs on: the rendered (or kitchen) one, or every --stride'th frame of it."""
+    src = seq_dir(args, row)
+    if args.stride == 1:
+        return src
+    out = os.path.join(args.cache, f"every{args.stride}", os.path.basename(os.path.normpath(src)))
+    if not os.path.exists(os.path.join(out, "associations.txt")):
+        tmp = out + ".tmp"
+        shutil.rmtree(tmp, ignore_errors=True)
+        cmd = [sys.executable, os.path.join(ROOT, "tools", "resequence_tum.py"), src, tmp, "--stride",
+               str(args.stride), "--fps", str(30.0 / args.stride)]
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        if p.returncode != 0:
+            raise RuntimeError(f"resequence_tum.py exit {p.returncode}: {p.stderr.strip()[-300:]}")
+        shutil.rmtree(out, ignore_errors=True)
+        os.rename(tmp, out)
+    return out
+
+
 def binary_info(path):
     path = os.path.abspath(path)
     if not os.access(path, os.X_OK):
@@ -156,7 +179,7 @@ def run_once(args, binary, row, mode, k, under_load):
                        .replace("(", "").replace(")", ""), f"{mode[:3]}_{k}")
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(os.path.dirname(out), exist_ok=True)
-    seq = seq_dir(args, row)
+    seq = row.get("seq") or seq_dir(args, row)
     cmd = [binary["path"], "run", seq, "--slam-only", "--no-report", "--out", out]
     cmd += ["--deterministic"] if mode == "deterministic" else []
     cmd += ["--config", row["config"]] if row.get("config") else []
@@ -285,6 +308,7 @@ def parse_args(argv):
     p.add_argument("--rerender", action="store_true", help="render the selected sequences again (simulator changed)")
     p.add_argument("--work", default="/tmp/s3m_matrix_runs", help="run outputs (default %(default)s)")
     p.add_argument("--frames", type=int, default=300)
+    p.add_argument("--stride", type=int, default=1, help="replay every Nth frame at 30/N Hz (default 1: all)")
     p.add_argument("--scenes", help="comma-separated; 'none' = no simulator rows (kitchen only)")
     p.add_argument("--trajectories")
     p.add_argument("--noise", choices=["on", "off", "both"], default="both")
@@ -305,7 +329,10 @@ def parse_args(argv):
     p.add_argument("--keep-maps", action="store_true", help="keep slam_map.bin / kept_clouds.bin of every run")
     p.add_argument("--out-md"), p.add_argument("--out-json")
     p.add_argument("--report", metavar="JSON", help="print the tables of a saved --out-json again and exit")
-    return p.parse_args(argv)
+    args = p.parse_args(argv)
+    if args.stride < 1:
+        p.error(f"--stride must be >= 1 (got {args.stride})")
+    return args
 
 
 def main(argv):
@@ -352,6 +379,11 @@ def main(argv):
             print(f"render failed: {r['row']}: {r['error']}", file=sys.stderr)
     if args.render_only:
         return
+    if args.stride > 1:
+        for row in rows:  # a failed render is left to the run, which then names the missing sequence
+            if os.path.isdir(seq_dir(args, row)):
+                row["seq"] = replay_dir(args, row)
+            row["row"] += f" @every{args.stride}"
     runs = run_all(args, binaries, rows) if args.threaded_rows == "all" else run_some_threaded(args, binaries, rows)
     results = {b["label"]: rows_for(b["label"], rows, runs) for b in binaries}
     labels = [b["label"] for b in binaries]
@@ -366,7 +398,8 @@ def main(argv):
             timespec="seconds"), "commit": commit, "rows": len(rows), "frames": args.frames, "jobs": args.jobs,
             "load_start": load_start, "load_end": " ".join(f"{x:.2f}" for x in os.getloadavg()),
             "binaries": {b["label"]: b for b in binaries}, "labels": labels, "cache": args.cache,
-            "render_s": render_s, "renders": renders, "total_s": time.time() - t0, "seeds": SEEDS}
+            "render_s": render_s, "renders": renders, "total_s": time.time() - t0, "seeds": SEEDS,
+            "stride": args.stride}
     md = markdown(meta, results, labels)
     print(md)
     if args.out_md:
