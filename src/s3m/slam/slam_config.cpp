@@ -45,7 +45,8 @@ void read_features(const YAML::Node& n, features::FeatureConfig& c, const std::s
 void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx) {
   if (!n) return;
   check_known_keys(n, {"pose_rounds", "pose_iterations", "close_depth_m", "motion_radius_px", "min_motion_matches",
-                       "min_pose_inliers", "wide_match_ratio", "local_radius_factor", "min_local_inliers", "max_frames_between_keyframes",
+                       "min_pose_inliers", "wide_match_ratio", "local_radius_factor", "min_local_inliers",
+                       "max_frames_between_keyframes",
                        "min_frames_between_keyframes", "keyframe_ref_ratio", "keyframe_decay_ratio", "keyframe_max_deg", "keyframe_max_m", "close_tracked_min",
                        "close_untracked_min", "max_pending_keyframes", "min_init_depth_points", "anchor_keyframes",
                        "coast_frames", "bridge_deg", "bridge_m", "bridge_min_inliers", "odometry_frames",
