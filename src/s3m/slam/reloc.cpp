@@ -23,12 +23,6 @@ void RelocConfig::validate() const {
 
 namespace {
 
-// Pixels the PnP solver expects: the features are undistorted already, so no distortion here.
-PinholeCamera undistorted(PinholeCamera c) {
-  c.dist = {0, 0, 0, 0, 0};
-  return c;
-}
-
 // Points of keyframe kf and its covisible neighbours projected into the frame at T_w_c and
 // matched by descriptor; returns (keypoint, point) pairs, including the seed matches.
 std::vector<std::pair<int, PointId>> guided_matches(const features::FrameFeatures& f, const Map& map,
@@ -73,7 +67,7 @@ RelocResult relocalise(const features::FrameFeatures& f, const Map& map, const K
   config.validate();
   RelocResult result;
   if (f.size() == 0 || index.size() == 0) return result;
-  const PinholeCamera camera = undistorted(camera_in);
+  const PinholeCamera camera = without_distortion(camera_in);
   // 1-2. BoW of the frame and the best-scoring keyframes.
   const KeyFrameBow q = index.describe(f.descriptors);
   const auto hits = index.database().query(q.bow, 0, [&](int id) {

@@ -19,6 +19,13 @@ struct PnpConfig {
   void validate() const;
 };
 
+// The camera to pass with keypoint pixels: features are undistorted at extraction, so the same
+// intrinsics without distortion (relocalisation and the tracker's wide-gap step).
+inline PinholeCamera without_distortion(PinholeCamera c) {
+  c.dist = {0, 0, 0, 0, 0};
+  return c;
+}
+
 struct PnpResult {
   bool success = false;
   SE3 T_w_c = SE3::Identity();  // camera-to-world

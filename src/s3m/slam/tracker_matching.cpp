@@ -119,11 +119,9 @@ std::optional<SE3> Tracker::pose_from_matches(Frame& cur) const {
     uv.emplace_back(F.keypoints[i].pt.x, F.keypoints[i].pt.y);
     kp.push_back(i);
   }
-  PinholeCamera undistorted = camera_;  // the keypoints are undistorted already
-  undistorted.dist = {0, 0, 0, 0, 0};
   PnpConfig pnp;
   pnp.min_inliers = config_.min_pose_inliers;
-  const PnpResult r = solve_pnp_ransac(p_w, uv, undistorted, pnp);
+  const PnpResult r = solve_pnp_ransac(p_w, uv, without_distortion(camera_), pnp);
   if (!r.success) return std::nullopt;
   // Only the consensus goes on: one wrong match close to the camera outweighs many right ones in
   // the first (robust) round of the pose optimiser.
