@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "s3m/eval/align.hpp"
+#include "s3m/eval/trajectory_eval.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
 #include "s3m/slam/system.hpp"
 #include "slam_loop_sim_fixture.hpp"
@@ -71,16 +71,14 @@ LoopRun run(bool loop_closing, Mode mode, bool outage) {
 // Camera position RMSE after SE3 alignment (TUM's ATE) over the frames SLAM did not mark LOST.
 double ate_rmse(const std::vector<slam::FramePose>& traj) {
   const auto& gt_poses = loop_simulation().trajectory().samples;
-  std::vector<Vec3> est, gt;
+  eval::MatchedPoses matched;
   for (const auto& p : traj) {
     if (p.state == slam::TrackState::kLost) continue;
-    est.push_back(p.T_w_x.translation());
-    gt.push_back(gt_poses[std::size_t(p.frame_index)].T_w_c.translation());
+    matched.t_s.push_back(p.t_s);
+    matched.T_w_est.push_back(p.T_w_x);
+    matched.T_w_gt.push_back(gt_poses[std::size_t(p.frame_index)].T_w_c);
   }
-  const auto A = eval::align_positions(est, gt, eval::AlignMode::kSe3);
-  double s = 0;
-  for (std::size_t i = 0; i < est.size(); ++i) s += (A.apply(est[i]) - gt[i]).squaredNorm();
-  return std::sqrt(s / double(std::max<std::size_t>(est.size(), 1)));
+  return eval::compute_ate(matched, eval::AlignMode::kSe3).stats_m.rmse;
 }
 
 TEST(LoopOnSimulator, LoopClosingReducesAteOnTheLoopFlight) {

@@ -3,13 +3,12 @@
 // last pose is then often too far from the new one for optimising from it to sort the reference
 // keyframe's matches, and the frame was LOST; PnP RANSAC on looser matches finds it
 // (slam.tracker.wide_match_ratio).
-#include <cmath>
 #include <cstdio>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "s3m/eval/align.hpp"
+#include "s3m/eval/trajectory_eval.hpp"
 #include "s3m/sim/simulate.hpp"
 #include "s3m/slam/system.hpp"
 
@@ -32,15 +31,13 @@ GapRun fly_every(const sim::Simulation& sim, int stride, const slam::SlamConfig&
     run.lost += r.state != slam::TrackState::kOk && r.state != slam::TrackState::kOdometry;
   }
   slam.finish();
-  std::vector<Vec3> est, gt;
+  eval::MatchedPoses matched;
   for (const auto& p : slam.camera_trajectory()) {
-    est.push_back(p.T_w_x.translation());
-    gt.push_back(sim.trajectory().samples[std::size_t(p.frame_index)].T_w_c.translation());
+    matched.t_s.push_back(p.t_s);
+    matched.T_w_est.push_back(p.T_w_x);
+    matched.T_w_gt.push_back(sim.trajectory().samples[std::size_t(p.frame_index)].T_w_c);
   }
-  const auto A = eval::align_positions(est, gt, eval::AlignMode::kSe3);
-  double s = 0;
-  for (std::size_t k = 0; k < est.size(); ++k) s += (A.apply(est[k]) - gt[k]).squaredNorm();
-  run.ate_m = std::sqrt(s / double(est.size()));
+  run.ate_m = eval::compute_ate(matched, eval::AlignMode::kSe3).stats_m.rmse;
   return run;
 }
 

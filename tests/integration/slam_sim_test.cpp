@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "s3m/eval/align.hpp"
+#include "s3m/eval/trajectory_eval.hpp"
 #include "s3m/sim/simulate.hpp"
 #include "s3m/slam/system.hpp"
 
@@ -65,23 +65,16 @@ FlightResult fly(const RenderedFlight& flown, slam::SlamConfig cfg = {}) {
   const auto cam = slam.camera_trajectory();
   const auto rob = slam.robot_trajectory();
   EXPECT_EQ(cam.size(), sim.size());
-  std::vector<Vec3> est, gt, est_r, gt_r;
+  eval::MatchedPoses camera, robot;
   for (std::size_t k = 0; k < cam.size(); ++k) {
     const auto& s = sim.trajectory().samples[cam[k].frame_index];
-    est.push_back(cam[k].T_w_x.translation());
-    gt.push_back(s.T_w_c.translation());
-    est_r.push_back(rob[k].T_w_x.translation());
-    gt_r.push_back(s.T_w_r.translation());
+    camera.t_s.push_back(cam[k].t_s), robot.t_s.push_back(rob[k].t_s);
+    camera.T_w_est.push_back(cam[k].T_w_x), camera.T_w_gt.push_back(s.T_w_c);
+    robot.T_w_est.push_back(rob[k].T_w_x), robot.T_w_gt.push_back(s.T_w_r);
   }
-  auto ate = [](const std::vector<Vec3>& e, const std::vector<Vec3>& g) {
-    const auto A = eval::align_positions(e, g, eval::AlignMode::kSe3);
-    double s = 0;
-    for (std::size_t i = 0; i < e.size(); ++i) s += (A.apply(e[i]) - g[i]).squaredNorm();
-    return std::sqrt(s / e.size());
-  };
-  res.ate_cam = ate(est, gt);
-  res.ate_robot = ate(est_r, gt_r);
-  res.sim3_scale = eval::align_positions(est, gt, eval::AlignMode::kSim3).scale;
+  res.ate_cam = eval::compute_ate(camera, eval::AlignMode::kSe3).stats_m.rmse;
+  res.ate_robot = eval::compute_ate(robot, eval::AlignMode::kSe3).stats_m.rmse;
+  res.sim3_scale = eval::compute_ate(camera, eval::AlignMode::kSim3).alignment.scale;
   const auto kfs = slam.keyframe_trajectory();
   for (std::size_t k = 1; k < kfs.size(); ++k) {
     const SE3 T_a_b = sim.trajectory().samples[kfs[k - 1].frame_index].T_w_c.inverse() *
