@@ -15,6 +15,7 @@
 #include <benchmark/benchmark.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/shipped_files.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/run.hpp"
 #include "s3m/sim/simulate.hpp"
@@ -45,7 +46,7 @@ std::string dataset() {
 std::string segmenter() {
   if (auto s = env("S3M_BENCH_SEGMENTER"); !s.empty()) return s;
   try {
-    return "onnx:" + pipeline::resolve_model_card(pipeline::repo_path("models/s3m_pspnet_small"));
+    return "onnx:" + pipeline::resolve_model_card(s3m::shipped_file("models/s3m_pspnet_small"));
   } catch (const Error&) {
     return "oracle";
   }
@@ -54,7 +55,7 @@ std::string segmenter() {
 void run(benchmark::State& state, bool deterministic) {
   pipeline::RunOptions o;
   o.dataset_dir = dataset();
-  o.config = pipeline::load_pipeline_config(env("S3M_BENCH_CONFIG", pipeline::repo_path("config/sim.yaml")));
+  o.config = pipeline::load_pipeline_config(env("S3M_BENCH_CONFIG", s3m::shipped_file("config/sim.yaml")));
   o.config.threads.deterministic = deterministic;
   o.segmenter = segmenter();
   o.model_dir = env("S3M_BENCH_MODEL_DIR");

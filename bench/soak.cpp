@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/shipped_files.hpp"
 #include "s3m/mapping/metrics.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/pipeline.hpp"
@@ -44,7 +45,7 @@ struct Options {
 
 Options parse(int argc, char** argv) {
   Options o;
-  o.config = pipeline::repo_path("config/sim.yaml");
+  o.config = s3m::shipped_file("config/sim.yaml");
   for (int i = 1; i < argc; ++i) {
     const std::string k = argv[i];
     if (k == "--threaded") {

@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "interrupt.hpp"
 #include "s3m/core/error.hpp"
+#include "s3m/core/shipped_files.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/progress.hpp"
 #include "s3m/pipeline/run.hpp"
@@ -27,7 +28,7 @@ struct DemoArgs {
   // figure8 rather than uav_sweep: the sweep takes off facing a carpet with no repeatable corners and
   // ORB tracking is lost within ~10 frames (docs/RESULTS.md, SLAM); the figure-8 flight tracks at ~1 cm ATE.
   std::string trajectory = "figure8";
-  std::string model = pipeline::repo_path("models/s3m_pspnet_small");
+  std::string model = s3m::shipped_file("models/s3m_pspnet_small");
   bool deterministic = false;
 };
 
@@ -55,7 +56,7 @@ sim::SimConfig demo_sim_config(const DemoArgs& a) {
 }
 
 pipeline::PipelineConfig demo_pipeline_config() {
-  const std::string preset = pipeline::repo_path("config/sim.yaml");
+  const std::string preset = s3m::shipped_file("config/sim.yaml");
   if (fs::exists(preset)) return pipeline::load_pipeline_config(preset);
   std::cout << "note: " << preset << " not found; using built-in defaults\n";
   return {};

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/shipped_files.hpp"
 #include "s3m/io/atomic_file.hpp"
 
 extern char** environ;
@@ -121,10 +122,8 @@ json plot_data_json(const io::Trajectory& gt, const std::vector<io::Trajectory>&
 
 std::string find_tools_dir() {
   if (const char* env = std::getenv("S3M_TOOLS_DIR"); env && *env) return env;
-#ifdef S3M_SOURCE_DIR
-  if (fs::exists(fs::path(S3M_SOURCE_DIR) / "tools" / "plot_trajectories.py")) return S3M_SOURCE_DIR "/tools";
-#endif
-  return {};
+  const fs::path script = shipped_file("tools/plot_trajectories.py");
+  return fs::exists(script) ? script.parent_path().string() : std::string();
 }
 
 namespace {

@@ -31,7 +31,8 @@ struct PlotResult {
   std::vector<std::string> files;  // PNGs written
   std::string message;             // why not, when !ok (python or matplotlib missing, script error)
 };
-// Locates the script: $S3M_TOOLS_DIR/plot_trajectories.py, else <source dir>/tools/. Interpreter:
+// Locates the script: $S3M_TOOLS_DIR/plot_trajectories.py, else the shipped tools/ folder
+// (s3m/core/shipped_files.hpp). Interpreter:
 // $S3M_PYTHON, else /usr/bin/python3, else python3 on PATH. Never throws for a missing plotting
 // environment: metrics stay valid without pictures, so the caller reports PlotResult::message.
 PlotResult run_plot_script(const std::string& plot_data_path, const std::string& out_dir);

@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/shipped_files.hpp"
 
 namespace s3m::features {
 
@@ -230,7 +231,7 @@ BowVector Vocabulary::transform(const cv::Mat& descriptors, FeatureVector* fv, i
   return bow;
 }
 
-std::string default_vocabulary_path() { return std::string(S3M_SOURCE_DIR) + "/vocab/orb_k10_l5.bin"; }
+std::string default_vocabulary_path() { return shipped_file("vocab/orb_k10_l5.bin"); }
 
 cv::Mat extract_orb_descriptors(const cv::Mat& image, int num_features) {
   require(!image.empty(), "extract_orb_descriptors: empty image");

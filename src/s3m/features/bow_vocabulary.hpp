@@ -82,8 +82,8 @@ class Vocabulary {
   std::vector<WordId> word_of_node_;  // node -> word id (leaves only)
 };
 
-// The vocabulary shipped in the repository (vocab/orb_k10_l5.bin, see vocab/PROVENANCE.md),
-// located through the source tree the library was built from.
+// The vocabulary shipped in the repository (vocab/orb_k10_l5.bin, see vocab/PROVENANCE.md), found
+// as every shipped file is (s3m/core/shipped_files.hpp).
 std::string default_vocabulary_path();
 
 // ORB descriptors of one image for vocabulary training and tests: OpenCV ORB with a fixed number

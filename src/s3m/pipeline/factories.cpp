@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/shipped_files.hpp"
 #include "s3m/core/yaml_util.hpp"
 #include "s3m/semantics/onnx_segmenter.hpp"
 #include "s3m/semantics/oracle_segmenter.hpp"
@@ -26,11 +27,6 @@ std::unique_ptr<PoseSource> make_pose_source(const std::string& kind, const Fram
   throw Error("--poses: unknown value '" + kind + "' (expected slam | gt)");
 }
 
-std::string repo_path(const std::string& relative) {
-  const char* env = std::getenv("S3M_SOURCE_DIR");
-  return (fs::path(env && *env ? env : S3M_SOURCE_DIR) / relative).string();
-}
-
 std::string resolve_model_card(const std::string& path) {
   if (fs::is_regular_file(path)) return path;
   if (fs::is_regular_file(path + ".yaml")) return path + ".yaml";  // "models/s3m_pspnet_small"
@@ -48,7 +44,7 @@ std::string resolve_model_card(const std::string& path) {
   if (cards.size() == 1) return cards[0];
   if (cards.size() > 1) throw Error("segmenter: " + path + " holds several model cards; pass one: onnx:" + cards[0]);
   throw Error("segmenter: no model card in " + path + " (expected a .yaml card with a 'model:' key, see " +
-              repo_path("models/s3m_pspnet_small.yaml") + "); or pass onnx:CARD.yaml with --model-dir " + path);
+              shipped_file("models/s3m_pspnet_small.yaml") + "); or pass onnx:CARD.yaml with --model-dir " + path);
 }
 
 std::optional<SE3> simulator_T_c_r(const std::string& dataset_dir) {
@@ -91,7 +87,7 @@ SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig
     c.reason = "simulator sequence (" + sim_sign + "): its ground-truth labels through the noisy oracle";
   } else {
     c.type = "onnx";
-    c.model = repo_path(kRealImageModelCard);
+    c.model = shipped_file(kRealImageModelCard);
     c.reason = "dataset has no sim.yaml or label images: real-camera default";
   }
   return c;

@@ -66,8 +66,4 @@ std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterChoice& choi
 // card (*.yaml with a `model:` key) inside the folder PATH.
 std::string resolve_model_card(const std::string& path);
 
-// A file of the source tree this library was built from (presets, shipped models): $S3M_SOURCE_DIR
-// when set (an installed or moved build), else the configure-time source directory.
-std::string repo_path(const std::string& relative);
-
 }  // namespace s3m::pipeline

@@ -99,7 +99,7 @@ class SlamPoses final : public PoseSource {
 }  // namespace
 
 std::shared_ptr<const features::Vocabulary> load_vocabulary(const slam::LoopClosingConfig& config) {
-  const std::string path = config.vocabulary.empty() ? repo_path("vocab/orb_k10_l5.bin") : config.vocabulary;
+  const std::string path = config.vocabulary.empty() ? features::default_vocabulary_path() : config.vocabulary;
   if (!std::filesystem::is_regular_file(path))
     throw Error("loop_closing.vocabulary: '" + path +
                 "' does not exist (expected a vocabulary file from `s3m vocab`, e.g. the shipped "

@@ -25,7 +25,7 @@ struct ViewerFolder {
 
 // $S3M_THREE_DIR, else Debian's /usr/share/javascript/three; empty when three.min.js is not there.
 std::string find_three_dir();
-// $S3M_TOOLS_DIR/viewer, else <source dir>/tools/viewer; throws s3m::Error when not found.
+// $S3M_TOOLS_DIR/viewer, else the shipped tools/viewer (s3m/core/shipped_files.hpp); throws s3m::Error when not found.
 std::string find_viewer_assets();
 
 // Writes (atomically, file by file) the folder described above. Throws s3m::Error naming the file
