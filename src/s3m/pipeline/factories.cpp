@@ -1,7 +1,6 @@
 #include "s3m/pipeline/factories.hpp"
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 
 #include "s3m/core/error.hpp"
