@@ -4,8 +4,9 @@
 //
 //   s3m_library_example DATASET [PRESET.yaml]
 //
-// Prints one line per keyframe (pose in the world frame, metres) and, at the end, the trajectory
-// and the semantic map's voxels per class; writes the map to example_map.ot in the working folder.
+// Prints one line per keyframe (pose in the world frame, metres) and, at the end, how many frames
+// were tracked and the semantic map's voxels per class; writes the map to example_map.ot in the
+// working folder.
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -49,7 +50,7 @@ int run(const std::string& dataset, const std::string& preset) {
   });
   for (std::size_t i = 0; i < source->size(); ++i) pipeline.process(source->load(i));
   pipeline.finish();
-  // 5. Results: the trajectory, the map and what it holds.
+  // 5. Results: frames tracked, the map and what it holds (pipeline.poses() has the trajectory).
   const auto& c = pipeline.counters();
   std::printf("frames %zu tracked %zu keyframes %zu integrated %zu\n", c.frames, c.tracked, c.keyframes, c.integrated);
   const s3m::mapping::SemanticOcTree& tree = pipeline.map()->tree();
