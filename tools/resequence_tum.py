@@ -4,7 +4,7 @@ tuned on: every Nth frame (N times the motion per frame), backwards, or both. Wr
 depth.txt, associations.txt and groundtruth.txt with timestamps re-made at --fps, links rgb/ and
 depth/ to the source (nothing is copied) and copies camera.yaml.
 
-Usage: resequence_tum.py SRC_DIR OUT_DIR [--stride 2] [--reverse] [--fps 30]
+Usage: resequence_tum.py SRC_DIR OUT_DIR [--start 4] [--stride 2] [--reverse] [--fps 30]
 Then: s3m run OUT_DIR --slam-only --out RUN && s3m eval --gt OUT_DIR/groundtruth.txt --est RUN/trajectory_camera.txt
 """
 import argparse
@@ -27,12 +27,14 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument('src')
     ap.add_argument('out')
+    ap.add_argument('--start', type=int, default=0,
+                    help='drop the source\'s first N frames, before --reverse and --stride (default 0)')
     ap.add_argument('--stride', type=int, default=1, help='keep every Nth frame (default 1)')
     ap.add_argument('--reverse', action='store_true', help='play the frames backwards')
     ap.add_argument('--fps', type=float, default=30.0, help='frame rate of the new timestamps')
     a = ap.parse_args()
-    if a.stride < 1 or a.fps <= 0:
-        sys.exit('resequence_tum.py: --stride must be >= 1 and --fps > 0')
+    if a.stride < 1 or a.fps <= 0 or a.start < 0:
+        sys.exit('resequence_tum.py: --stride must be >= 1, --fps > 0 and --start >= 0')
     assoc_path = os.path.join(a.src, 'associations.txt')
     if not os.path.isfile(assoc_path):
         sys.exit(f'resequence_tum.py: {assoc_path} is missing (needs the TUM associations list)')
@@ -47,7 +49,9 @@ def main():
             if len(p) != 8:
                 sys.exit(f'resequence_tum.py: {gt_path} line {n}: expected "t tx ty tz qx qy qz qw"')
             gt[p[0]] = p[1:]
-    order = list(range(len(assoc)))
+    if a.start >= len(assoc):
+        sys.exit(f'resequence_tum.py: --start {a.start} leaves no frame ({assoc_path} lists {len(assoc)})')
+    order = list(range(a.start, len(assoc)))
     if a.reverse:
         order.reverse()
     order = order[::a.stride]
@@ -71,7 +75,7 @@ def main():
         del lines['groundtruth.txt']
     for name, body in lines.items():
         with open(os.path.join(a.out, name), 'w') as f:
-            f.write(f'# resequenced from {a.src}: stride {a.stride}, reverse {a.reverse}, {a.fps} Hz\n')
+            f.write(f'# resequenced from {a.src}: start {a.start}, stride {a.stride}, reverse {a.reverse}, {a.fps} Hz\n')
             f.write('\n'.join(body) + '\n')
     print(f'{len(order)} frames -> {a.out}' + ('' if gt else ' (no groundtruth.txt in the source)'))
 

@@ -1,6 +1,7 @@
 """tools/resequence_tum.py on a hand-made 5-frame TUM folder: every 2nd frame backwards gives
 source frames 4, 2, 0 at 0, 0.1, 0.2 s (--fps 10), the ground truth of each source frame moves with
-it, the image folders are links, and a malformed associations line names the file and the line.
+it, the image folders are links; --start 3 keeps source frames 3, 4 (and --reverse after it 4, 3);
+a --start past the end and a malformed associations line name the file.
 Debian's python3, stdlib only."""
 import os
 import subprocess
@@ -54,6 +55,23 @@ class Resequence(unittest.TestCase):
         self.assertTrue(os.path.islink(os.path.join(out, "rgb")))
         self.assertEqual(os.path.realpath(os.path.join(out, "depth")), os.path.realpath(os.path.join(self.src, "depth")))
         self.assertEqual(lines(os.path.join(out, "camera.yaml")), ["fx: 525"])
+
+    def test_later_start_then_backwards(self):
+        r = self.run_tool("--start", "3")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        out = os.path.join(self.tmp.name, "out")
+        self.assertEqual(lines(os.path.join(out, "rgb.txt")), ["0.000000 rgb/3.png", "0.033333 rgb/4.png"])
+        self.assertEqual(lines(os.path.join(out, "groundtruth.txt")),
+                         ["0.000000 3 0 0 0 0 0 1", "0.033333 4 0 0 0 0 0 1"])
+        r = self.run_tool("--start", "3", "--reverse", "--fps", "10")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(lines(os.path.join(out, "depth.txt")), ["0.000000 depth/4.png", "0.100000 depth/3.png"])
+
+    def test_start_past_the_end_is_refused(self):
+        r = self.run_tool("--start", "5")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("--start 5 leaves no frame", r.stderr)
+        self.assertIn("lists 5", r.stderr)
 
     def test_bad_line_names_file_and_line(self):
         with open(os.path.join(self.src, "associations.txt"), "a") as f:
