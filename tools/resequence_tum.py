@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Replays a TUM-layout dataset in another order or rate, for checking the SLAM on motion it was not
-tuned on: every Nth frame (N times the motion per frame), backwards, or both. Writes rgb.txt,
-depth.txt, associations.txt and groundtruth.txt with timestamps re-made at --fps, links rgb/ and
-depth/ to the source (nothing is copied) and copies camera.yaml.
+tuned on: every Nth frame (N times the motion per frame), backwards, or both, optionally from a later
+first frame (--start: another start of the same recording). Writes rgb.txt, depth.txt,
+associations.txt and groundtruth.txt with timestamps re-made at --fps, links rgb/ and depth/ to the
+source (nothing is copied) and copies camera.yaml.
 
 Usage: resequence_tum.py SRC_DIR OUT_DIR [--start 4] [--stride 2] [--reverse] [--fps 30]
 Then: s3m run OUT_DIR --slam-only --out RUN && s3m eval --gt OUT_DIR/groundtruth.txt --est RUN/trajectory_camera.txt
