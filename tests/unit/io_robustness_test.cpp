@@ -8,6 +8,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -204,6 +206,29 @@ TEST(IoRobustness, JpegClaimingHugeSizeIsRejectedBeforeDecoding) {
   const auto ok = (dir / "ok.jpg").string();
   ASSERT_TRUE(cv::imwrite(ok, bgr));
   EXPECT_EQ(read_rgb(ok, {64, 48}).size(), cv::Size(64, 48));
+}
+
+TEST(IoRobustness, TruncatedJpegIsRefusedNotDecodedGrey) {
+  // libjpeg decodes a JPEG cut short without an error (the missing rows grey, a message on stderr
+  // naming no file); a recording's frame cut short must be named and refused instead.
+  const auto dir = fresh_temp_dir();
+  cv::Mat bgr(240, 320, CV_8UC3);
+  cv::randu(bgr, 0, 255);  // noise: a large file, so a cut lands in the scan data
+  std::vector<unsigned char> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", bgr, jpeg));
+  ASSERT_GT(jpeg.size(), 20000u);
+  const std::string bytes(jpeg.begin(), jpeg.end());
+  const auto whole = write_file(dir / "whole.jpg", bytes);
+  EXPECT_EQ(read_rgb(whole, {320, 240}).size(), cv::Size(320, 240));
+  for (const std::size_t keep : {bytes.size() / 2, bytes.size() - 1}) {  // half; only the last byte lost
+    const auto cut = write_file(dir / "cut.jpg", bytes.substr(0, keep));
+    expect_error([&] { read_rgb(cut); },
+                 {"cut.jpg", "JPEG ends without its end-of-image marker after " + std::to_string(keep) + " bytes",
+                  "a complete JPEG file"});
+  }
+  // Padding after the marker (some writers round files up) is not a truncation.
+  const auto padded = write_file(dir / "padded.jpg", bytes + std::string(1000, '\0'));
+  EXPECT_EQ(read_rgb(padded, {320, 240}).size(), cv::Size(320, 240));
 }
 
 TEST(IoRobustness, ImplausiblyLargeCoordinatesAreRejected) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -34,16 +35,45 @@ void check_png(std::ifstream& in, const std::string& path, const std::string& wh
   check_sides(path, what, "PNG", be32(16), be32(20));
 }
 
+// A file cut short (a copy interrupted, a recorder killed mid-write) still decodes in libjpeg: the
+// missing rows come out grey and only a "Premature end of JPEG file" on stderr, naming no file,
+// says so. Such a frame would give SLAM features and the map labels of an image that is not the
+// scene, so it is refused here. The end-of-image marker is looked for after the scan starts and
+// within the last kEoiTailBytes: writers that pad after it pad little, and a thumbnail's own EOI
+// (in APP1, before the scan) is not mistaken for the image's.
+constexpr std::streamoff kEoiTailBytes = 4096;
+
+void check_jpeg_end(std::ifstream& in, std::streamoff scan_start, const std::string& path,
+                    const std::string& what) {
+  in.clear();
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  const std::streamoff from = std::max(scan_start, size - kEoiTailBytes);
+  std::string tail(static_cast<std::size_t>(std::max<std::streamoff>(0, size - from)), '\0');
+  in.seekg(from);
+  if (!in.read(tail.data(), static_cast<std::streamsize>(tail.size()))) return;  // left to the decoder
+  if (tail.find("\xff\xd9") != std::string::npos) return;
+  throw ParseError(path, 0,
+                   fmt::format("JPEG ends without its end-of-image marker after {} bytes (a truncated file?)", size),
+                   what + " (a complete JPEG file)");
+}
+
 // A JPEG states its size in the start-of-frame segment (SOF0..SOF15 except DHT, JPG and DAC), after
-// any number of APPn / DQT / ... segments: walk the segment lengths to it. A file that ends or
-// starts its scan first is left to the decoder.
+// any number of APPn / DQT / ... segments: walk the segment lengths to it, then on to the start of
+// scan for the end check. A file that ends first, or starts its scan before any SOF, is left to the
+// decoder.
 void check_jpeg(std::ifstream& in, const std::string& path, const std::string& what) {
   in.seekg(2);  // after SOI
+  bool sized = false;
   for (;;) {
     if (in.get() != 0xff) return;
     int byte = in.get();
-    while (byte == 0xff) byte = in.get();                          // fill bytes
-    if (byte == EOF || byte == 0xd9 || byte == 0xda) return;       // EOI or SOS before any SOF
+    while (byte == 0xff) byte = in.get();                     // fill bytes
+    if (byte == EOF || byte == 0xd9) return;                  // EOI before any scan
+    if (byte == 0xda) {                                       // SOS: the entropy-coded data follows
+      if (sized) check_jpeg_end(in, in.tellg(), path, what);
+      return;
+    }
     if (byte == 0x01 || (byte >= 0xd0 && byte <= 0xd7)) continue;  // markers without a length
     unsigned char len[2];
     if (!in.read(reinterpret_cast<char*>(len), 2)) return;
@@ -51,10 +81,13 @@ void check_jpeg(std::ifstream& in, const std::string& path, const std::string& w
     if (length < 2) return;
     const bool sof = byte >= 0xc0 && byte <= 0xcf && byte != 0xc4 && byte != 0xc8 && byte != 0xcc;
     if (sof) {
+      if (length < 7) return;
       unsigned char f[5];  // precision, height, width
       if (!in.read(reinterpret_cast<char*>(f), 5)) return;
       check_sides(path, what, "JPEG", std::uint32_t(f[3] << 8 | f[4]), std::uint32_t(f[1] << 8 | f[2]));
-      return;
+      sized = true;
+      in.seekg(length - 2 - 5, std::ios::cur);
+      continue;
     }
     in.seekg(length - 2, std::ios::cur);
   }
