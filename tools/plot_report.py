@@ -188,6 +188,10 @@ def fmt_value(v):
 def summary_rows(metrics):
     rows = [("frames", metrics.get("frames")), ("keyframes", metrics.get("keyframes")),
             ("frames/s (wall clock)", metrics.get("fps")),
+            # Unreadable image files the run skipped (s3m run names each in metrics.json).
+            ("frames skipped (unreadable files)", ", ".join(
+                str(f["index"]) for f in metrics.get("skipped_frames", [])[:20])
+             + (" ..." if len(metrics.get("skipped_frames", [])) > 20 else "") or None),
             ("map voxels", metrics.get("map", {}).get("voxels")),
             ("map classes (share of labelled voxels)", ", ".join(
                 f"{c['class']} {100 * c['share']:.0f} %" for c in metrics.get("map", {}).get("class_voxels", [])[:8])

@@ -25,8 +25,9 @@ struct RunArgs {
 
 void print_summary(const pipeline::RunResult& r, const std::string& out) {
   const auto& m = r.metrics;
-  std::cout << "frames: " << r.frames_done << "/" << r.frames_total << (r.interrupted ? " (interrupted)" : "")
-            << ", keyframes: " << m.value("keyframes", 0) << ", " << m.value("fps", 0.0) << " frames/s\n";
+  std::cout << "frames: " << r.frames_done << "/" << r.frames_total << (r.interrupted ? " (interrupted)" : "");
+  if (r.frames_skipped > 0) std::cout << " (" << r.frames_skipped << " unreadable, skipped: metrics.json skipped_frames)";
+  std::cout            << ", keyframes: " << m.value("keyframes", 0) << ", " << m.value("fps", 0.0) << " frames/s\n";
   if (m.contains("tracking")) {
     const auto& t = m["tracking"];
     std::cout << "tracking: " << t["states"].value("LOST", 0) << " frames LOST, " << t["relocalised_frames"].size()

@@ -1,5 +1,10 @@
 // End-to-end: `s3m run` (as a library call) on a short simulated UAV flight with the noisy oracle
 // segmenter, checked against the simulator's ground truth.
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
 #include "pipeline_fixture.hpp"
@@ -126,6 +131,87 @@ TEST(PipelineRun, SlamOnlyWritesTrajectoriesAndNoMap) {
   // The simulator's depth is registered; the run finds so from its images and says why.
   const std::string reg = r.metrics["inputs"]["depth_registration"].get<std::string>();
   EXPECT_EQ(reg.rfind("registered (depth edges", 0), 0u) << reg;
+}
+
+// Frame i's colour file, as the sequence's rgb.txt names it.
+std::string rgb_file(const fs::path& dir, int i) {
+  std::ifstream in(dir / "rgb.txt");
+  std::string line;
+  for (int n = 0; std::getline(in, line);)
+    if (!line.empty() && line[0] != '#' && n++ == i) return line.substr(line.find(' ') + 1);
+  ADD_FAILURE() << "no frame " << i << " in " << dir / "rgb.txt";
+  return "";
+}
+
+// A copy of the sequence whose files are links, except the colour images of the frames given,
+// replaced by the bytes given (a recording with a few bad files).
+std::string sequence_with_bad_frames(const std::string& name, const std::map<int, std::string>& bad) {
+  const fs::path dir = scratch_dir() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path src = fs::absolute(sequence_dir());
+  for (const auto& e : fs::recursive_directory_iterator(src)) {
+    const fs::path to = dir / fs::relative(e.path(), src);
+    if (e.is_directory()) fs::create_directories(to);
+    else fs::create_symlink(e.path(), to);
+  }
+  for (const auto& [i, bytes] : bad) {
+    const fs::path rgb = dir / rgb_file(dir, i);
+    EXPECT_TRUE(fs::is_symlink(rgb)) << rgb;
+    fs::remove(rgb);  // the link, not the cached sequence's file
+    std::ofstream(rgb, std::ios::binary) << bytes;
+  }
+  return dir.string();
+}
+
+TEST(PipelineRun, UnreadableFramesAreSkippedAndNamed) {
+  // Two bad colour files (a PNG cut after its first 100 bytes, an empty file) in 45 frames: both
+  // skipped with their file named, the other 43 tracked as usual.
+  const std::string png_start = read_bytes(sequence_dir() + "/" + rgb_file(sequence_dir(), 0)).substr(0, 100);
+  pipeline::RunOptions o = options("skip", true);
+  o.dataset_dir = sequence_with_bad_frames("skip_seq", {{20, png_start}, {35, ""}});
+  o.slam_only = true;
+  o.max_frames = 45;
+  const pipeline::RunResult r = pipeline::run_dataset(o);
+  EXPECT_FALSE(r.interrupted);
+  EXPECT_EQ(r.frames_skipped, 2u);
+  EXPECT_EQ(r.frames_done, 43u);
+  const auto& skipped = r.metrics["skipped_frames"];
+  ASSERT_EQ(skipped.size(), 2u) << skipped.dump();
+  EXPECT_EQ(skipped[0]["index"].get<int>(), 20);
+  EXPECT_EQ(skipped[1]["index"].get<int>(), 35);
+  for (const auto& s : skipped) {
+    const std::string e = s["error"].get<std::string>();
+    EXPECT_NE(e.find("skip_seq/rgb/"), std::string::npos) << e;
+    EXPECT_NE(e.find("8-bit colour image"), std::string::npos) << e;
+  }
+  EXPECT_NE(skipped[1]["error"].get<std::string>().find("file is empty"), std::string::npos);
+  EXPECT_FALSE(r.metrics.contains("stopped_by"));
+  EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(), r.metrics["tracked"].get<std::size_t>());
+  EXPECT_EQ(r.metrics["tracking"]["states"].value("LOST", 0), 0) << r.metrics["tracking"].dump();
+}
+
+TEST(PipelineRun, TooManyUnreadableFramesInARowStopAfterWritingOutputs) {
+  pipeline::RunOptions o = options("skip_stop", true);
+  o.dataset_dir = sequence_with_bad_frames("skip_stop_seq", {{30, ""}, {31, ""}, {32, ""}});
+  o.slam_only = true;
+  o.config.dataset.max_unreadable_in_a_row = 2;
+  try {
+    pipeline::run_dataset(o);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    for (const std::string& part : std::vector<std::string>{"stopped at frame 32 of 60", "3 unreadable frames in a row",
+                                   "dataset.max_unreadable_in_a_row is 2", "skip_stop_seq/" + rgb_file(sequence_dir(), 32),
+                                   "the outputs of the 30 frames before it are in " + o.out_dir})
+      EXPECT_NE(what.find(part), std::string::npos) << "missing '" << part << "' in: " << what;
+  }
+  // What came before is written and loadable, and says why it ends there.
+  EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(), 30u);
+  const auto metrics = nlohmann::json::parse(read_bytes(o.out_dir + "/metrics.json"));
+  EXPECT_TRUE(metrics["interrupted"].get<bool>());
+  EXPECT_EQ(metrics["skipped_frames"].size(), 3u);
+  EXPECT_NE(metrics["stopped_by"].get<std::string>().find("3 unreadable frames in a row"), std::string::npos);
 }
 
 TEST(PipelineRun, BadInputsAreClearErrors) {

@@ -6,6 +6,7 @@
 #include <csignal>
 #include <regex>
 
+#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "pipeline_fixture.hpp"
@@ -106,6 +107,24 @@ std::string run_error(const fs::path& seq, std::initializer_list<std::string> fr
   return run_error(options_for(seq, "out_" + seq.filename().string()), fragments);
 }
 
+// A frame after the first that cannot be read is skipped: the run completes without it and
+// names it (metrics.json skipped_frames). With dataset.max_unreadable_in_a_row 0 the same frame
+// stops the run with that message, after writing the frames before it.
+void expect_skipped(const fs::path& seq, int frame, std::initializer_list<std::string> fragments) {
+  pipeline::RunOptions o = options_for(seq, "out_" + seq.filename().string());
+  const pipeline::RunResult r = pipeline::run_dataset(o);
+  EXPECT_FALSE(r.interrupted);
+  EXPECT_EQ(r.frames_done, static_cast<std::size_t>(kShort - 1));
+  ASSERT_EQ(r.metrics["skipped_frames"].size(), 1u);
+  EXPECT_EQ(r.metrics["skipped_frames"][0]["index"].get<int>(), frame);
+  const std::string why = r.metrics["skipped_frames"][0]["error"];
+  for (const auto& f : fragments) EXPECT_NE(why.find(f), std::string::npos) << "skipped: " << why << "\nmissing: " << f;
+  o.config.dataset.max_unreadable_in_a_row = 0;
+  const std::string msg = run_error(o, fragments);
+  EXPECT_NE(msg.find(fmt::format("stopped at frame {} of {}", frame, kShort)), std::string::npos) << msg;
+  EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(), static_cast<std::size_t>(frame));
+}
+
 TEST(RunBadInput, TheShortSequenceItselfRuns) {  // so every failure below is the edit's doing
   const auto r = pipeline::run_dataset(options_for(short_sequence("good"), "good"));
   EXPECT_EQ(r.frames_done, static_cast<std::size_t>(kShort));
@@ -129,23 +148,23 @@ TEST(RunBadInput, CorruptAndTruncatedPngs) {
   const fs::path seq = short_sequence("corrupt_png");
   std::ofstream(seq / list_entry(seq / "rgb.txt", 2), std::ios::binary) << "this is not a PNG at all";
   // Text is refused before any decoder sees it, with its first bytes ("this is ").
-  run_error(seq, {list_entry(seq / "rgb.txt", 2), "not a PNG or JPEG file", "74 68 69 73 20 69 73 20"});
+  expect_skipped(seq, 2, {list_entry(seq / "rgb.txt", 2), "not a PNG or JPEG file", "74 68 69 73 20 69 73 20"});
   const fs::path seq2 = short_sequence("truncated_png");
   const fs::path depth = seq2 / list_entry(seq2 / "depth.txt", 4);
   const std::string bytes = read_bytes(depth.string());
   std::ofstream(depth, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
-  run_error(seq2, {list_entry(seq2 / "depth.txt", 4), "cannot read or decode"});  // a PNG: libpng reports it
+  expect_skipped(seq2, 4, {list_entry(seq2 / "depth.txt", 4), "cannot read or decode"});  // a PNG: libpng reports it
 }
 
-// A run that fails on frame 6 writes nothing: the earlier run's outputs in the same OUT stay.
+// A run that fails on its first frame writes nothing: the earlier run's outputs in the same OUT stay.
 TEST(RunBadInput, AFailedRunLeavesTheEarlierRunsOutputsIntact) {
   const fs::path seq = short_sequence("rerun");
   const pipeline::RunOptions o = options_for(seq, "rerun");
   pipeline::run_dataset(o);
   const std::string map_before = read_bytes(o.out_dir + "/map.ot");
   const std::string metrics_before = read_bytes(o.out_dir + "/metrics.json");
-  std::ofstream(seq / list_entry(seq / "rgb.txt", 6), std::ios::binary) << "garbage";
-  run_error(o, {list_entry(seq / "rgb.txt", 6), "not a PNG"});
+  std::ofstream(seq / list_entry(seq / "rgb.txt", 0), std::ios::binary) << "garbage";
+  run_error(o, {list_entry(seq / "rgb.txt", 0), "not a PNG"});
   EXPECT_TRUE(read_bytes(o.out_dir + "/map.ot") == map_before);
   EXPECT_EQ(read_bytes(o.out_dir + "/metrics.json"), metrics_before);
   EXPECT_NE(mapping::load_semantic_map(o.out_dir + "/map.ot"), nullptr);
@@ -155,11 +174,16 @@ TEST(RunBadInput, EightBitDepthAndWrongImageSize) {
   const fs::path seq = short_sequence("depth8");
   const fs::path depth = seq / list_entry(seq / "depth.txt", 1);
   cv::imwrite(depth.string(), cv::Mat(480, 640, CV_8UC1, cv::Scalar(100)));
-  run_error(seq, {depth.filename().string(), "8-bit", "expected a 16-bit single-channel depth PNG"});
+  expect_skipped(seq, 1, {depth.filename().string(), "8-bit", "expected a 16-bit single-channel depth PNG"});
   const fs::path seq2 = short_sequence("small_rgb");
   const fs::path rgb = seq2 / list_entry(seq2 / "rgb.txt", 5);
   cv::imwrite(rgb.string(), cv::Mat(240, 320, CV_8UC3, cv::Scalar(1, 2, 3)));
-  run_error(seq2, {rgb.filename().string(), "image is 320x240", "expected 640x480"});
+  expect_skipped(seq2, 5, {rgb.filename().string(), "image is 320x240", "expected 640x480"});
+  // On the first frame the same error stops the run: there it is most often every frame's.
+  const fs::path seq3 = short_sequence("small_first");
+  cv::imwrite((seq3 / list_entry(seq3 / "rgb.txt", 0)).string(), cv::Mat(240, 320, CV_8UC3, cv::Scalar(1, 2, 3)));
+  const std::string msg = run_error(seq3, {list_entry(seq3 / "rgb.txt", 0), "image is 320x240"});
+  EXPECT_EQ(msg.find("stopped at frame"), std::string::npos) << msg;
 }
 
 TEST(RunBadInput, TimestampsThatDoNotMatch) {

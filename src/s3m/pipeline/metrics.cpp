@@ -180,6 +180,9 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   m["frames"] = c.frames;
   m["frames_total"] = info.frames_total;
   m["interrupted"] = info.interrupted;
+  m["skipped_frames"] = json::array();
+  for (const SkippedFrame& s : info.skipped) m["skipped_frames"].push_back({{"index", s.index}, {"error", s.error}});
+  if (!info.stopped_by.empty()) m["stopped_by"] = info.stopped_by;
   m["tracked"] = c.tracked;
   m["keyframes"] = c.keyframes;
   m["integrated"] = c.integrated;

@@ -12,6 +12,12 @@
 
 namespace s3m::pipeline {
 
+// A frame the run skipped because its files could not be read (RunInfo::skipped).
+struct SkippedFrame {
+  std::size_t index = 0;
+  std::string error;  // the reader's message: file, problem, what was expected
+};
+
 struct RunInfo {
   std::string dataset_dir, config_file, poses, segmenter;
   std::string segmenter_reason;  // why this segmenter (pipeline::SegmenterChoice::reason)
@@ -21,6 +27,8 @@ struct RunInfo {
   std::string loaded_map;  // --map folder ("" = none)
   bool localize_only = false;
   std::string depth_registration;  // resolve_depth_registration(): what was decided and why
+  std::vector<SkippedFrame> skipped;  // unreadable frames (dataset.max_unreadable_in_a_row)
+  std::string stopped_by;             // why the run stopped before its last frame ("" = it did not)
 };
 
 // Files a dataset may carry for evaluation (s3m simulator output): ground-truth voxel map.

@@ -50,10 +50,11 @@ void validate_in(const C& c, const std::string& ctx, const std::string& sec) {
 }
 
 void load_dataset(const YAML::Node& n, DatasetConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"camera", "max_dt_s", "depth_registration"}, ctx);
+  check_known_keys(n, {"camera", "max_dt_s", "depth_registration", "max_unreadable_in_a_row"}, ctx);
   yaml_get(n, "camera", c.camera, ctx);
   yaml_get(n, "max_dt_s", c.max_dt_s, ctx);
   yaml_get(n, "depth_registration", c.depth_registration, ctx);
+  yaml_get(n, "max_unreadable_in_a_row", c.max_unreadable_in_a_row, ctx);
 }
 
 void load_cloud(const YAML::Node& n, CloudConfig& c, const std::string& ctx) {
@@ -116,6 +117,8 @@ void DatasetConfig::validate() const {
           "dataset.max_dt_s must be in (0, 1) s (got " + num(max_dt_s) + ")");
   require(depth_registration == "auto" || depth_registration == "registered" || depth_registration == "unregistered",
           "dataset.depth_registration must be auto | registered | unregistered (got '" + depth_registration + "')");
+  require(max_unreadable_in_a_row >= 0,
+          "dataset.max_unreadable_in_a_row must be >= 0 (got " + std::to_string(max_unreadable_in_a_row) + ")");
 }
 
 void CloudConfig::validate() const {

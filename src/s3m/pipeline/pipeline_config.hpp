@@ -34,6 +34,11 @@ struct DatasetConfig {
   // "auto" | "registered" | "unregistered": whether depth pixels are the colour pixels' (auto:
   // checked on a few frames before the first; unregistered_depth.hpp).
   std::string depth_registration = "auto";
+  // A frame whose image files cannot be read (truncated, corrupt, wrong size) is skipped with a
+  // warning naming the file, as a camera drops a frame, and listed in metrics.json; more than this
+  // many in a row is a broken recording: the run stops, after writing the outputs of the frames
+  // before. 0 = stop at the first.
+  int max_unreadable_in_a_row = 10;
   void validate() const;
 };
 

@@ -1,6 +1,9 @@
 #include "s3m/pipeline/run.hpp"
 
 #include <filesystem>
+#include <optional>
+
+#include <fmt/format.h>
 
 #include <spdlog/spdlog.h>
 
@@ -115,9 +118,61 @@ void create_output_dir(const std::string& dir) {
                 (ec ? ec.message() : "a file of that name exists") + " (expected a writable folder for --out)");
 }
 
+// Reads the frames in order. A frame whose files cannot be read (ParseError: truncated, corrupt,
+// wrong size) is skipped once an earlier frame was read: a long run must not end with nothing
+// because of one bad file, and SLAM bridges a missing frame as it bridges a dropped one. Before
+// that the error stands: a problem with the first frame is most often every frame's (a wrong
+// camera size, 8-bit depth) and stopping there costs nothing.
+struct FrameReader {
+  const FrameSource& source;
+  RunInfo& info;
+  int in_a_row = 0;  // unreadable frames since the last readable one
+  bool read_any = false;
+
+  std::optional<RgbdFrame> read(std::size_t i) {
+    try {
+      RgbdFrame f = source.load(i);
+      in_a_row = 0;
+      read_any = true;
+      return f;
+    } catch (const ParseError& e) {
+      if (!read_any) throw;
+      info.skipped.push_back({i, e.what()});
+      ++in_a_row;
+      spdlog::warn("run: frame {} skipped: {}", i, e.what());
+      return std::nullopt;
+    }
+  }
+};
+
 bool stop_requested(const RunOptions& o, std::size_t done) {
   if (o.stop && o.stop->load()) return true;
   return o.stop_after_frames >= 0 && static_cast<long>(done) >= o.stop_after_frames;
+}
+
+// Feeds frames 0, 1, ... to the pipeline until the last, a stop request or more unreadable frames in
+// a row than the config allows (c.info.stopped_by says why). Returns the index it stopped at.
+std::size_t process_frames(const RunOptions& o, Components& c, RunResult& r, ProgressLine& progress) {
+  const int max_in_a_row = c.config.dataset.max_unreadable_in_a_row;
+  FrameReader reader{*c.source, c.info};
+  std::size_t i = 0;
+  for (; i < r.frames_total; ++i) {
+    if (stop_requested(o, i)) {
+      r.interrupted = true;
+      break;
+    }
+    if (std::optional<RgbdFrame> frame = reader.read(i)) {
+      c.pipeline->process(std::move(*frame));
+    } else if (reader.in_a_row > max_in_a_row) {
+      c.info.stopped_by = fmt::format("{} unreadable frame{} in a row, the last frame {} (dataset.max_unreadable_in_a_row "
+                                      "is {}): {}", reader.in_a_row, reader.in_a_row == 1 ? "" : "s", i, max_in_a_row,
+                                      c.info.skipped.back().error);
+      r.interrupted = true;
+      break;
+    }
+    progress.update(c.pipeline->frames_done(), c.pipeline->last_state());
+  }
+  return i;
 }
 
 }  // namespace
@@ -145,21 +200,16 @@ RunResult run_dataset(const RunOptions& o) {
     });
   ProgressLine progress(r.frames_total, o.progress);
   Stopwatch wall;
-  std::size_t submitted = 0;
-  for (; submitted < r.frames_total; ++submitted) {
-    if (stop_requested(o, submitted)) {
-      r.interrupted = true;
-      break;
-    }
-    c.pipeline->process(c.source->load(submitted));
-    progress.update(c.pipeline->frames_done(), c.pipeline->last_state());
-  }
+  const std::size_t submitted = process_frames(o, c, r, progress);
   c.pipeline->finish();
   c.info.wall_time_s = wall.elapsed_ms() / 1000.0;
   c.info.interrupted = r.interrupted;
   c.info.frames_total = r.frames_total;
   r.frames_done = c.pipeline->frames_done();
+  r.frames_skipped = c.info.skipped.size();
   progress.finish(r.frames_done, r.interrupted ? "interrupted" : c.pipeline->last_state());
+  if (!c.info.skipped.empty())
+    spdlog::warn("run: {} unreadable frame(s) skipped (listed in metrics.json, skipped_frames)", c.info.skipped.size());
   if (r.interrupted) spdlog::warn("run: stopped after {} of {} frames; writing what was processed", r.frames_done, r.frames_total);
 
   // Outputs first (trajectory and map are what a user keeps), then the evaluation of them.
@@ -176,6 +226,9 @@ RunResult run_dataset(const RunOptions& o) {
     r.report_error = rep.error;
     if (!rep.error.empty()) spdlog::warn("run: report not made: {}", rep.error);
   }
+  if (!c.info.stopped_by.empty())
+    throw Error(fmt::format("run: stopped at frame {} of {}: {}; the outputs of the {} frames before it are in {}",
+                            submitted, r.frames_total, c.info.stopped_by, r.frames_done, o.out_dir));
   return r;
 }
 

@@ -44,13 +44,16 @@ struct RunOptions {
 struct RunResult {
   std::size_t frames_total = 0;    // frames in the dataset (after max_frames)
   std::size_t frames_done = 0;     // frames that went through the pipeline
+  std::size_t frames_skipped = 0;  // frames whose files could not be read (metrics.json: skipped_frames)
   bool interrupted = false;
   std::string report_html;         // empty when no report was made
   std::string report_error;        // why the report is missing, if it is
   nlohmann::json metrics;          // what metrics.json holds
 };
 
-// Throws s3m::Error / ParseError for bad input (dataset, config, model), with file and line.
+// Throws s3m::Error / ParseError for bad input (dataset, config, model), with file and line. An
+// unreadable frame is skipped (RunResult::frames_skipped); more than
+// config.dataset.max_unreadable_in_a_row in a row throw, after the outputs so far are written.
 RunResult run_dataset(const RunOptions& options);
 
 // Parses "onnx:PATH" / "oracle" / "none" (throws Error listing the accepted forms).

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <vector>
 
+#include <spdlog/spdlog.h>
+
+#include "s3m/core/error.hpp"
 #include "s3m/features/depth_registration.hpp"
 
 namespace s3m::pipeline {
@@ -35,8 +38,13 @@ std::string resolve_depth_registration(PipelineConfig& config, const std::vector
 std::string resolve_depth_registration(PipelineConfig& config, const FrameSource& source) {
   std::vector<RgbdFrame> sample;
   if (config.dataset.depth_registration == "auto")
-    for (std::size_t i = 0; i < std::min<std::size_t>(source.size(), 120) && sample.size() < 6; i += 20)
-      sample.push_back(source.load(i));
+    for (std::size_t i = 0; i < std::min<std::size_t>(source.size(), 120) && sample.size() < 6; i += 20) {
+      try {
+        sample.push_back(source.load(i));
+      } catch (const ParseError& e) {  // the run skips it too (run.cpp); the check uses the others
+        spdlog::warn("run: depth registration check: frame {} not used: {}", i, e.what());
+      }
+    }
   return resolve_depth_registration(config, sample, source.camera());
 }
 
