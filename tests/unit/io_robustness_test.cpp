@@ -226,6 +226,16 @@ TEST(IoRobustness, TruncatedJpegIsRefusedNotDecodedGrey) {
                  {"cut.jpg", "JPEG ends without its end-of-image marker after " + std::to_string(keep) + " bytes",
                   "a complete JPEG file"});
   }
+  // A marker before the scan (an EXIF thumbnail's own end, in APP1) does not make a cut file whole.
+  const std::string app1 = std::string("\xff\xe1\x00\x0a" "Exif\0\0\xff\xd9", 12);
+  const std::string with_thumb = bytes.substr(0, 2) + app1 + bytes.substr(2);
+  EXPECT_EQ(read_rgb(write_file(dir / "thumb.jpg", with_thumb), {320, 240}).size(), cv::Size(320, 240));
+  // Cut 200 bytes into the scan: the file's last 4 KiB reach back over the thumbnail's marker.
+  const std::size_t scan = with_thumb.find("\xff\xda");
+  ASSERT_NE(scan, std::string::npos);
+  ASSERT_LT(scan + 200, 4096u);
+  const auto cut_thumb = write_file(dir / "cut_thumb.jpg", with_thumb.substr(0, scan + 200));
+  expect_error([&] { read_rgb(cut_thumb); }, {"cut_thumb.jpg", "end-of-image marker"});
   // Padding after the marker (some writers round files up) is not a truncation.
   const auto padded = write_file(dir / "padded.jpg", bytes + std::string(1000, '\0'));
   EXPECT_EQ(read_rgb(padded, {320, 240}).size(), cv::Size(320, 240));
