@@ -100,6 +100,10 @@ TEST(IoTumDataset, CameraFromOptionOrPresetOrError) {
   const auto fr1 = dir.parent_path() / "rgbd_dataset_freiburg1_xyz";
   fs::rename(dir, fr1);
   EXPECT_DOUBLE_EQ(TumDataset::open(fr1.string()).camera().fx, 517.3);
+  // Also as shell completion writes it (a trailing slash) and as "." from inside it.
+  EXPECT_DOUBLE_EQ(TumDataset::open(fr1.string() + "/").camera().fx, 517.3);
+  EXPECT_DOUBLE_EQ(TumDataset::open((fr1 / "." / "").string()).camera().fx, 517.3);
+  EXPECT_DOUBLE_EQ(TumDataset::open((fr1 / "rgb" / "..").string()).camera().fx, 517.3);
 }
 
 TEST(IoTumDataset, BadInputErrorsNameFileAndLine) {

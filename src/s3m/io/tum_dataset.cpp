@@ -103,7 +103,10 @@ PinholeCamera dataset_camera(const std::string& dir, const TumDatasetOptions& op
   if (!opt.camera.empty()) return load_camera(opt.camera);
   const fs::path yaml = fs::path(dir) / "camera.yaml";
   if (fs::exists(yaml)) return load_camera(yaml.string());
-  const std::string name = fs::absolute(dir).lexically_normal().filename().string();
+  // "seq/" (shell completion) and "." name the folder too: their filename() is empty.
+  fs::path folder = fs::absolute(dir).lexically_normal();
+  if (folder.filename().empty()) folder = folder.parent_path();
+  const std::string name = folder.filename().string();
   for (const char* fr : {"freiburg1", "freiburg2", "freiburg3"}) {
     if (name.find(fr) == std::string::npos) continue;
     const std::string preset = std::string("tum_fr") + fr[8];
