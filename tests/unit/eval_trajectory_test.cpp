@@ -163,3 +163,31 @@ TEST(EvalAssociation, UnmatchedPosesAndTimeOffset) {
   tight.offset_s = -0.015;  // undo the shift
   EXPECT_EQ(evaluate_trajectory(gt, est, tight).matched, 30u);
 }
+
+TEST(EvalAssociation, NothingMatchedSaysWhyWhenTheTimestampsTellIt) {
+  const auto gt = wavy_trajectory(90);  // 100.0 .. 102.97 s
+  const auto message = [&](const Trajectory& est, double offset_s = 0) {
+    EvalOptions o;
+    o.offset_s = offset_s;
+    try {
+      evaluate_trajectory(gt, est, o);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    ADD_FAILURE() << "expected an error";
+    return std::string();
+  };
+  Trajectory ns = gt, later = gt, far = gt;
+  for (auto& p : ns) p.t_s *= 1e9;           // the same poses stamped in nanoseconds
+  for (auto& p : later) p.t_s += 1000.0;     // another clock, 1000 s later
+  for (std::size_t i = 0; i < far.size(); ++i) far[i].t_s = 500.0 + 100.0 * i;  // 8900 s long: not the same recording
+  EXPECT_NE(message(ns).find("the estimate's timestamps look like nanoseconds"), std::string::npos) << message(ns);
+  const std::string shifted = message(later);
+  EXPECT_NE(shifted.find("the two clocks look -1000.000000 s apart"), std::string::npos) << shifted;
+  EXPECT_NE(shifted.find("--offset"), std::string::npos) << shifted;
+  EXPECT_EQ(evaluate_trajectory(gt, later, [] { EvalOptions o; o.offset_s = -1000.0; return o; }()).matched, 90u);
+  const std::string unrelated = message(far);
+  EXPECT_NE(unrelated.find("need at least 3"), std::string::npos) << unrelated;
+  EXPECT_EQ(unrelated.find("apart"), std::string::npos) << unrelated;
+  EXPECT_EQ(unrelated.find("nanoseconds"), std::string::npos) << unrelated;
+}

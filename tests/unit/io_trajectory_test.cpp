@@ -62,6 +62,38 @@ TEST(IoTrajectory, TumReaderAcceptsCommentsTabsAndCommas) {
   EXPECT_NEAR(rotation_angle_rad(traj[1].T_w_x.rotation()), M_PI, 1e-12);  // qz = 1: 180 deg about z
 }
 
+TEST(IoTrajectory, HeaderWithWFirstReadsEuRocOrder) {
+  // EuRoC's ground-truth header and 17 columns (t, p, q wxyz, v, b_w, b_a): the quaternion
+  // (w x y z) = (0 0 0 1) is 180 deg about z; read in TUM's order it would be the identity.
+  const auto dir = fresh_temp_dir();
+  const std::string euroc_header =
+      "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z [], "
+      "v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1], b_w_RS_S_x [rad s^-1], b_w_RS_S_y [rad s^-1], "
+      "b_w_RS_S_z [rad s^-1], b_a_RS_S_x [m s^-2], b_a_RS_S_y [m s^-2], b_a_RS_S_z [m s^-2]\n";
+  const auto path = write_file(dir / "data.csv", euroc_header +
+                                                     "1.0,1,2,3,0,0,0,1,0,0,0,0,0,0,0,0,0\n"
+                                                     "2.0,1,2,3,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
+  const auto traj = read_tum_trajectory(path);
+  ASSERT_EQ(traj.size(), 2u);
+  EXPECT_EQ(traj[0].T_w_x.translation(), Vec3(1, 2, 3));
+  EXPECT_NEAR(rotation_angle_rad(traj[0].T_w_x.rotation()), M_PI, 1e-12);
+  EXPECT_NEAR((traj[0].T_w_x.rotation() * Vec3(1, 0, 0) - Vec3(-1, 0, 0)).norm(), 0.0, 1e-12);  // about z
+  EXPECT_NEAR(rotation_angle_rad(traj[1].T_w_x.rotation()), 0.0, 1e-12);
+  // A compact header ("qw qx qy qz") with 8 columns reads the same; its errors name that order.
+  const auto compact = write_file(dir / "c.txt", "# t x y z qw qx qy qz\n1.0 1 2 3 0 0 0 1\n");
+  EXPECT_NEAR(rotation_angle_rad(read_tum_trajectory(compact).front().T_w_x.rotation()), M_PI, 1e-12);
+  const auto bad = write_file(dir / "b.txt", "# t x y z qw qx qy qz\n1.0 1 2 3 0 0 0 1\n2.0 1 2 3 2 0 0 0\n");
+  expect_error([&] { read_tum_trajectory(bad); }, {"b.txt:3", "quaternion (qw qx qy qz) = (2 0 0 0)", "as the header says"});
+  // TUM's own header, a comment after the first pose, or no header keep TUM's order and 8 columns.
+  for (const std::string text : {"# timestamp tx ty tz qx qy qz qw\n1.0 1 2 3 0 0 0 1\n",
+                                 "1.0 1 2 3 0 0 0 1\n# t x y z qw qx qy qz\n", "1.0 1 2 3 0 0 0 1\n"}) {
+    const auto tum = write_file(dir / "tum.txt", text);
+    EXPECT_NEAR(rotation_angle_rad(read_tum_trajectory(tum).front().T_w_x.rotation()), 0.0, 1e-12) << text;
+  }
+  const auto wide = write_file(dir / "wide.txt", "1.0 1 2 3 0 0 0 1 9\n");
+  expect_error([&] { read_tum_trajectory(wide); }, {"wide.txt:1", "found 9 columns"});
+}
+
 TEST(IoTrajectory, TumReaderErrorsNameFileLineAndExpectation) {
   const auto dir = fresh_temp_dir();
   expect_error([&] { read_tum_trajectory((dir / "missing.txt").string()); }, {"missing.txt", "file not found"});

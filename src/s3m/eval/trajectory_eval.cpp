@@ -113,6 +113,28 @@ void EvalOptions::validate() const {
   rpe.validate();
 }
 
+namespace {
+
+// What the timestamps say about a failed association, when they say something: one side in
+// nanoseconds (ROS and EuRoC tools write them; TUM files use seconds: its span is ~1e9 times the
+// other's), or two clocks that cover similar durations but do not overlap (a recording's clock
+// against a ground truth that starts at 0).
+std::string association_hint(const io::Trajectory& gt, const io::Trajectory& est, double offset_s) {
+  const double g0 = gt.front().t_s, g1 = gt.back().t_s, e0 = est.front().t_s + offset_s, e1 = est.back().t_s + offset_s;
+  const double dg = g1 - g0, de = e1 - e0;
+  if (dg <= 0 || de <= 0) return "";
+  const auto about_1e9 = [](double ratio) { return ratio > 1e8 && ratio < 1e10; };
+  if (about_1e9(de / dg) || about_1e9(dg / de))
+    return fmt::format(": the {} timestamps look like nanoseconds (its span is {:.3g} times the other's); "
+                       "convert them to seconds", de > dg ? "estimate's" : "ground truth's", std::max(de / dg, dg / de));
+  if ((e0 > g1 || e1 < g0) && de > 0.5 * dg && de < 2 * dg)
+    return fmt::format(": the two clocks look {:.6f} s apart; shift the estimate by that much (s3m eval --offset, "
+                       "EvalOptions::offset_s) if they are the same recording", g0 - e0);
+  return "";
+}
+
+}  // namespace
+
 TrajectoryEvaluation evaluate_trajectory(const io::Trajectory& gt, const io::Trajectory& est,
                                          const EvalOptions& options, const std::string& name) {
   options.validate();
@@ -126,9 +148,9 @@ TrajectoryEvaluation evaluate_trajectory(const io::Trajectory& gt, const io::Tra
   ev.matched = ev.poses.t_s.size();
   if (ev.matched < 3)
     throw Error(fmt::format("eval '{}': only {} of {} estimated poses have a ground-truth pose within {} s "
-                            "(estimate spans {:.6f}..{:.6f} s, ground truth {:.6f}..{:.6f} s); need at least 3",
+                            "(estimate spans {:.6f}..{:.6f} s, ground truth {:.6f}..{:.6f} s); need at least 3{}",
                             name, ev.matched, est.size(), options.max_dt_s, est.front().t_s, est.back().t_s,
-                            gt.front().t_s, gt.back().t_s));
+                            gt.front().t_s, gt.back().t_s, association_hint(gt, est, options.offset_s)));
   // 2.+3. Align (se3 / sim3 / none) and measure absolute errors.
   ev.ate = compute_ate(ev.poses, options.align);
   // 4. Relative errors, with the estimate's translations in ground-truth scale.

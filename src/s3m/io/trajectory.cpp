@@ -1,6 +1,9 @@
 #include "s3m/io/trajectory.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <fstream>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -13,6 +16,7 @@ namespace s3m::io {
 namespace {
 
 constexpr const char* kTumLayout = "t tx ty tz qx qy qz qw";
+constexpr const char* kWFirstLayout = "t tx ty tz qw qx qy qz";
 
 void check_increasing(const LineReader& reader, const Trajectory& traj, double t_s) {
   if (!traj.empty() && !(t_s > traj.back().t_s))
@@ -20,23 +24,59 @@ void check_increasing(const LineReader& reader, const Trajectory& traj, double t
                 "strictly increasing timestamps");
 }
 
+// Where a file's header comment puts the quaternion: TUM writes "# timestamp tx ty tz qx qy qz qw";
+// EuRoC's CSVs (and tools that copy them) "#timestamp [ns],p_RS_R_x [m],...,q_RS_w [],q_RS_x [],..."
+// with w first, which read in TUM's order would be a different rotation of the same norm, so no
+// check could catch it. Only a header naming the columns changes the order; names are matched by
+// their first letter (q) and last (w / x / y / z), units in brackets skipped.
+bool header_says_w_first(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto first = line.find_first_not_of(" \t");
+    if (first == std::string::npos) continue;
+    if (line[first] != '#') return false;  // the first data line: no naming header before it
+    std::vector<std::string> names;
+    std::string tok;
+    std::istringstream words(line.substr(first + 1));
+    while (words >> tok)
+      for (std::size_t a = 0, b; a < tok.size(); a = b + 1) {
+        b = std::min(tok.find(',', a), tok.size());
+        std::string name = tok.substr(a, b - a);
+        if (!name.empty() && name[0] != '[') names.push_back(name);
+      }
+    const auto quat = [&](std::size_t i, char axis) {
+      return i < names.size() && std::tolower(names[i].front()) == 'q' && std::tolower(names[i].back()) == axis;
+    };
+    if (quat(4, 'w') && quat(5, 'x') && quat(6, 'y') && quat(7, 'z')) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 Trajectory read_tum_trajectory(const std::string& path) {
-  LineReader reader(path, std::string("a TUM trajectory '") + kTumLayout + "'");
+  // A header in EuRoC's order (w first) also allows EuRoC's ground truth, whose first 8 of 17
+  // columns are t, position, quaternion.
+  LineReader reader(path, std::string("a TUM trajectory '") + kTumLayout + "'");  // refuses FIFOs etc. first
+  const bool w_first = header_says_w_first(path);
+  const char* layout = w_first ? kWFirstLayout : kTumLayout;
   Trajectory traj;
   std::vector<std::string_view> tok;
-  static const char* names[] = {"t", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
+  static const char* tum_names[] = {"t", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
+  static const char* w_first_names[] = {"t", "tx", "ty", "tz", "qw", "qx", "qy", "qz"};
+  const char* const* names = w_first ? w_first_names : tum_names;
   while (reader.next(tok)) {
-    reader.expect_tokens(tok, 8, kTumLayout);
+    reader.expect_tokens(tok, 8, layout, /*at_least=*/w_first);
     double v[8];
     for (int i = 0; i < 8; ++i)
       v[i] = (i >= 1 && i <= 3) ? reader.coordinate_m(tok, i, names[i]) : reader.number(tok, i, names[i]);
-    const Quat q(v[7], v[4], v[5], v[6]);
+    const Quat q = w_first ? Quat(v[4], v[5], v[6], v[7]) : Quat(v[7], v[4], v[5], v[6]);
     if (std::abs(q.norm() - 1.0) > 0.01)
-      reader.fail(fmt::format("quaternion (qx qy qz qw) = ({} {} {} {}) has norm {:.4f}", v[4], v[5], v[6], v[7],
-                              q.norm()),
-                  "a unit quaternion in columns 5-8 (qx qy qz qw)");
+      reader.fail(fmt::format("quaternion ({}) = ({} {} {} {}) has norm {:.4f}", w_first ? "qw qx qy qz" : "qx qy qz qw",
+                              v[4], v[5], v[6], v[7], q.norm()),
+                  fmt::format("a unit quaternion in columns 5-8 ({})", w_first ? "qw qx qy qz, as the header says"
+                                                                               : "qx qy qz qw"));
     check_increasing(reader, traj, v[0]);
     traj.push_back({v[0], make_se3(Vec3(v[1], v[2], v[3]), q)});
   }

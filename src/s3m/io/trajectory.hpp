@@ -14,6 +14,9 @@ using Trajectory = std::vector<StampedPose>;  // core/se3.hpp
 // Throws ParseError(file, line, ...) on missing file, wrong column count, unparsable or non-finite
 // numbers, a quaternion whose norm is not ~1 (|n-1| > 0.01), or timestamps that do not strictly increase.
 // An empty file (only comments) is an error too: a trajectory without poses is never intended.
+// A header comment naming the columns with the quaternion's w first (EuRoC: "#timestamp [ns],
+// p_RS_R_x [m], ..., q_RS_w [], q_RS_x [], ...") reads "t tx ty tz qw qx qy qz" and ignores columns
+// after the 8th (EuRoC's ground truth has 17). Timestamps are taken as seconds either way.
 Trajectory read_tum_trajectory(const std::string& path);
 // Atomic; time as %.6f, values as %.9g.
 void write_tum_trajectory(const std::string& path, const Trajectory& trajectory);
