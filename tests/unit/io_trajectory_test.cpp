@@ -67,14 +67,16 @@ TEST(IoTrajectory, HeaderWithWFirstReadsEuRocOrder) {
   // (w x y z) = (0 0 0 1) is 180 deg about z; read in TUM's order it would be the identity.
   const auto dir = fresh_temp_dir();
   const std::string euroc_header =
-      "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z [], "
+      "#timestamp [ns], p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z [], "
       "v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1], b_w_RS_S_x [rad s^-1], b_w_RS_S_y [rad s^-1], "
       "b_w_RS_S_z [rad s^-1], b_a_RS_S_x [m s^-2], b_a_RS_S_y [m s^-2], b_a_RS_S_z [m s^-2]\n";
   const auto path = write_file(dir / "data.csv", euroc_header +
-                                                     "1.0,1,2,3,0,0,0,1,0,0,0,0,0,0,0,0,0\n"
-                                                     "2.0,1,2,3,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
+                                                     "1403636579763555584,1,2,3,0,0,0,1,0,0,0,0,0,0,0,0,0\n"
+                                                     "1403636579813555456,1,2,3,1,0,0,0,0,0,0,0,0,0,0,0,0\n");
   const auto traj = read_tum_trajectory(path);
   ASSERT_EQ(traj.size(), 2u);
+  EXPECT_NEAR(traj[0].t_s, 1403636579.763555584, 1e-6);  // "[ns]": seconds here
+  EXPECT_NEAR(traj[1].t_s - traj[0].t_s, 0.05, 1e-6);
   EXPECT_EQ(traj[0].T_w_x.translation(), Vec3(1, 2, 3));
   EXPECT_NEAR(rotation_angle_rad(traj[0].T_w_x.rotation()), M_PI, 1e-12);
   EXPECT_NEAR((traj[0].T_w_x.rotation() * Vec3(1, 0, 0) - Vec3(-1, 0, 0)).norm(), 0.0, 1e-12);  // about z
@@ -84,6 +86,10 @@ TEST(IoTrajectory, HeaderWithWFirstReadsEuRocOrder) {
   EXPECT_NEAR(rotation_angle_rad(read_tum_trajectory(compact).front().T_w_x.rotation()), M_PI, 1e-12);
   const auto bad = write_file(dir / "b.txt", "# t x y z qw qx qy qz\n1.0 1 2 3 0 0 0 1\n2.0 1 2 3 2 0 0 0\n");
   expect_error([&] { read_tum_trajectory(bad); }, {"b.txt:3", "quaternion (qw qx qy qz) = (2 0 0 0)", "as the header says"});
+  // "[ns]" on TUM's order too; without a unit the timestamps stay as written.
+  const auto tum_ns = write_file(dir / "ns.txt", "# timestamp [ns] tx ty tz qx qy qz qw\n2500000000 1 2 3 0 0 0 1\n");
+  EXPECT_DOUBLE_EQ(read_tum_trajectory(tum_ns).front().t_s, 2.5);
+  EXPECT_DOUBLE_EQ(read_tum_trajectory(compact).front().t_s, 1.0);
   // TUM's own header, a comment after the first pose, or no header keep TUM's order and 8 columns.
   for (const std::string text : {"# timestamp tx ty tz qx qy qz qw\n1.0 1 2 3 0 0 0 1\n",
                                  "1.0 1 2 3 0 0 0 1\n# t x y z qw qx qy qz\n", "1.0 1 2 3 0 0 0 1\n"}) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -24,42 +25,56 @@ void check_increasing(const LineReader& reader, const Trajectory& traj, double t
                 "strictly increasing timestamps");
 }
 
-// Where a file's header comment puts the quaternion: TUM writes "# timestamp tx ty tz qx qy qz qw";
+// What a file's header comment says about its columns. TUM writes "# timestamp tx ty tz qx qy qz qw";
 // EuRoC's CSVs (and tools that copy them) "#timestamp [ns],p_RS_R_x [m],...,q_RS_w [],q_RS_x [],..."
 // with w first, which read in TUM's order would be a different rotation of the same norm, so no
-// check could catch it. Only a header naming the columns changes the order; names are matched by
-// their first letter (q) and last (w / x / y / z), units in brackets skipped.
-bool header_says_w_first(const std::string& path) {
+// check could catch it, and with nanoseconds. Only a header naming the columns changes the reading;
+// quaternion names are matched by their first letter (q) and last (w / x / y / z), and a unit in
+// brackets belongs to the name before it.
+struct HeaderLayout {
+  bool w_first = false;  // columns 5-8 are qw qx qy qz
+  bool ns = false;       // the first column is "timestamp [ns]" (or "t [ns]", ...)
+};
+
+HeaderLayout header_layout(const std::string& path) {
   std::ifstream in(path);
   std::string line;
   while (std::getline(in, line)) {
     const auto first = line.find_first_not_of(" \t");
     if (first == std::string::npos) continue;
-    if (line[first] != '#') return false;  // the first data line: no naming header before it
-    std::vector<std::string> names;
+    if (line[first] != '#') return {};  // the first data line: no naming header before it
+    std::vector<std::pair<std::string, std::string>> columns;  // name, unit
     std::string tok;
     std::istringstream words(line.substr(first + 1));
     while (words >> tok)
       for (std::size_t a = 0, b; a < tok.size(); a = b + 1) {
         b = std::min(tok.find(',', a), tok.size());
-        std::string name = tok.substr(a, b - a);
-        if (!name.empty() && name[0] != '[') names.push_back(name);
+        const std::string word = tok.substr(a, b - a);
+        if (word.empty()) continue;
+        if (word[0] == '[' && !columns.empty()) columns.back().second = word;
+        else if (word[0] != '[') columns.push_back({word, ""});
       }
     const auto quat = [&](std::size_t i, char axis) {
-      return i < names.size() && std::tolower(names[i].front()) == 'q' && std::tolower(names[i].back()) == axis;
+      return i < columns.size() && std::tolower(columns[i].first.front()) == 'q' &&
+             std::tolower(columns[i].first.back()) == axis;
     };
-    if (quat(4, 'w') && quat(5, 'x') && quat(6, 'y') && quat(7, 'z')) return true;
+    HeaderLayout h;
+    h.w_first = quat(4, 'w') && quat(5, 'x') && quat(6, 'y') && quat(7, 'z');
+    const bool tum_order = quat(4, 'x') && quat(5, 'y') && quat(6, 'z') && quat(7, 'w');
+    h.ns = (h.w_first || tum_order) && columns[0].second == "[ns]";
+    if (h.w_first || tum_order) return h;
   }
-  return false;
+  return {};
 }
 
 }  // namespace
 
 Trajectory read_tum_trajectory(const std::string& path) {
   // A header in EuRoC's order (w first) also allows EuRoC's ground truth, whose first 8 of 17
-  // columns are t, position, quaternion.
+  // columns are t, position, quaternion; its "[ns]" makes the timestamps seconds here.
   LineReader reader(path, std::string("a TUM trajectory '") + kTumLayout + "'");  // refuses FIFOs etc. first
-  const bool w_first = header_says_w_first(path);
+  const HeaderLayout header = header_layout(path);
+  const bool w_first = header.w_first;
   const char* layout = w_first ? kWFirstLayout : kTumLayout;
   Trajectory traj;
   std::vector<std::string_view> tok;
@@ -77,8 +92,9 @@ Trajectory read_tum_trajectory(const std::string& path) {
                               v[4], v[5], v[6], v[7], q.norm()),
                   fmt::format("a unit quaternion in columns 5-8 ({})", w_first ? "qw qx qy qz, as the header says"
                                                                                : "qx qy qz qw"));
-    check_increasing(reader, traj, v[0]);
-    traj.push_back({v[0], make_se3(Vec3(v[1], v[2], v[3]), q)});
+    const double t_s = header.ns ? v[0] * 1e-9 : v[0];
+    check_increasing(reader, traj, t_s);
+    traj.push_back({t_s, make_se3(Vec3(v[1], v[2], v[3]), q)});
   }
   if (traj.empty()) throw ParseError(path, 0, "no poses in file", std::string("lines '") + kTumLayout + "'");
   return traj;

@@ -16,7 +16,8 @@ using Trajectory = std::vector<StampedPose>;  // core/se3.hpp
 // An empty file (only comments) is an error too: a trajectory without poses is never intended.
 // A header comment naming the columns with the quaternion's w first (EuRoC: "#timestamp [ns],
 // p_RS_R_x [m], ..., q_RS_w [], q_RS_x [], ...") reads "t tx ty tz qw qx qy qz" and ignores columns
-// after the 8th (EuRoC's ground truth has 17). Timestamps are taken as seconds either way.
+// after the 8th (EuRoC's ground truth has 17). A naming header whose first column has the unit
+// "[ns]" gives nanoseconds, returned as seconds; otherwise timestamps are seconds.
 Trajectory read_tum_trajectory(const std::string& path);
 // Atomic; time as %.6f, values as %.9g.
 void write_tum_trajectory(const std::string& path, const Trajectory& trajectory);
