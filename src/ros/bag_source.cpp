@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
 #include <vector>
 
 #include <geometry_msgs/PoseStamped.h>
@@ -39,6 +41,21 @@ boost::shared_ptr<Msg> instantiate(const rosbag::MessageInstance& m, const std::
     throw Error(bag + ": topic " + m.getTopic() + " carries " + m.getDataType() + " (expected " +
                 ros::message_traits::DataType<Msg>::value() + ")");
   return p;
+}
+
+// The bag's topics of one message type with their message counts, for an error about a topic that
+// is not there: a recorder's topic names (a RealSense bag's /device_0/sensor_1/Color_0/image/data)
+// are what the user would otherwise have to dig out with `rosbag info`.
+std::string topics_of_type(const rosbag::Bag& bag, const std::string& datatype) {
+  std::map<std::string, std::size_t> counts;
+  rosbag::View all(bag);  // getConnections() is not const
+  for (const rosbag::ConnectionInfo* c : all.getConnections())
+    if (c->datatype == datatype) counts[c->topic] = 0;
+  for (auto& [topic, n] : counts) n = rosbag::View(bag, rosbag::TopicQuery(topic)).size();
+  if (counts.empty()) return "; the bag has no " + datatype + " topic";
+  std::string list;
+  for (const auto& [topic, n] : counts) list += (list.empty() ? "" : ", ") + topic + " (" + std::to_string(n) + ")";
+  return "; its " + datatype + " topics (messages): " + list;
 }
 
 Stream image_index(const rosbag::Bag& bag, const std::string& path, const std::string& topic) {
@@ -81,8 +98,12 @@ class BagFrameSource final : public pipeline::FrameSource {
     }
     rgb_ = image_index(bag_, path, topics.rgb);
     depth_ = image_index(bag_, path, topics.depth);
-    if (rgb_.empty()) throw Error(path + ": no messages on the colour topic " + topics.rgb + " (--rgb-topic)");
-    if (depth_.empty()) throw Error(path + ": no messages on the depth topic " + topics.depth + " (--depth-topic)");
+    const std::string images = "sensor_msgs/Image";
+    if (rgb_.empty())
+      throw Error(path + ": no messages on the colour topic " + topics.rgb + " (--rgb-topic)" + topics_of_type(bag_, images));
+    if (depth_.empty())
+      throw Error(path + ": no messages on the depth topic " + topics.depth + " (--depth-topic)" +
+                  topics_of_type(bag_, images));
     if (!topics.labels.empty()) labels_ = image_index(bag_, path, topics.labels);
     camera_ = read_camera(topics.camera_info, dataset.camera);
     read_groundtruth(topics.groundtruth);
@@ -121,7 +142,8 @@ class BagFrameSource final : public pipeline::FrameSource {
       const PinholeCamera defaults;
       return camera_from_info(*instantiate<sensor_msgs::CameraInfo>(m, path_), defaults.bf);
     }
-    throw Error(path_ + ": no messages on the camera-info topic " + topic + " (--camera-info-topic)");
+    throw Error(path_ + ": no messages on the camera-info topic " + topic + " (--camera-info-topic, or \"\" and the "
+                "config's dataset.camera)" + topics_of_type(bag_, "sensor_msgs/CameraInfo"));
   }
 
   void read_groundtruth(const std::string& topic) {

@@ -131,16 +131,36 @@ TEST(RosBag, MissingTopicIsNamed) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   const fs::path bag = dir / "empty.bag";
+  // A recorder's own topic names (a RealSense bag's): the error lists the bag's image topics with
+  // their message counts, so the user can pass them without `rosbag info`.
+  const std::string colour = "/device_0/sensor_1/Color_0/image/data", depth = "/device_0/sensor_0/Depth_0/image/data";
   {
     rosbag::Bag b(bag.string(), rosbag::bagmode::Write);
-    b.write("/other", ros::Time(1.0), ros1::bgr_to_msg(cv::Mat(2, 2, CV_8UC3, cv::Scalar::all(0))));
+    for (int i = 0; i < 3; ++i)
+      b.write(colour, ros::Time(1.0 + i), ros1::bgr_to_msg(cv::Mat(2, 2, CV_8UC3, cv::Scalar::all(0))));
+    b.write(depth, ros::Time(1.0), ros1::depth_to_msg(cv::Mat(2, 2, CV_32FC1, cv::Scalar::all(1.0f)), "16UC1"));
   }
-  try {
-    ros1::open_bag_source(bag.string(), ros1::BagTopics{}, pipeline::DatasetConfig{});
-    FAIL() << "a bag without the colour topic was accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("/camera/rgb/image_color"), std::string::npos) << e.what();
-  }
+  const auto error = [&](const ros1::BagTopics& topics) {
+    try {
+      ros1::open_bag_source(bag.string(), topics, pipeline::DatasetConfig{});
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    ADD_FAILURE() << "a bag without the topic was accepted";
+    return std::string();
+  };
+  const std::string no_colour = error(ros1::BagTopics{});
+  EXPECT_NE(no_colour.find("no messages on the colour topic /camera/rgb/image_color (--rgb-topic)"), std::string::npos)
+      << no_colour;
+  EXPECT_NE(no_colour.find("its sensor_msgs/Image topics (messages): " + depth + " (1), " + colour + " (3)"),
+            std::string::npos)
+      << no_colour;
+  ros1::BagTopics named;
+  named.rgb = colour;
+  named.depth = depth;
+  const std::string no_info = error(named);  // the colour and depth topics now exist; camera info does not
+  EXPECT_NE(no_info.find("camera-info topic /camera/rgb/camera_info"), std::string::npos) << no_info;
+  EXPECT_NE(no_info.find("the bag has no sensor_msgs/CameraInfo topic"), std::string::npos) << no_info;
   fs::remove_all(dir);
 }
 
