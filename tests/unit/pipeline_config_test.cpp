@@ -109,6 +109,32 @@ TEST(PipelineConfig, EveryShippedPresetLoads) {
   EXPECT_TRUE(std::filesystem::exists(d455.dataset.camera)) << d455.dataset.camera;
 }
 
+TEST(PipelineConfig, ACopiedPresetStillFindsTheShippedFilesItNames) {
+  // The usual way to make one's own preset: copy a shipped one elsewhere and edit it. Its relative
+  // "../models/..." and "cameras/..." then point at nothing beside the copy: the shipped files are
+  // meant, and used. A file beside the copy wins.
+  namespace fs = std::filesystem;
+  const fs::path config = fs::path(S3M_TEST_DATA_DIR) / ".." / ".." / "config";
+  const fs::path dir = fs::temp_directory_path() / "s3m_pipeline_config_copy";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const char* name : {"kitchen_7scenes.yaml", "realsense_d455.yaml"}) fs::copy(config / name, dir / name);
+  const PipelineConfig kitchen = load_pipeline_config((dir / "kitchen_7scenes.yaml").string());
+  EXPECT_TRUE(fs::equivalent(kitchen.segmenter.model, config / ".." / "models" / "deeplabv3plus_mnv2_ade20k_fast.yaml"))
+      << kitchen.segmenter.model;
+  const PipelineConfig d455 = load_pipeline_config((dir / "realsense_d455.yaml").string());
+  EXPECT_TRUE(fs::equivalent(d455.dataset.camera, config / "cameras" / "realsense_d455_640x480.yaml"))
+      << d455.dataset.camera;
+  fs::create_directories(dir / "cameras");
+  fs::copy(config / "cameras" / "realsense_d455_640x480.yaml", dir / "cameras" / "realsense_d455_640x480.yaml");
+  EXPECT_EQ(load_pipeline_config((dir / "realsense_d455.yaml").string()).dataset.camera,
+            (dir / "cameras" / "realsense_d455_640x480.yaml").string());
+  // A file that is neither beside it nor shipped stays where the preset says, for the error to name.
+  std::ofstream(dir / "own.yaml") << "segmenter: {type: onnx, model: ../nowhere/m.yaml}\n";
+  EXPECT_EQ(load_pipeline_config((dir / "own.yaml").string()).segmenter.model, (dir.parent_path() / "nowhere" / "m.yaml").string());
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace s3m::pipeline
 

@@ -3,7 +3,10 @@
 #include <cmath>
 #include <filesystem>
 
+#include <spdlog/spdlog.h>
+
 #include "s3m/core/error.hpp"
+#include "s3m/core/shipped_files.hpp"
 #include "s3m/core/yaml_util.hpp"
 
 namespace s3m::pipeline {
@@ -165,6 +168,24 @@ void PipelineConfig::validate() const {
   segmenter.validate();
 }
 
+namespace {
+
+// A relative path in a preset names a file next to the preset. A shipped preset copied elsewhere to
+// be edited (the usual way to make one's own) still means the shipped file ("../models/x.yaml" seen
+// from config/), so when nothing is beside the copy, the shipped tree's file is used, and said so.
+std::string preset_relative(const std::string& preset, const std::string& value) {
+  namespace fs = std::filesystem;
+  const fs::path beside = (fs::path(preset).parent_path() / value).lexically_normal();
+  const auto exists = [](const fs::path& p) { return fs::exists(p) || fs::exists(p.string() + ".yaml"); };
+  if (exists(beside)) return beside.string();
+  const fs::path shipped = shipped_file((fs::path("config") / value).lexically_normal().string());
+  if (!exists(shipped)) return beside.string();  // the error names where it was expected
+  spdlog::info("{}: '{}' is not next to this preset; using the shipped {}", preset, value, shipped.string());
+  return shipped.string();
+}
+
+}  // namespace
+
 PipelineConfig load_pipeline_config(const std::string& path) {
   return pipeline_config_from_yaml(load_yaml_file(path), path);
 }
@@ -188,7 +209,7 @@ PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::stri
   // A relative camera file is relative to the preset (presets live next to their camera files).
   const auto& cam = c.dataset.camera;
   if (!cam.empty() && cam.find(".yaml") != std::string::npos && std::filesystem::path(cam).is_relative())
-    c.dataset.camera = (std::filesystem::path(path).parent_path() / cam).lexically_normal().string();
+    c.dataset.camera = preset_relative(path, cam);
   validate_in(c.dataset, path, "dataset");
   validate_in(c.slam.loop_closing, path, "loop_closing");
   validate_in(c.slam, path, "slam");
@@ -199,8 +220,7 @@ PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::stri
   validate_in(c.map, path, "map");
   // Model and vocabulary paths in a preset are relative to the preset, like camera files.
   for (std::string* p : {&c.segmenter.model, &c.segmenter.model_dir, &c.slam.loop_closing.vocabulary})
-    if (!p->empty() && std::filesystem::path(*p).is_relative())
-      *p = (std::filesystem::path(path).parent_path() / *p).lexically_normal().string();
+    if (!p->empty() && std::filesystem::path(*p).is_relative()) *p = preset_relative(path, *p);
   validate_in(c.segmenter, path, "segmenter");
   return c;
 }
