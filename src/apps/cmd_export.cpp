@@ -43,7 +43,10 @@ void run_export(const ExportOptions& o) {
 void register_export(CLI::App& app) {
   auto opts = std::make_shared<ExportOptions>();
   auto* cmd = app.add_subcommand("export", "Export a semantic map to PLY, a class-coloured ColorOcTree and/or .bt");
-  cmd->add_option("map", opts->map, "semantic map (.ot written by s3m run)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("map", opts->map, "semantic map (.ot written by s3m run); or the run's --out folder")
+      ->required()
+      ->transform(map_or_run_folder())
+      ->check(CLI::ExistingFile);
   cmd->add_option("--ply", opts->ply, "PLY points: voxel centres with colour, class id and confidence");
   cmd->add_option("--ply-color", opts->ply_color, "PLY colour: rgb (observed) or class (palette)")->capture_default_str();
   cmd->add_option("--color-ot", opts->color_ot, "ColorOcTree .ot coloured by semantic class");

@@ -101,7 +101,10 @@ void run_query(const QueryOptions& o) {
 void register_query(CLI::App& app) {
   auto opts = std::make_shared<QueryOptions>();
   auto* cmd = app.add_subcommand("query", "Query a semantic map: object instances of a class, class at a point");
-  cmd->add_option("map", opts->map, "semantic map (.ot written by s3m run)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("map", opts->map, "semantic map (.ot written by s3m run); or the run's --out folder")
+      ->required()
+      ->transform(map_or_run_folder())
+      ->check(CLI::ExistingFile);
   cmd->add_option("--class,-c", opts->cls, "class name: list its object instances (connected components)");
   cmd->add_option("--at", opts->at, "x y z [m]: class of the voxel at this world point")->expected(3);
   cmd->add_option("--min-voxels", opts->min_voxels, "ignore instances smaller than this")->capture_default_str();

@@ -36,7 +36,10 @@ void register_view(CLI::App& app) {
   auto in = std::make_shared<viewer::ViewInputs>();
   auto no_trajectory = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand("view", "Write an interactive 3-D viewer (HTML, opens from file://) for a semantic map");
-  cmd->add_option("map", in->map, "semantic map (.ot written by s3m run or the ROS node)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("map", in->map, "semantic map (.ot written by s3m run or the ROS node); or the run's --out folder")
+      ->required()
+      ->transform(map_or_run_folder())
+      ->check(CLI::ExistingFile);
   cmd->add_option("--trajectory,-t", in->trajectory,
                   "camera trajectory to draw (TUM or KITTI; default: trajectory_camera.txt next to the map)");
   cmd->add_option("--keyframes", in->keyframes, "keyframe poses to draw as frusta (TUM; default: keyframes.txt next to the map)");

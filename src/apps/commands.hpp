@@ -1,9 +1,27 @@
 #pragma once
 // Each sub-command lives in its own cmd_<name>.cpp and registers itself on the root app.
 // The callback throws s3m::Error on failure; main() turns that into a message and exit code 1.
+#include <filesystem>
+#include <string>
+
 #include <CLI/CLI.hpp>
 
 namespace s3m::apps {
+
+// The map argument of view / query / export: the .ot file, or the folder `s3m run --out` wrote
+// (what a user has just seen printed as "outputs: OUT"), read as its map.ot.
+inline CLI::Validator map_or_run_folder() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        namespace fs = std::filesystem;
+        if (!fs::is_directory(path)) return "";
+        const fs::path ot = fs::path(path) / "map.ot";
+        if (!fs::is_regular_file(ot)) return path + " is a folder without map.ot (a --slam-only run?)";
+        path = ot.string();
+        return "";
+      },
+      "MAP.ot|RUN_FOLDER");
+}
 
 void register_eval(CLI::App& app);     // trajectory evaluation (ATE/RPE, plots)
 void register_sim(CLI::App& app);      // synthetic RGB-D sequences
