@@ -25,10 +25,18 @@ io::Trajectory read_any(const std::string& path, const EvalArgs& a) {
   return io::read_trajectory_auto(path, a.kitti_dt_s);
 }
 
+// A file's display name: its stem, or for s3m run's trajectory_camera.txt (every run's) its folder's.
+std::string display_name(const std::string& file) {
+  const fs::path p = fs::absolute(file).lexically_normal();
+  if (p.filename() == "trajectory_camera.txt" && !p.parent_path().filename().empty())
+    return p.parent_path().filename().string();
+  return p.stem().string();
+}
+
 std::vector<std::string> unique_names(const std::vector<std::string>& files, const std::vector<std::string>& given) {
   std::vector<std::string> names;
   for (std::size_t i = 0; i < files.size(); ++i) {
-    std::string n = i < given.size() ? given[i] : fs::path(files[i]).stem().string();
+    std::string n = i < given.size() ? given[i] : display_name(files[i]);
     for (const auto& prev : names)
       if (prev == n) n += "_" + std::to_string(i + 1);
     names.push_back(n);
@@ -71,11 +79,20 @@ void run_eval(const EvalArgs& a) {
 void register_eval(CLI::App& app) {
   auto args = std::make_shared<EvalArgs>();
   auto* cmd = app.add_subcommand("eval", "Evaluate trajectories against ground truth: ATE, RPE, plots (TUM definitions)");
-  cmd->add_option("--gt", args->gt, "Ground-truth trajectory (TUM 't tx ty tz qx qy qz qw' or KITTI 3x4)")
-      ->required()->check(CLI::ExistingFile);
-  cmd->add_option("--est", args->est, "Estimated trajectory file(s)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--est2", args->est2, "Further estimates to compare (overlaid in the plots)")->check(CLI::ExistingFile);
-  cmd->add_option("--name", args->names, "Display names for the estimates, in order (default: file stems)");
+  cmd->add_option("--gt", args->gt,
+                  "Ground-truth trajectory (TUM 't tx ty tz qx qy qz qw' or KITTI 3x4), or a dataset folder (its groundtruth.txt)")
+      ->required()
+      ->transform(file_or_folder("groundtruth.txt", "a dataset without ground truth?"))
+      ->check(CLI::ExistingFile);
+  const auto run_folder = file_or_folder("trajectory_camera.txt", "not a folder s3m run wrote?");
+  cmd->add_option("--est", args->est, "Estimated trajectory file(s), or s3m run output folder(s) (trajectory_camera.txt)")
+      ->required()
+      ->transform(run_folder)
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--est2", args->est2, "Further estimates to compare (overlaid in the plots)")
+      ->transform(run_folder)
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--name", args->names, "Display names for the estimates, in order (default: file stems; a run's folder name)");
   cmd->add_option("--align", args->align, "Alignment before ATE: se3 (Horn), sim3 (with scale, monocular) or none")
       ->check(CLI::IsMember({"se3", "sim3", "none"}))->capture_default_str();
   cmd->add_option("--delta", args->delta, "RPE pair distance")->capture_default_str();

@@ -8,20 +8,23 @@
 
 namespace s3m::apps {
 
-// The map argument of view / query / export: the .ot file, or the folder `s3m run --out` wrote
-// (what a user has just seen printed as "outputs: OUT"), read as its map.ot.
-inline CLI::Validator map_or_run_folder() {
+// A file argument that also takes the folder holding it under its usual name: the folder
+// `s3m run --out` wrote (what a user has just seen printed as "outputs: OUT") for its map.ot or
+// trajectory_camera.txt, a dataset folder for its groundtruth.txt. `missing` says what a folder
+// without the file probably is.
+inline CLI::Validator file_or_folder(const std::string& name, const std::string& missing) {
   return CLI::Validator(
-      [](std::string& path) -> std::string {
+      [name, missing](std::string& path) -> std::string {
         namespace fs = std::filesystem;
         if (!fs::is_directory(path)) return "";
-        const fs::path ot = fs::path(path) / "map.ot";
-        if (!fs::is_regular_file(ot)) return path + " is a folder without map.ot (a --slam-only run?)";
-        path = ot.string();
+        const fs::path file = fs::path(path) / name;
+        if (!fs::is_regular_file(file)) return path + " is a folder without " + name + " (" + missing + ")";
+        path = file.string();
         return "";
       },
-      "MAP.ot|RUN_FOLDER");
+      name + "|FOLDER");
 }
+inline CLI::Validator map_or_run_folder() { return file_or_folder("map.ot", "a --slam-only run?"); }
 
 void register_eval(CLI::App& app);     // trajectory evaluation (ATE/RPE, plots)
 void register_sim(CLI::App& app);      // synthetic RGB-D sequences

@@ -66,6 +66,42 @@ TEST(CliEval, MetricsJsonHoldsTheKnownErrors) {
   }
 }
 
+TEST(CliEval, FoldersStandForTheirGroundTruthAndTrajectory) {
+  // --gt DATASET (its groundtruth.txt), --est RUN_A --est2 RUN_B (their trajectory_camera.txt),
+  // each estimate named by its run folder rather than twice "trajectory_camera".
+  const fs::path dir = scratch_dir() / "cli_eval_folders";
+  fs::remove_all(dir);
+  for (const char* sub : {"dataset", "run_a", "run_b", "not_a_run"}) fs::create_directories(dir / sub);
+  write_helix(dir / "dataset" / "groundtruth.txt", 0, 0);
+  write_helix(dir / "run_a" / "trajectory_camera.txt", 0.03, -0.04);
+  write_helix(dir / "run_b" / "trajectory_camera.txt", 0, 0);
+  std::string log;
+  const std::string out = (dir / "out").string();
+  ASSERT_EQ(s3m_eval("--gt '" + (dir / "dataset").string() + "' --est '" + (dir / "run_a").string() + "' --est2 '" +
+                         (dir / "run_b").string() + "/' --align none --no-plots --out '" + out + "'",
+                     dir / "log.txt", &log),
+            0)
+      << log;
+  const auto m = nlohmann::json::parse(read_bytes(out + "/metrics.json"));
+  ASSERT_EQ(m["estimates"].size(), 2u) << m.dump(1);
+  EXPECT_EQ(m["estimates"][0]["name"], "run_a");
+  EXPECT_EQ(m["estimates"][1]["name"], "run_b");
+  EXPECT_NEAR(m["estimates"][0]["ate"]["rmse_m"].get<double>(), 0.05, 1e-6);
+  EXPECT_LT(m["estimates"][1]["ate"]["rmse_m"].get<double>(), 1e-9);
+  EXPECT_TRUE(fs::exists(dir / "out" / "run_a_aligned.txt"));
+  // A folder without the file is named with what it probably is.
+  EXPECT_NE(s3m_eval("--gt '" + (dir / "not_a_run").string() + "' --est '" + (dir / "run_a").string() + "' --no-plots",
+                     dir / "log.txt", &log),
+            0);
+  EXPECT_NE(log.find("not_a_run is a folder without groundtruth.txt (a dataset without ground truth?)"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(s3m_eval("--gt '" + (dir / "dataset").string() + "' --est '" + (dir / "not_a_run").string() + "' --no-plots",
+                     dir / "log.txt", &log),
+            0);
+  EXPECT_NE(log.find("not_a_run is a folder without trajectory_camera.txt"), std::string::npos) << log;
+}
+
 TEST(CliEval, BadInputExitsOneWithTheFileAndLine) {
   const fs::path dir = scratch_dir() / "cli_eval_bad";
   fs::remove_all(dir);
