@@ -28,12 +28,8 @@ void write_helix(const fs::path& path, double sx, double sy) {
   std::fclose(f);
 }
 
-// Runs `s3m eval ARGS`; returns its exit status, stdout+stderr in *log.
 int s3m_eval(const std::string& args, const fs::path& log_path, std::string* log) {
-  const std::string cmd = std::string(S3M_BINARY) + " eval " + args + " > '" + log_path.string() + "' 2>&1";
-  const int status = std::system(cmd.c_str());
-  *log = read_bytes(log_path.string());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run_s3m("eval " + args, log_path, log);
 }
 
 TEST(CliEval, MetricsJsonHoldsTheKnownErrors) {

@@ -1,8 +1,6 @@
 // `s3m query`, `s3m export` and `s3m view` (the built binary, as a user runs them) take the run
 // folder that `s3m run --out` printed as well as its map.ot: same output either way, and a folder
 // without a map (a --slam-only run) is named with the reason.
-#include <cstdlib>
-
 #include "pipeline_fixture.hpp"
 
 namespace s3m::it {
@@ -10,13 +8,7 @@ namespace {
 
 const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
 
-// Runs `s3m ARGS`; returns its exit status, stdout+stderr in *log.
-int s3m(const std::string& args, const fs::path& log_path, std::string* log) {
-  const std::string cmd = std::string(S3M_BINARY) + " " + args + " > '" + log_path.string() + "' 2>&1";
-  const int status = std::system(cmd.c_str());
-  *log = read_bytes(log_path.string());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+int s3m(const std::string& args, const fs::path& log_path, std::string* log) { return run_s3m(args, log_path, log); }
 
 TEST(CliMap, RunFolderStandsForItsMap) {
   const fs::path dir = scratch_dir() / "cli_map";

@@ -1,11 +1,13 @@
 #pragma once
 // Shared set-up of the end-to-end tests: one short simulated sequence (fixed seed) rendered once per
 // test binary, and helpers to run the pipeline on it into fresh output folders.
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -79,6 +81,14 @@ inline std::string read_bytes(const std::string& path) {
   std::stringstream ss;
   ss << f.rdbuf();
   return ss.str();
+}
+
+// Runs the built `s3m ARGS` as a user would; returns its exit status, stdout+stderr in *log.
+inline int run_s3m(const std::string& args, const fs::path& log_path, std::string* log) {
+  const std::string cmd = std::string(S3M_BINARY) + " " + args + " > '" + log_path.string() + "' 2>&1";
+  const int status = std::system(cmd.c_str());
+  *log = read_bytes(log_path.string());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace s3m::it
