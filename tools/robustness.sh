@@ -126,6 +126,13 @@ d=$(mk fifo_assoc); rm $d/associations.txt; mkfifo $d/associations.txt
 d=$(mk fifo_png); f=$d/$(nth $d/rgb.txt 3); rm $f; mkfifo $f
 d=$(mk dir_assoc); rm $d/associations.txt; mkdir $d/associations.txt
 mkfifo fifo_preset.yaml
+# s7 NAME: seq as Microsoft 7-Scenes ships a sequence (frame-NNNNNN.color.png, .depth.png, .pose.txt; no lists).
+s7() { rm -rf "$1"; mkdir -p "$1"; local n=0 _a rgb _b depth; while read -r _a rgb _b depth; do
+  cp "seq/$rgb" "$(printf '%s/frame-%06d.color.png' "$1" $n)"; cp "seq/$depth" "$(printf '%s/frame-%06d.depth.png' "$1" $n)"
+  printf '1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n' > "$(printf '%s/frame-%06d.pose.txt' "$1" $n)"; n=$((n + 1))
+  done < <(grep -v '^#' seq/associations.txt); }
+s7 7scenes_no_depth; rm 7scenes_no_depth/frame-000003.depth.png
+s7 7scenes_bad_pose; printf '1 0 0 0\n0 1 0 0\n0 0 1\n0 0 0 1\n' > 7scenes_bad_pose/frame-000002.pose.txt
 # preset NAME SED-EXPR...: config/sim.yaml edited; absurd settings of issue 24.
 preset() { local n=$1; shift; cp "$REPO/config/sim.yaml" $n.yaml; for e in "$@"; do sed -i "$e" $n.yaml; done; }
 preset threads_65537 's/radius_min_neighbors: 1}/radius_min_neighbors: 1, num_threads: 65537}/'
@@ -139,6 +146,8 @@ echo "|---|---|---|---|"
 row "dataset folder missing" "${RUN[@]}" nope --out out
 row "rgb.txt missing" "${RUN[@]}" no_rgb_list --out out
 row "image file missing" "${RUN[@]}" missing_png --out out
+row "7-Scenes folder: a frame without its depth image" "${RUN[@]}" 7scenes_no_depth --out out
+row "7-Scenes folder: a pose file with a short row" "${RUN[@]}" 7scenes_bad_pose --out out
 skipped "corrupt PNG (text), frame 2" "${RUN[@]}" corrupt_png --out out
 skipped "truncated depth PNG (first half), frame 4" "${RUN[@]}" truncated_png --out out
 skipped "truncated colour JPEG (first half), frame 3" "${RUN[@]}" truncated_jpg --out out

@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/eval/report.hpp"
+#include "s3m/io/seven_scenes.hpp"
 #include "s3m/io/trajectory.hpp"
 
 namespace s3m::apps {
@@ -23,6 +24,28 @@ io::Trajectory read_any(const std::string& path, const EvalArgs& a) {
   if (a.format == "tum") return io::read_tum_trajectory(path);
   if (a.format == "kitti") return io::read_kitti_trajectory(path, a.kitti_dt_s);
   return io::read_trajectory_auto(path, a.kitti_dt_s);
+}
+
+// --gt: a trajectory file, or a dataset folder: its groundtruth.txt, or a 7-Scenes folder's pose files.
+CLI::Validator ground_truth_source() {
+  const auto tum_folder = file_or_folder("groundtruth.txt", "a dataset without ground truth?");
+  return CLI::Validator(
+      [tum_folder](std::string& path) -> std::string {
+        if (fs::is_directory(path) && !fs::exists(fs::path(path) / "groundtruth.txt") && io::is_seven_scenes_folder(path))
+          return "";
+        const std::string problem = tum_folder(path);
+        return problem.empty() ? CLI::ExistingFile(path) : problem;
+      },
+      "groundtruth.txt|FOLDER");
+}
+
+io::Trajectory read_ground_truth(const EvalArgs& a) {
+  if (!fs::is_directory(a.gt)) return read_any(a.gt, a);
+  io::Trajectory gt;
+  for (const auto& f : io::read_seven_scenes(a.gt))
+    if (f.T_w_c) gt.push_back({f.t_s, *f.T_w_c});
+  if (gt.empty()) throw ParseError(a.gt, 0, "no frame-NNNNNN.pose.txt with a finite pose", "a 7-Scenes folder with ground truth");
+  return gt;
 }
 
 // A file's display name: its stem, or for s3m run's trajectory_camera.txt (every run's) its folder's.
@@ -55,7 +78,7 @@ void run_eval(const EvalArgs& a) {
   // 1. Read everything first so a bad file fails before any output is written.
   std::vector<std::string> files = a.est;
   files.insert(files.end(), a.est2.begin(), a.est2.end());
-  const auto gt = read_any(a.gt, a);
+  const auto gt = read_ground_truth(a);
   std::vector<io::Trajectory> estimates;
   for (const auto& f : files) estimates.push_back(read_any(f, a));
   // 2. Evaluate each estimate.
@@ -80,10 +103,10 @@ void register_eval(CLI::App& app) {
   auto args = std::make_shared<EvalArgs>();
   auto* cmd = app.add_subcommand("eval", "Evaluate trajectories against ground truth: ATE, RPE, plots (TUM definitions)");
   cmd->add_option("--gt", args->gt,
-                  "Ground-truth trajectory (TUM 't tx ty tz qx qy qz qw' or KITTI 3x4), or a dataset folder (its groundtruth.txt)")
+                  "Ground-truth trajectory (TUM 't tx ty tz qx qy qz qw' or KITTI 3x4), or a dataset folder (its "
+                  "groundtruth.txt, or a 7-Scenes folder's frame-NNNNNN.pose.txt at t = N / 30 s)")
       ->required()
-      ->transform(file_or_folder("groundtruth.txt", "a dataset without ground truth?"))
-      ->check(CLI::ExistingFile);
+      ->transform(ground_truth_source());
   const auto run_folder = file_or_folder("trajectory_camera.txt", "not a folder s3m run wrote?");
   cmd->add_option("--est", args->est, "Estimated trajectory file(s), or s3m run output folder(s) (trajectory_camera.txt)")
       ->required()

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <iomanip>
 
 #include <nlohmann/json.hpp>
 
@@ -96,6 +98,42 @@ TEST(CliEval, FoldersStandForTheirGroundTruthAndTrajectory) {
                      dir / "log.txt", &log),
             0);
   EXPECT_NE(log.find("not_a_run is a folder without trajectory_camera.txt"), std::string::npos) << log;
+}
+
+TEST(CliEval, SevenScenesFolderIsGroundTruth) {
+  // A 7-Scenes folder as downloaded: its frame-NNNNNN.pose.txt (4x4 camera-to-world) at t = N / 30 s
+  // are the ground truth; the estimate is the same helix shifted by (0.03, -0.04, 0): ATE 0.05 m.
+  const fs::path dir = scratch_dir() / "cli_eval_7scenes";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "seq-01");
+  std::FILE* est = std::fopen((dir / "est.txt").c_str(), "w");
+  ASSERT_NE(est, nullptr);
+  for (int n = 0; n < 40; ++n) {
+    const double a = 0.1 * n, c = std::cos(a), s = std::sin(a);
+    char stem[64];
+    std::snprintf(stem, sizeof stem, "frame-%06d", n);
+    const fs::path base = dir / "seq-01" / stem;
+    std::ofstream(base.string() + ".color.png");  // only their names matter to eval
+    std::ofstream(base.string() + ".depth.png");
+    std::ofstream(base.string() + ".pose.txt") << std::setprecision(12) << c << "\t" << -s << "\t0\t" << c << "\t\n"
+                                               << s << "\t" << c << "\t0\t" << s << "\t\n"
+                                               << "0\t0\t1\t" << 0.01 * n << "\t\n0\t0\t0\t1\t\n";
+    std::fprintf(est, "%.6f %.9f %.9f %.9f 0 0 %.9f %.9f\n", n / 30.0, c + 0.03, s - 0.04, 0.01 * n, std::sin(a / 2),
+                 std::cos(a / 2));
+  }
+  std::fclose(est);
+  std::string log;
+  const std::string out = (dir / "out").string();
+  ASSERT_EQ(s3m_eval("--gt '" + (dir / "seq-01").string() + "/' --est '" + (dir / "est.txt").string() +
+                         "' --align none --no-plots --out '" + out + "'",
+                     dir / "log.txt", &log),
+            0)
+      << log;
+  const auto m = nlohmann::json::parse(read_bytes(out + "/metrics.json"));
+  EXPECT_EQ(m["matched"].get<int>(), 40) << m.dump(1);
+  EXPECT_NEAR(m["ate"]["rmse_m"].get<double>(), 0.05, 1e-6);
+  EXPECT_NEAR(m["ate"]["max_m"].get<double>(), 0.05, 1e-6);
+  EXPECT_LT(m["rpe"]["trans_rmse_m"].get<double>(), 1e-6);
 }
 
 TEST(CliEval, BadInputExitsOneWithTheFileAndLine) {

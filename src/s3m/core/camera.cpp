@@ -53,6 +53,11 @@ std::optional<PinholeCamera> camera_preset(const std::string& name) {
   } else if (name == "tum_fr3") {
     c.fx = 535.4; c.fy = 539.2; c.cx = 320.1; c.cy = 247.6;
     c.dist = {0, 0, 0, 0, 0};
+  } else if (name == "7scenes") {
+    // Microsoft 7-Scenes' published nominal intrinsics (no per-device calibration, no distortion);
+    // depth in millimetres. The raw Kinect depth is not registered to these colour pixels.
+    c.fx = c.fy = 585.0; c.cx = 320.0; c.cy = 240.0;
+    c.depth_factor = 1000.0;
   } else {
     return std::nullopt;
   }

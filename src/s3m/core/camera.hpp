@@ -42,7 +42,8 @@ struct PinholeCamera {
   PinholeCamera scaled(double s) const;
 };
 
-// Well-known TUM RGB-D intrinsics (from the dataset's web page): "tum_fr1", "tum_fr2", "tum_fr3".
+// Well-known dataset intrinsics (from the datasets' web pages): "tum_fr1", "tum_fr2", "tum_fr3",
+// "7scenes" (Microsoft 7-Scenes, depth factor 1000).
 // Returns nullopt for an unknown name.
 std::optional<PinholeCamera> camera_preset(const std::string& name);
 

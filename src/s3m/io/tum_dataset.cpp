@@ -13,6 +13,7 @@
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/io/camera_yaml.hpp"
 #include "s3m/io/image_io.hpp"
+#include "s3m/io/seven_scenes.hpp"
 #include "s3m/io/text_lines.hpp"
 
 namespace s3m::io {
@@ -114,7 +115,7 @@ PinholeCamera dataset_camera(const std::string& dir, const TumDatasetOptions& op
     return *camera_preset(preset);
   }
   throw ParseError(yaml.string(), 0, "file not found",
-                   "a camera.yaml in the sequence directory, or a camera file / preset (tum_fr1, tum_fr2, tum_fr3)");
+                   "a camera.yaml in the sequence directory, or a camera file / preset (tum_fr1, tum_fr2, tum_fr3, 7scenes)");
 }
 
 }  // namespace
@@ -128,6 +129,13 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
   if (!fs::is_directory(dir)) throw ParseError(dir, 0, "directory not found", "a TUM RGB-D sequence directory");
   TumDataset ds;
   ds.dir_ = dir;
+  // A folder as 7-Scenes ships it (no lists, frame-NNNNNN.* files) is read as it is.
+  if (!fs::exists(fs::path(dir) / "rgb.txt") && !fs::exists(fs::path(dir) / "associations.txt")) {
+    if (is_seven_scenes_folder(dir)) return open_seven_scenes(dir, options);
+    throw ParseError((fs::path(dir) / "rgb.txt").string(), 0, "file not found",
+                     "a TUM RGB-D sequence (rgb.txt, depth.txt, optional associations.txt) or a 7-Scenes "
+                     "folder (frame-NNNNNN.color.png, frame-NNNNNN.depth.png)");
+  }
   // 1. Camera first: without intrinsics and depth factor no frame can be used.
   ds.camera_ = dataset_camera(dir, options);
   // 2. Frames: the given associations, else TUM-style nearest-timestamp association.
@@ -152,6 +160,25 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
   return ds;
 }
 
+TumDataset TumDataset::open_seven_scenes(const std::string& dir, const TumDatasetOptions& options) {
+  TumDataset ds;
+  ds.dir_ = dir;
+  ds.saturated_depth_is_hole_ = true;
+  const auto frames = read_seven_scenes(dir);
+  ds.camera_ = !options.camera.empty() || fs::exists(fs::path(dir) / "camera.yaml")
+                   ? dataset_camera(dir, options)
+                   : seven_scenes_camera(dir, (fs::path(dir) / frames.front().rgb).string());
+  for (const auto& f : frames) {
+    ds.frames_.push_back({f.t_s, f.t_s, f.rgb, f.depth, ""});
+    if (f.T_w_c) ds.groundtruth_.push_back({f.t_s, *f.T_w_c});
+  }
+  ds.gt_times_ = timestamps(ds.groundtruth_);
+  spdlog::info("{}: {} frames (frame-{:06d} to frame-{:06d}), timestamps frame number / {} s, {} ground-truth poses",
+               dir, frames.size(), frames.front().number, frames.back().number, kSevenScenesRateHz,
+               ds.groundtruth_.size());
+  return ds;
+}
+
 RgbdFrame TumDataset::load(std::size_t i) const {
   require(i < frames_.size(), fmt::format("TumDataset::load: frame {} out of range (size {})", i, frames_.size()));
   const Entry& e = frames_[i];
@@ -161,6 +188,8 @@ RgbdFrame TumDataset::load(std::size_t i) const {
   f.t_s = e.t_rgb_s;
   f.rgb = read_rgb((fs::path(dir_) / e.rgb).string(), size);
   f.depth_m = read_depth_png((fs::path(dir_) / e.depth).string(), camera_.depth_factor, size);
+  // 7-Scenes writes 65535 where the Kinect measured nothing; read as it is, it would be 65 m of depth.
+  if (saturated_depth_is_hole_) f.depth_m.setTo(0.0f, f.depth_m >= static_cast<float>(65534.5 / camera_.depth_factor));
   if (!e.labels.empty()) f.labels = read_label_png((fs::path(dir_) / e.labels).string(), size);
   return f;
 }

@@ -2,6 +2,9 @@
 // TUM RGB-D sequence layout: rgb/, depth/, rgb.txt, depth.txt ('t path'), optional associations.txt
 // ('t_rgb rgb_path t_depth depth_path'), optional groundtruth.txt (TUM trajectory, T_w_c) and the s3m
 // extensions camera.yaml (intrinsics + depth_factor) and labels.txt ('t labels/x.png', class-id PNGs).
+// A folder without rgb.txt/associations.txt that holds Microsoft 7-Scenes frames
+// (frame-NNNNNN.color.png|jpg, .depth.png, .pose.txt; see seven_scenes.hpp) is read as well: the
+// pose files are its ground truth, timestamps are frame number / 30 s, and depth 65535 is a hole.
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,6 +54,9 @@ class TumDataset {
   Trajectory groundtruth_;
   std::vector<double> gt_times_;
   bool has_labels_ = false;
+  bool saturated_depth_is_hole_ = false;  // 7-Scenes: raw 65535 = no measurement
+
+  static TumDataset open_seven_scenes(const std::string& dir, const TumDatasetOptions& options);
 };
 
 // Writes a TUM-layout sequence: rgb/<t>.png, depth/<t>.png (16-bit, camera.depth_factor),

@@ -1,0 +1,128 @@
+// Microsoft 7-Scenes folders as downloaded (frame-NNNNNN.color/depth/pose files, no lists) open
+// like a TUM sequence: frames in number order, t = number / 30 s, the pose files as ground truth,
+// 65535 depth as holes, the camera from camera-intrinsics.txt or the dataset's nominal values.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "io_test_util.hpp"
+#include "s3m/io/tum_dataset.hpp"
+
+using namespace s3m;
+using namespace s3m::io;
+using s3m::testing::expect_error;
+using s3m::testing::fresh_temp_dir;
+using s3m::testing::write_file;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Frame `number` of an 8x6 sequence: grey level = number, depth 1234 mm except a 65535 hole at (0,0).
+void write_frame(const fs::path& dir, int number, const std::string& colour_ext) {
+  char stem[32];
+  std::snprintf(stem, sizeof stem, "frame-%06d", number);
+  cv::imwrite((dir / (std::string(stem) + ".color." + colour_ext)).string(), cv::Mat(6, 8, CV_8UC3, cv::Scalar::all(number)));
+  cv::Mat depth(6, 8, CV_16UC1, cv::Scalar(1234));
+  depth.at<std::uint16_t>(0, 0) = 65535;
+  depth.at<std::uint16_t>(0, 1) = 0;
+  cv::imwrite((dir / (std::string(stem) + ".depth.png")).string(), depth);
+}
+
+// Three frames (0, 1, 3: frame 2 missing as in a trimmed download); poses for 0 and 1 in
+// 7-Scenes' tab-and-trailing-space format, none for 3.
+fs::path write_seven_scenes(const fs::path& root) {
+  const fs::path seq = root / "seq-01";
+  fs::create_directories(seq);
+  for (int n : {3, 0, 1}) write_frame(seq, n, "png");
+  write_file(seq / "frame-000000.pose.txt",
+             "1.0\t0.0\t0.0\t0.0\t\n0.0\t1.0\t0.0\t0.0\t\n0.0\t0.0\t1.0\t0.0\t\n0.0\t0.0\t0.0\t1.0\t\n");
+  // 90 deg about z, slightly off orthonormal (KinectFusion's poses are, by < 1e-3), at (1, 2, 3).
+  write_file(seq / "frame-000001.pose.txt",
+             "0.0005 -1 0 1\n1 0 0 2\n0 0 1 3\n0 0 0 1\n");
+  return seq;
+}
+
+}  // namespace
+
+TEST(IoSevenScenes, FolderOpensAsDownloaded) {
+  const fs::path root = fresh_temp_dir();
+  const fs::path seq = write_seven_scenes(root);
+  write_file(root / "camera-intrinsics.txt", "100 0 4\n0 110 3\n0 0 1\n");  // 3DMatch: one level up
+  const TumDataset ds = TumDataset::open(seq.string());
+  ASSERT_EQ(ds.size(), 3u);
+  EXPECT_EQ(ds.entries()[2].rgb, "frame-000003.color.png");
+  EXPECT_EQ(ds.entries()[2].depth, "frame-000003.depth.png");
+  EXPECT_DOUBLE_EQ(ds.timestamp(0), 0.0);
+  EXPECT_DOUBLE_EQ(ds.timestamp(1), 1.0 / 30.0);
+  EXPECT_DOUBLE_EQ(ds.timestamp(2), 3.0 / 30.0);  // the gap stays a gap in time
+  const PinholeCamera& cam = ds.camera();
+  EXPECT_EQ(cam.fx, 100);
+  EXPECT_EQ(cam.fy, 110);
+  EXPECT_EQ(cam.cx, 4);
+  EXPECT_EQ(cam.cy, 3);
+  EXPECT_EQ(cam.width, 8);
+  EXPECT_EQ(cam.height, 6);
+  EXPECT_EQ(cam.depth_factor, 1000);
+
+  const RgbdFrame f = ds.load(2);
+  EXPECT_EQ(f.rgb.at<cv::Vec3b>(5, 7), cv::Vec3b(3, 3, 3));
+  EXPECT_FLOAT_EQ(f.depth_m.at<float>(3, 3), 1.234f);
+  EXPECT_EQ(f.depth_m.at<float>(0, 0), 0.0f);  // 65535: no measurement, not 65.5 m
+  EXPECT_EQ(f.depth_m.at<float>(0, 1), 0.0f);
+
+  ASSERT_EQ(ds.groundtruth().size(), 2u);
+  const auto T1 = ds.groundtruth_at(1.0 / 30.0, 1e-9);
+  ASSERT_TRUE(T1.has_value());
+  EXPECT_NEAR((T1->translation() - Vec3(1, 2, 3)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((T1->rotation() * Vec3(1, 0, 0) - Vec3(0, 1, 0)).norm(), 0.0, 1e-3);
+  EXPECT_NEAR((T1->rotation().transpose() * T1->rotation() - Mat3::Identity()).norm(), 0.0, 1e-12);
+  EXPECT_FALSE(ds.groundtruth_at(3.0 / 30.0).has_value());  // frame 3 has no pose file
+}
+
+TEST(IoSevenScenes, CameraFromFileOptionOrNominal) {
+  const fs::path root = fresh_temp_dir();
+  const fs::path seq = write_seven_scenes(root);
+  // Nothing beside the frames: 7-Scenes' published intrinsics, the image size from the first frame.
+  const PinholeCamera nominal = TumDataset::open(seq.string() + "/").camera();
+  EXPECT_EQ(nominal.fx, 585);
+  EXPECT_EQ(nominal.cx, 320);
+  EXPECT_EQ(nominal.depth_factor, 1000);
+  EXPECT_EQ(nominal.width, 8);
+  // The same values as the preset a user can name.
+  const auto preset = camera_preset("7scenes");
+  ASSERT_TRUE(preset.has_value());
+  EXPECT_EQ(preset->fy, 585);
+  EXPECT_EQ(preset->cy, 240);
+  EXPECT_EQ(preset->depth_factor, 1000);
+  // An explicit camera wins, then a camera.yaml in the folder.
+  TumDatasetOptions opt;
+  opt.camera = "tum_fr3";
+  EXPECT_EQ(TumDataset::open(seq.string(), opt).camera().fx, 535.4);
+  write_file(seq / "camera-intrinsics.txt", "200 0 4\n0 200 3\n0 0 1\n");
+  EXPECT_EQ(TumDataset::open(seq.string()).camera().fx, 200);
+}
+
+TEST(IoSevenScenes, BadFilesAreNamed) {
+  const fs::path root = fresh_temp_dir();
+  const fs::path seq = write_seven_scenes(root);
+  const std::string d = seq.string();
+  write_file(seq / "camera-intrinsics.txt", "585 0 320\n0 585 240\n");
+  expect_error([&] { TumDataset::open(d); }, {"camera-intrinsics.txt", "2 rows", "3 rows of 3 numbers"});
+  fs::remove(seq / "camera-intrinsics.txt");
+  write_file(seq / "frame-000001.pose.txt", "1 0 0 0\n0 1 0 0\n0 0 1\n0 0 0 1\n");
+  expect_error([&] { TumDataset::open(d); }, {"frame-000001.pose.txt:3", "4 numbers per row"});
+  write_file(seq / "frame-000001.pose.txt", "2 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  expect_error([&] { TumDataset::open(d); }, {"frame-000001.pose.txt", "not a rigid transform"});
+  // A pose of inf (a lost frame) is no ground truth for that frame, not an error.
+  write_file(seq / "frame-000001.pose.txt", "-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n0 0 0 1\n");
+  EXPECT_EQ(TumDataset::open(d).groundtruth().size(), 1u);
+  write_file(seq / "frame-000001.pose.txt", "1 0 0 0\n0 1 0 0\n0 0 1 x\n0 0 0 1\n");
+  expect_error([&] { TumDataset::open(d); }, {"frame-000001.pose.txt:3", "'x'"});
+  fs::remove(seq / "frame-000001.pose.txt");
+  fs::remove(seq / "frame-000003.depth.png");
+  expect_error([&] { TumDataset::open(d); }, {"frame-000003.depth.png", "file not found", "frame-000003.color.png"});
+  // A .jpg beside a .png of the same frame is ambiguous.
+  write_frame(seq, 0, "jpg");
+  expect_error([&] { TumDataset::open(d); }, {"frame 0 has both a .png and a .jpg"});
+}
