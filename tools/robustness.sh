@@ -131,6 +131,10 @@ s7() { rm -rf "$1"; mkdir -p "$1"; local n=0 _a rgb _b depth; while read -r _a r
   cp "seq/$rgb" "$(printf '%s/frame-%06d.color.png' "$1" $n)"; cp "seq/$depth" "$(printf '%s/frame-%06d.depth.png' "$1" $n)"
   printf '1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n' > "$(printf '%s/frame-%06d.pose.txt' "$1" $n)"; n=$((n + 1))
   done < <(grep -v '^#' seq/associations.txt); }
+# sn NAME: seq as ScanNet's SensReader exports a scan (color/N, depth/N.png; no intrinsic/ here).
+sn() { rm -rf "$1"; mkdir -p "$1/color" "$1/depth"; local n=0 _a rgb _b depth; while read -r _a rgb _b depth; do
+  cp "seq/$rgb" "$1/color/$n.png"; cp "seq/$depth" "$1/depth/$n.png"; n=$((n + 1)); done < <(grep -v '^#' seq/associations.txt); }
+sn scannet_no_intrinsics
 s7 7scenes_no_depth; rm 7scenes_no_depth/frame-000003.depth.png
 s7 7scenes_bad_pose; printf '1 0 0 0\n0 1 0 0\n0 0 1\n0 0 0 1\n' > 7scenes_bad_pose/frame-000002.pose.txt
 # preset NAME SED-EXPR...: config/sim.yaml edited; absurd settings of issue 24.
@@ -148,6 +152,7 @@ row "rgb.txt missing" "${RUN[@]}" no_rgb_list --out out
 row "image file missing" "${RUN[@]}" missing_png --out out
 row "7-Scenes folder: a frame without its depth image" "${RUN[@]}" 7scenes_no_depth --out out
 row "7-Scenes folder: a pose file with a short row" "${RUN[@]}" 7scenes_bad_pose --out out
+row "ScanNet export without intrinsic/intrinsic_color.txt" "${RUN[@]}" scannet_no_intrinsics --out out
 skipped "corrupt PNG (text), frame 2" "${RUN[@]}" corrupt_png --out out
 skipped "truncated depth PNG (first half), frame 4" "${RUN[@]}" truncated_png --out out
 skipped "truncated colour JPEG (first half), frame 3" "${RUN[@]}" truncated_jpg --out out

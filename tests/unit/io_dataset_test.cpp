@@ -149,3 +149,28 @@ TEST(IoTumDataset, WriterRejectsNonIncreasingTimesAndWrongSizes) {
   EXPECT_FALSE(fs::exists(dir / "groundtruth.txt"));
   EXPECT_FALSE(fs::exists(dir / "labels.txt"));
 }
+
+TEST(IoTumDataset, Eth3dCalibrationAndAssociatedTxt) {
+  // ETH3D: associated.txt (the only list here) and calibration.txt "fx fy cx cy", depth factor 5000.
+  const auto dir = write_sequence(2, false);
+  fs::rename(dir / "associations.txt", dir / "associated.txt");
+  fs::remove(dir / "rgb.txt");
+  fs::remove(dir / "depth.txt");
+  fs::remove(dir / "camera.yaml");
+  write_file(dir / "calibration.txt", "100 110 3.5 2.5\n");
+  const auto ds = TumDataset::open(dir.string());
+  ASSERT_EQ(ds.size(), 2u);
+  EXPECT_EQ(ds.camera().fx, 100);
+  EXPECT_EQ(ds.camera().fy, 110);
+  EXPECT_EQ(ds.camera().cx, 3.5);
+  EXPECT_EQ(ds.camera().cy, 2.5);
+  EXPECT_EQ(ds.camera().width, 8);  // from the first colour image
+  EXPECT_EQ(ds.camera().height, 6);
+  EXPECT_EQ(ds.camera().depth_factor, 5000);
+  // Written at 1000 per metre, read at 5000: a fifth.
+  EXPECT_FLOAT_EQ(ds.load(1).depth_m.at<float>(3, 3), 0.75f / 5);
+  write_file(dir / "calibration.txt", "100 110 3.5\n");
+  expect_error([&] { TumDataset::open(dir.string()); }, {"calibration.txt:1", "found 3 columns", "fx fy cx cy"});
+  write_file(dir / "calibration.txt", "0 110 3.5 2.5\n");
+  expect_error([&] { TumDataset::open(dir.string()); }, {"calibration.txt:1", "focal length <= 0"});
+}

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
 #include "s3m/core/error.hpp"
@@ -13,7 +14,7 @@
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/io/camera_yaml.hpp"
 #include "s3m/io/image_io.hpp"
-#include "s3m/io/seven_scenes.hpp"
+#include "s3m/io/frame_folders.hpp"
 #include "s3m/io/text_lines.hpp"
 
 namespace s3m::io {
@@ -51,8 +52,15 @@ std::vector<ListEntry> read_list(const std::string& dir, const std::string& name
   return list;
 }
 
-std::vector<TumDataset::Entry> read_associations(const std::string& dir, bool check_files) {
-  LineReader reader((fs::path(dir) / "associations.txt").string(), "associations 't_rgb rgb_path t_depth depth_path'");
+// associations.txt (TUM's associate.py, s3m), else associated.txt (ETH3D's name for the same list).
+std::string association_file(const std::string& dir) {
+  for (const char* name : {"associations.txt", "associated.txt"})
+    if (fs::exists(fs::path(dir) / name)) return name;
+  return "";
+}
+
+std::vector<TumDataset::Entry> read_associations(const std::string& dir, const std::string& name, bool check_files) {
+  LineReader reader((fs::path(dir) / name).string(), "associations 't_rgb rgb_path t_depth depth_path'");
   std::vector<TumDataset::Entry> out;
   std::vector<std::string_view> tok;
   while (reader.next(tok)) {
@@ -100,10 +108,31 @@ std::vector<TumDataset::Entry> associate_lists(const std::string& dir, const Tum
   return out;
 }
 
+// ETH3D's calibration.txt: one line "fx fy cx cy" of the colour camera. The image size is not in it
+// (width = height = 0 until the first image is read); depth is scaled by 5000 as in TUM.
+PinholeCamera read_calibration_txt(const std::string& path) {
+  LineReader reader(path, "ETH3D camera calibration: one line 'fx fy cx cy'");
+  std::vector<std::string_view> tok;
+  if (!reader.next(tok)) throw ParseError(path, 0, "no calibration line", "one line 'fx fy cx cy'");
+  reader.expect_tokens(tok, 4, "fx fy cx cy");
+  PinholeCamera cam;
+  cam.fx = reader.number(tok, 0, "fx");
+  cam.fy = reader.number(tok, 1, "fy");
+  cam.cx = reader.number(tok, 2, "cx");
+  cam.cy = reader.number(tok, 3, "cy");
+  if (!(cam.fx > 0 && cam.fy > 0)) reader.fail("focal length <= 0", "fx, fy > 0 [px]");
+  cam.depth_factor = 5000.0;
+  cam.width = cam.height = 0;
+  spdlog::info("{}: camera fx {} fy {} cx {} cy {}, depth factor 5000 (ETH3D, TUM); a camera.yaml beside it "
+               "or dataset.camera overrides it", path, cam.fx, cam.fy, cam.cx, cam.cy);
+  return cam;
+}
+
 PinholeCamera dataset_camera(const std::string& dir, const TumDatasetOptions& opt) {
   if (!opt.camera.empty()) return load_camera(opt.camera);
   const fs::path yaml = fs::path(dir) / "camera.yaml";
   if (fs::exists(yaml)) return load_camera(yaml.string());
+  if (const fs::path calib = fs::path(dir) / "calibration.txt"; fs::exists(calib)) return read_calibration_txt(calib.string());
   // "seq/" (shell completion) and "." name the folder too: their filename() is empty.
   fs::path folder = fs::absolute(dir).lexically_normal();
   if (folder.filename().empty()) folder = folder.parent_path();
@@ -115,7 +144,8 @@ PinholeCamera dataset_camera(const std::string& dir, const TumDatasetOptions& op
     return *camera_preset(preset);
   }
   throw ParseError(yaml.string(), 0, "file not found",
-                   "a camera.yaml in the sequence directory, or a camera file / preset (tum_fr1, tum_fr2, tum_fr3, 7scenes)");
+                   "a camera.yaml (or ETH3D's calibration.txt) in the sequence directory, or a camera file / preset "
+                   "(tum_fr1, tum_fr2, tum_fr3, 7scenes)");
 }
 
 }  // namespace
@@ -130,17 +160,25 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
   TumDataset ds;
   ds.dir_ = dir;
   // A folder as 7-Scenes ships it (no lists, frame-NNNNNN.* files) is read as it is.
-  if (!fs::exists(fs::path(dir) / "rgb.txt") && !fs::exists(fs::path(dir) / "associations.txt")) {
-    if (is_seven_scenes_folder(dir)) return open_seven_scenes(dir, options);
+  const std::string associations = association_file(dir);
+  if (!fs::exists(fs::path(dir) / "rgb.txt") && associations.empty()) {
+    if (is_seven_scenes_folder(dir)) return open_folder(dir, options, Layout::kSevenScenes);
+    if (is_scannet_folder(dir)) return open_folder(dir, options, Layout::kScanNet);
     throw ParseError((fs::path(dir) / "rgb.txt").string(), 0, "file not found",
-                     "a TUM RGB-D sequence (rgb.txt, depth.txt, optional associations.txt) or a 7-Scenes "
-                     "folder (frame-NNNNNN.color.png, frame-NNNNNN.depth.png)");
+                     "a TUM RGB-D sequence (rgb.txt, depth.txt, optional associations.txt), a 7-Scenes folder "
+                     "(frame-NNNNNN.color.png, frame-NNNNNN.depth.png) or a ScanNet export (color/, depth/)");
   }
   // 1. Camera first: without intrinsics and depth factor no frame can be used.
   ds.camera_ = dataset_camera(dir, options);
   // 2. Frames: the given associations, else TUM-style nearest-timestamp association.
-  ds.frames_ = fs::exists(fs::path(dir) / "associations.txt") ? read_associations(dir, options.check_files)
-                                                              : associate_lists(dir, options);
+  ds.frames_ = !associations.empty() ? read_associations(dir, associations, options.check_files)
+                                     : associate_lists(dir, options);
+  if (ds.camera_.width == 0) {  // calibration.txt has no image size: the first colour image's
+    const cv::Mat first = read_rgb((fs::path(dir) / ds.frames_.front().rgb).string());
+    ds.camera_.width = first.cols;
+    ds.camera_.height = first.rows;
+    ds.camera_.validate();
+  }
   // 3. Optional labels (s3m extension), associated to rgb timestamps.
   if (fs::exists(fs::path(dir) / "labels.txt")) {
     const auto labels = read_list(dir, "labels.txt", options.check_files);
@@ -160,22 +198,29 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
   return ds;
 }
 
-TumDataset TumDataset::open_seven_scenes(const std::string& dir, const TumDatasetOptions& options) {
+TumDataset TumDataset::open_folder(const std::string& dir, const TumDatasetOptions& options, Layout layout) {
+  const bool seven_scenes = layout == Layout::kSevenScenes;
   TumDataset ds;
   ds.dir_ = dir;
-  ds.saturated_depth_is_hole_ = true;
-  const auto frames = read_seven_scenes(dir);
-  ds.camera_ = !options.camera.empty() || fs::exists(fs::path(dir) / "camera.yaml")
-                   ? dataset_camera(dir, options)
-                   : seven_scenes_camera(dir, (fs::path(dir) / frames.front().rgb).string());
+  ds.saturated_depth_is_hole_ = seven_scenes;
+  // 1. Frames and ground truth from the numbered files.
+  const auto frames = seven_scenes ? read_seven_scenes(dir) : read_scannet(dir);
   for (const auto& f : frames) {
     ds.frames_.push_back({f.t_s, f.t_s, f.rgb, f.depth, ""});
     if (f.T_w_c) ds.groundtruth_.push_back({f.t_s, *f.T_w_c});
   }
   ds.gt_times_ = timestamps(ds.groundtruth_);
-  spdlog::info("{}: {} frames (frame-{:06d} to frame-{:06d}), timestamps frame number / {} s, {} ground-truth poses",
-               dir, frames.size(), frames.front().number, frames.back().number, kSevenScenesRateHz,
-               ds.groundtruth_.size());
+  // 2. Camera: a given one or camera.yaml, else what the folder implies; colour resized to its size.
+  if (!options.camera.empty() || fs::exists(fs::path(dir) / "camera.yaml")) {
+    ds.camera_ = dataset_camera(dir, options);
+    ds.colour_size_ = read_rgb((fs::path(dir) / frames.front().rgb).string()).size();
+  } else {
+    const FolderCamera c = seven_scenes ? seven_scenes_camera(dir, frames.front()) : scannet_camera(dir, frames.front());
+    ds.camera_ = c.camera;
+    ds.colour_size_ = c.colour_size;
+  }
+  spdlog::info("{}: {} frames ({} to {}), timestamps frame number / {} s, {} ground-truth poses", dir, frames.size(),
+               frames.front().rgb, frames.back().rgb, kFolderFrameRateHz, ds.groundtruth_.size());
   return ds;
 }
 
@@ -186,7 +231,10 @@ RgbdFrame TumDataset::load(std::size_t i) const {
   RgbdFrame f;
   f.index = static_cast<int>(i);
   f.t_s = e.t_rgb_s;
-  f.rgb = read_rgb((fs::path(dir_) / e.rgb).string(), size);
+  // Colour stored at another size than the camera's (ScanNet) is resized to it.
+  const cv::Size colour = colour_size_.area() > 0 ? colour_size_ : size;
+  f.rgb = read_rgb((fs::path(dir_) / e.rgb).string(), colour);
+  if (colour != size) cv::resize(f.rgb, f.rgb, size, 0, 0, cv::INTER_AREA);
   f.depth_m = read_depth_png((fs::path(dir_) / e.depth).string(), camera_.depth_factor, size);
   // 7-Scenes writes 65535 where the Kinect measured nothing; read as it is, it would be 65 m of depth.
   if (saturated_depth_is_hole_) f.depth_m.setTo(0.0f, f.depth_m >= static_cast<float>(65534.5 / camera_.depth_factor));

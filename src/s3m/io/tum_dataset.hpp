@@ -2,9 +2,12 @@
 // TUM RGB-D sequence layout: rgb/, depth/, rgb.txt, depth.txt ('t path'), optional associations.txt
 // ('t_rgb rgb_path t_depth depth_path'), optional groundtruth.txt (TUM trajectory, T_w_c) and the s3m
 // extensions camera.yaml (intrinsics + depth_factor) and labels.txt ('t labels/x.png', class-id PNGs).
+// ETH3D's RGB-D sequences are this layout with associated.txt for associations.txt and a
+// calibration.txt ('fx fy cx cy', depth factor 5000, image size from the first image) for camera.yaml.
 // A folder without rgb.txt/associations.txt that holds Microsoft 7-Scenes frames
-// (frame-NNNNNN.color.png|jpg, .depth.png, .pose.txt; see seven_scenes.hpp) is read as well: the
-// pose files are its ground truth, timestamps are frame number / 30 s, and depth 65535 is a hole.
+// (frame-NNNNNN.color.png|jpg, .depth.png, .pose.txt) or a ScanNet export (color/, depth/, pose/,
+// intrinsic/) is read as well (frame_folders.hpp): the pose files are its ground truth, timestamps
+// are frame number / 30 s.
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,8 +58,10 @@ class TumDataset {
   std::vector<double> gt_times_;
   bool has_labels_ = false;
   bool saturated_depth_is_hole_ = false;  // 7-Scenes: raw 65535 = no measurement
+  cv::Size colour_size_;                  // colour images on disk, when not the camera's size (ScanNet)
 
-  static TumDataset open_seven_scenes(const std::string& dir, const TumDatasetOptions& options);
+  enum class Layout { kSevenScenes, kScanNet };
+  static TumDataset open_folder(const std::string& dir, const TumDatasetOptions& options, Layout layout);
 };
 
 // Writes a TUM-layout sequence: rgb/<t>.png, depth/<t>.png (16-bit, camera.depth_factor),

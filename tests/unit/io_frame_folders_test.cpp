@@ -1,6 +1,8 @@
-// Microsoft 7-Scenes folders as downloaded (frame-NNNNNN.color/depth/pose files, no lists) open
-// like a TUM sequence: frames in number order, t = number / 30 s, the pose files as ground truth,
-// 65535 depth as holes, the camera from camera-intrinsics.txt or the dataset's nominal values.
+// Microsoft 7-Scenes folders as downloaded (frame-NNNNNN.color/depth/pose files, no lists) and
+// ScanNet exports (color/N.jpg, depth/N.png, pose/N.txt, intrinsic/) open like a TUM sequence:
+// frames in number order, t = number / 30 s, the pose files as ground truth; 7-Scenes' 65535 depth
+// as holes and its camera from camera-intrinsics.txt or the dataset's nominal values; ScanNet's
+// colour resized to the depth's size with its intrinsics scaled.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -125,4 +127,44 @@ TEST(IoSevenScenes, BadFilesAreNamed) {
   // A .jpg beside a .png of the same frame is ambiguous.
   write_frame(seq, 0, "jpg");
   expect_error([&] { TumDataset::open(d); }, {"frame 0 has both a .png and a .jpg"});
+}
+
+TEST(IoScanNet, ExportOpensWithColourResizedToDepth) {
+  const fs::path scan = fresh_temp_dir() / "scene0000_00";
+  for (const char* sub : {"color", "depth", "pose", "intrinsic"}) fs::create_directories(scan / sub);
+  // 16x12 colour (left half black, right half 200), 8x6 depth: colour is twice the depth's size.
+  cv::Mat colour(12, 16, CV_8UC3, cv::Scalar::all(0));
+  colour(cv::Rect(8, 0, 8, 12)).setTo(cv::Scalar::all(200));
+  for (int n : {0, 10, 20}) {
+    cv::imwrite((scan / "color" / (std::to_string(n) + ".png")).string(), colour);
+    cv::imwrite((scan / "depth" / (std::to_string(n) + ".png")).string(), cv::Mat(6, 8, CV_16UC1, cv::Scalar(2500)));
+  }
+  write_file(scan / "pose" / "0.txt", "1 0 0 0.5\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  write_file(scan / "pose" / "10.txt", "-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n");
+  write_file(scan / "pose" / "20.txt", "1 0 0 0.7\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  write_file(scan / "intrinsic" / "intrinsic_color.txt", "20 0 7.5 0\n0 22 5.5 0\n0 0 1 0\n0 0 0 1\n");
+  const TumDataset ds = TumDataset::open(scan.string());
+  ASSERT_EQ(ds.size(), 3u);
+  EXPECT_DOUBLE_EQ(ds.timestamp(1), 10.0 / 30.0);
+  const PinholeCamera& cam = ds.camera();
+  EXPECT_EQ(cam.width, 8);
+  EXPECT_EQ(cam.height, 6);
+  EXPECT_DOUBLE_EQ(cam.fx, 10);
+  EXPECT_DOUBLE_EQ(cam.fy, 11);
+  EXPECT_DOUBLE_EQ(cam.cx, 3.5);  // the colour image's centre stays the centre: (7.5 + 0.5) / 2 - 0.5
+  EXPECT_DOUBLE_EQ(cam.cy, 2.5);
+  EXPECT_EQ(cam.depth_factor, 1000);
+  const RgbdFrame f = ds.load(2);
+  ASSERT_EQ(f.rgb.size(), cv::Size(8, 6));
+  EXPECT_EQ(f.rgb.at<cv::Vec3b>(3, 3), cv::Vec3b(0, 0, 0));
+  EXPECT_EQ(f.rgb.at<cv::Vec3b>(3, 4), cv::Vec3b(200, 200, 200));
+  EXPECT_FLOAT_EQ(f.depth_m.at<float>(5, 7), 2.5f);
+  // Frame 10's pose is inf (tracking lost): ground truth for frames 0 and 20 only.
+  ASSERT_EQ(ds.groundtruth().size(), 2u);
+  EXPECT_DOUBLE_EQ(ds.groundtruth()[1].T_w_x.translation().x(), 0.7);
+  // Without the intrinsics the file is named.
+  fs::remove(scan / "intrinsic" / "intrinsic_color.txt");
+  expect_error([&] { TumDataset::open(scan.string()); }, {"intrinsic_color.txt", "file not found", "camera.yaml"});
+  fs::remove(scan / "depth" / "10.png");
+  expect_error([&] { TumDataset::open(scan.string()); }, {"depth/10.png", "file not found", "color/10.png"});
 }

@@ -1,0 +1,78 @@
+#include "s3m/io/matrix_files.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "s3m/core/error.hpp"
+#include "s3m/io/text_lines.hpp"
+
+namespace s3m::io {
+namespace {
+
+// n rows of n entries; non-finite entries (inf/nan) are allowed only when *finite is given.
+Eigen::MatrixXd read_square(LineReader& reader, int n, bool* finite) {
+  Eigen::MatrixXd M(n, n);
+  std::vector<std::string_view> tok;
+  int row = 0;
+  const std::string layout = fmt::format("{} rows of {} numbers", n, n);
+  while (reader.next(tok)) {
+    if (row == n) reader.fail("a row too many", layout);
+    reader.expect_tokens(tok, n, fmt::format("{} numbers per row", n));
+    for (int c = 0; c < n; ++c) {
+      double x = 0;
+      if (!parse_finite_double(tok[c], x)) {
+        const std::string t(tok[c]);
+        const bool non_finite = !std::isfinite(std::strtod(t.c_str(), nullptr)) && t.find_first_of("nNiI") != std::string::npos;
+        if (!non_finite || finite == nullptr) reader.number(tok, c, "matrix entry");  // throws naming the line
+        *finite = false;
+      }
+      M(row, c) = x;
+    }
+    ++row;
+  }
+  if (row != n) throw ParseError(reader.path(), reader.line(), fmt::format("{} rows", row), layout);
+  return M;
+}
+
+}  // namespace
+
+std::optional<SE3> read_pose_matrix(const std::string& path) {
+  LineReader reader(path, "a 4x4 camera-to-world pose, one row per line (metres)");
+  bool finite = true;
+  const Eigen::Matrix4d M = read_square(reader, 4, &finite);
+  if (!finite) return std::nullopt;
+  const Mat3 R = M.topLeftCorner<3, 3>();
+  const double ortho_err = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
+  if (!(ortho_err <= 1e-2) || !(R.determinant() > 0) || !(M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).isZero(1e-9))
+    throw ParseError(path, 0, fmt::format("not a rigid transform (|R^T R - I| = {:.3g}, last row {} {} {} {})",
+                                          ortho_err, M(3, 0), M(3, 1), M(3, 2), M(3, 3)),
+                     "a rotation block with det +1 and a last row 0 0 0 1");
+  return orthonormalized(make_se3(R, Vec3(M.topRightCorner<3, 1>())));
+}
+
+PinholeCamera read_intrinsic_matrix(const std::string& path) {
+  // The row count decides between 3x3 and 4x4: count the first line's numbers.
+  int n = 0;
+  {
+    LineReader probe(path, "an intrinsic matrix K (3x3 or 4x4), one row per line");
+    std::vector<std::string_view> tok;
+    if (!probe.next(tok)) throw ParseError(path, 0, "no rows", "an intrinsic matrix K (3x3 or 4x4)");
+    n = tok.size() == 4 ? 4 : 3;
+  }
+  LineReader reader(path, "an intrinsic matrix K (3x3 or 4x4), one row per line");
+  const Eigen::MatrixXd K = read_square(reader, n, nullptr);
+  const bool pinhole = K(0, 0) > 0 && K(1, 1) > 0 && K(0, 1) == 0 && K(1, 0) == 0 && K(2, 0) == 0 && K(2, 1) == 0 &&
+                       K(2, 2) == 1 && (n == 3 || (K.row(3).head<3>().isZero() && K(3, 3) == 1));
+  if (!pinhole) throw ParseError(path, 0, "not a pinhole matrix", "fx 0 cx / 0 fy cy / 0 0 1 with fx, fy > 0");
+  PinholeCamera cam;
+  cam.fx = K(0, 0);
+  cam.fy = K(1, 1);
+  cam.cx = K(0, 2);
+  cam.cy = K(1, 2);
+  return cam;
+}
+
+}  // namespace s3m::io
