@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "pipeline_fixture.hpp"
@@ -131,6 +132,35 @@ TEST(PipelineRun, SlamOnlyWritesTrajectoriesAndNoMap) {
   // The simulator's depth is registered; the run finds so from its images and says why.
   const std::string reg = r.metrics["inputs"]["depth_registration"].get<std::string>();
   EXPECT_EQ(reg.rfind("registered (depth edges", 0), 0u) << reg;
+  // Its depth scale is plausible: a median in the simulated office's range, no warning.
+  const double median_m = r.metrics["inputs"]["depth_median_m"].get<double>();
+  EXPECT_GT(median_m, 1.0);
+  EXPECT_LT(median_m, 5.0);
+  EXPECT_FALSE(r.metrics["inputs"].contains("depth_scale_warning"));
+}
+
+TEST(PipelineRun, DepthFactorOffByFiveIsWarnedAndRunsOn) {
+  // The sequence's 5000-per-metre depth read with a camera file that says 1000 (millimetres): the
+  // run goes on (a large hall is legitimate) but metrics.json says what the median would be at 5000.
+  pipeline::RunOptions ref = options("depth_scale_ref", true), o = options("depth_scale", true);
+  std::string yaml = read_bytes(sequence_dir() + "/camera.yaml");
+  const auto at = yaml.find("depth_factor: 5000");
+  ASSERT_NE(at, std::string::npos) << yaml;
+  yaml.replace(at, 18, "depth_factor: 1000");
+  fs::create_directories(o.out_dir);
+  const std::string camera = (scratch_dir() / "camera_mm.yaml").string();
+  std::ofstream(camera) << yaml;
+  for (auto* opt : {&ref, &o}) {
+    opt->slam_only = true;
+    opt->max_frames = 3;
+  }
+  o.config.dataset.camera = camera;
+  const double truth_m = pipeline::run_dataset(ref).metrics["inputs"]["depth_median_m"].get<double>();
+  const pipeline::RunResult r = pipeline::run_dataset(o);
+  EXPECT_NEAR(r.metrics["inputs"]["depth_median_m"].get<double>(), 5 * truth_m, 1e-3);
+  const std::string w = r.metrics["inputs"]["depth_scale_warning"].get<std::string>();
+  EXPECT_NE(w.find("with depth factor 1000: farther than"), std::string::npos) << w;
+  EXPECT_NE(w.find(fmt::format("with depth factor 5000 it would be {:.2f} m", truth_m)), std::string::npos) << w;
 }
 
 // Frame i's colour file, as the sequence's rgb.txt names it.

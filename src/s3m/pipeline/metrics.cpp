@@ -211,6 +211,8 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
                   {"slam_map", paths.slam_map},
                   {"kept_clouds", paths.kept_clouds}};
   if (!info.depth_registration.empty()) m["inputs"]["depth_registration"] = info.depth_registration;
+  if (info.depth_median_m > 0) m["inputs"]["depth_median_m"] = info.depth_median_m;
+  if (!info.depth_scale_warning.empty()) m["inputs"]["depth_scale_warning"] = info.depth_scale_warning;
   if (!info.loaded_map.empty()) m["inputs"]["map"] = {{"folder", info.loaded_map}, {"localize_only", info.localize_only}};
   return m;
 }

@@ -11,6 +11,7 @@
 #include "s3m/core/timing.hpp"
 #include "s3m/pipeline/camera_views.hpp"
 #include "s3m/pipeline/cost_estimate.hpp"
+#include "s3m/pipeline/depth_scale.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/metrics.hpp"
 #include "s3m/pipeline/outputs.hpp"
@@ -78,8 +79,14 @@ Components build(const RunOptions& o) {
   const PinholeCamera& cam = c.source->camera();
   c.info.dataset_dir = c.source->name();
   c.info.config_file = o.config.source;
-  c.info.depth_registration = resolve_depth_registration(c.config, *c.source);
+  // Frames 0, 20, ... tell whether depth is registered to colour and whether its scale is plausible.
+  const std::vector<RgbdFrame> sample = sample_frames(*c.source);
+  c.info.depth_registration = resolve_depth_registration(c.config, sample, cam);
   spdlog::info("run: depth {}", c.info.depth_registration);
+  const DepthScaleCheck scale = check_depth_scale(sample, cam.depth_factor);
+  c.info.depth_median_m = scale.median_m;
+  c.info.depth_scale_warning = scale.warning;
+  if (!scale.warning.empty()) spdlog::warn("run: {}", scale.warning);
   auto poses = make_pose_source(o.poses, *c.source, cam, c.config);
   const SessionFiles session = session_files(o);
   if (!session.slam_map.empty()) poses->load_map(session.slam_map, o.localize_only);

@@ -7,6 +7,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/features/depth_registration.hpp"
+#include "s3m/pipeline/depth_scale.hpp"
 
 namespace s3m::pipeline {
 
@@ -36,15 +37,8 @@ std::string resolve_depth_registration(PipelineConfig& config, const std::vector
 }
 
 std::string resolve_depth_registration(PipelineConfig& config, const FrameSource& source) {
-  std::vector<RgbdFrame> sample;
-  if (config.dataset.depth_registration == "auto")
-    for (std::size_t i = 0; i < std::min<std::size_t>(source.size(), 120) && sample.size() < 6; i += 20) {
-      try {
-        sample.push_back(source.load(i));
-      } catch (const ParseError& e) {  // the run skips it too (run.cpp); the check uses the others
-        spdlog::warn("run: depth registration check: frame {} not used: {}", i, e.what());
-      }
-    }
+  const std::vector<RgbdFrame> sample = config.dataset.depth_registration == "auto" ? sample_frames(source)
+                                                                                    : std::vector<RgbdFrame>{};
   return resolve_depth_registration(config, sample, source.camera());
 }
 
