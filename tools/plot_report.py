@@ -192,6 +192,8 @@ def summary_rows(metrics):
             ("frames skipped (unreadable files)", ", ".join(
                 str(f["index"]) for f in metrics.get("skipped_frames", [])[:20])
              + (" ..." if len(metrics.get("skipped_frames", [])) > 20 else "") or None),
+            # A depth factor that looks off (s3m run's depth-scale check; absent when plausible).
+            ("depth scale warning", metrics.get("inputs", {}).get("depth_scale_warning")),
             ("map voxels", metrics.get("map", {}).get("voxels")),
             ("map classes (share of labelled voxels)", ", ".join(
                 f"{c['class']} {100 * c['share']:.0f} %" for c in metrics.get("map", {}).get("class_voxels", [])[:8])

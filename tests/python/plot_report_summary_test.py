@@ -1,5 +1,6 @@
 """tools/plot_report.py's numbers table (summary_rows) on hand-made metrics: skipped frames are
-listed by index (the first 20, then "..."), and the row is absent when nothing was skipped. Needs
+listed by index (the first 20, then "..."), and the row is absent when nothing was skipped; the
+depth-scale warning is shown when the run gave one. Needs
 Debian's numpy and matplotlib (the script imports them); exits 77 (ctest: skipped) without them."""
 import os
 import sys
@@ -30,6 +31,12 @@ class SummaryRows(unittest.TestCase):
     def test_no_row_without_skipped_frames(self):
         for m in ({"frames": 10}, {"frames": 10, "skipped_frames": []}):
             self.assertNotIn(ROW, dict(plot_report.summary_rows(m)))
+
+    def test_depth_scale_warning_is_shown_when_given(self):
+        w = "depth scale check: median depth 0.35 m ..."
+        self.assertEqual(dict(plot_report.summary_rows({"frames": 3, "inputs": {"depth_scale_warning": w}}))
+                         ["depth scale warning"], w)
+        self.assertNotIn("depth scale warning", dict(plot_report.summary_rows({"frames": 3, "inputs": {}})))
 
 
 if __name__ == "__main__":
