@@ -29,6 +29,7 @@ inline CLI::Validator map_or_run_folder() { return file_or_folder("map.ot", "a -
 void register_eval(CLI::App& app);     // trajectory evaluation (ATE/RPE, plots)
 void register_sim(CLI::App& app);      // synthetic RGB-D sequences
 void register_run(CLI::App& app);      // full pipeline on a dataset
+void register_check(CLI::App& app);    // what s3m makes of a dataset folder, before a run
 void register_demo(CLI::App& app);     // simulate + run + report, no arguments
 void register_segeval(CLI::App& app);  // segmentation evaluation
 void register_query(CLI::App& app);    // semantic map queries

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   s3m::apps::register_eval(app);
   s3m::apps::register_sim(app);
   s3m::apps::register_run(app);
+  s3m::apps::register_check(app);
   s3m::apps::register_merge(app);
   s3m::apps::register_demo(app);
   s3m::apps::register_segeval(app);

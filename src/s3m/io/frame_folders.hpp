@@ -35,6 +35,7 @@ struct NumberedFrame {
 struct FolderCamera {
   PinholeCamera camera;
   cv::Size colour_size;
+  std::string source;  // where the intrinsics came from, for people
 };
 
 // True when dir holds at least one frame-NNNNNN.color.(png|jpg).

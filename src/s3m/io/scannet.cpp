@@ -80,7 +80,7 @@ FolderCamera scannet_camera(const std::string& dir, const NumberedFrame& first) 
   spdlog::info("{}: ScanNet layout, colour {}x{} resized to the depth's {}x{}, intrinsics from {} scaled with it "
                "(fx {:.2f} fy {:.2f} cx {:.2f} cy {:.2f}), depth in millimetres",
                dir, rgb.cols, rgb.rows, depth.cols, depth.rows, k.string(), cam.fx, cam.fy, cam.cx, cam.cy);
-  return {cam, rgb.size()};
+  return {cam, rgb.size(), k.string() + " (scaled to the depth image)"};
 }
 
 }  // namespace s3m::io

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
@@ -128,11 +130,14 @@ PinholeCamera read_calibration_txt(const std::string& path) {
   return cam;
 }
 
-PinholeCamera dataset_camera(const std::string& dir, const TumDatasetOptions& opt) {
-  if (!opt.camera.empty()) return load_camera(opt.camera);
+// The camera and where it came from (for TumDataset::camera_source()).
+std::pair<PinholeCamera, std::string> dataset_camera(const std::string& dir, const TumDatasetOptions& opt) {
+  if (!opt.camera.empty())
+    return {load_camera(opt.camera), (camera_preset(opt.camera) ? "preset " : "") + opt.camera + " (dataset.camera)"};
   const fs::path yaml = fs::path(dir) / "camera.yaml";
-  if (fs::exists(yaml)) return load_camera(yaml.string());
-  if (const fs::path calib = fs::path(dir) / "calibration.txt"; fs::exists(calib)) return read_calibration_txt(calib.string());
+  if (fs::exists(yaml)) return {load_camera(yaml.string()), yaml.string()};
+  if (const fs::path calib = fs::path(dir) / "calibration.txt"; fs::exists(calib))
+    return {read_calibration_txt(calib.string()), calib.string() + " (ETH3D; depth factor 5000)"};
   // "seq/" (shell completion) and "." name the folder too: their filename() is empty.
   fs::path folder = fs::absolute(dir).lexically_normal();
   if (folder.filename().empty()) folder = folder.parent_path();
@@ -141,7 +146,7 @@ PinholeCamera dataset_camera(const std::string& dir, const TumDatasetOptions& op
     if (name.find(fr) == std::string::npos) continue;
     const std::string preset = std::string("tum_fr") + fr[8];
     spdlog::info("{}: no camera.yaml, using preset {} from the directory name", dir, preset);
-    return *camera_preset(preset);
+    return {*camera_preset(preset), "preset " + preset + " (from the folder name)"};
   }
   throw ParseError(yaml.string(), 0, "file not found",
                    "a camera.yaml (or ETH3D's calibration.txt) in the sequence directory, or a camera file / preset "
@@ -168,8 +173,9 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
                      "a TUM RGB-D sequence (rgb.txt, depth.txt, optional associations.txt), a 7-Scenes folder "
                      "(frame-NNNNNN.color.png, frame-NNNNNN.depth.png) or a ScanNet export (color/, depth/)");
   }
+  ds.layout_ = associations == "associated.txt" ? "TUM layout (ETH3D's associated.txt)" : "TUM layout";
   // 1. Camera first: without intrinsics and depth factor no frame can be used.
-  ds.camera_ = dataset_camera(dir, options);
+  std::tie(ds.camera_, ds.camera_source_) = dataset_camera(dir, options);
   // 2. Frames: the given associations, else TUM-style nearest-timestamp association.
   ds.frames_ = !associations.empty() ? read_associations(dir, associations, options.check_files)
                                      : associate_lists(dir, options);
@@ -211,12 +217,14 @@ TumDataset TumDataset::open_folder(const std::string& dir, const TumDatasetOptio
   }
   ds.gt_times_ = timestamps(ds.groundtruth_);
   // 2. Camera: a given one or camera.yaml, else what the folder implies; colour resized to its size.
+  ds.layout_ = seven_scenes ? "7-Scenes folder (frame-NNNNNN.*; t = N / 30 s)" : "ScanNet export (color/, depth/; t = N / 30 s)";
   if (!options.camera.empty() || fs::exists(fs::path(dir) / "camera.yaml")) {
-    ds.camera_ = dataset_camera(dir, options);
+    std::tie(ds.camera_, ds.camera_source_) = dataset_camera(dir, options);
     ds.colour_size_ = read_rgb((fs::path(dir) / frames.front().rgb).string()).size();
   } else {
     const FolderCamera c = seven_scenes ? seven_scenes_camera(dir, frames.front()) : scannet_camera(dir, frames.front());
     ds.camera_ = c.camera;
+    ds.camera_source_ = c.source;
     ds.colour_size_ = c.colour_size;
   }
   spdlog::info("{}: {} frames ({} to {}), timestamps frame number / {} s, {} ground-truth poses", dir, frames.size(),

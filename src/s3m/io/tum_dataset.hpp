@@ -42,6 +42,10 @@ class TumDataset {
   // Ground-truth pose with the nearest timestamp within max_dt_s, else nullopt.
   std::optional<SE3> groundtruth_at(double t_s, double max_dt_s = 0.02) const;
   const std::string& dir() const { return dir_; }
+  // What was read, for people: "TUM layout", "7-Scenes folder (...)", "ScanNet export (...)", and
+  // where the camera came from: a file path, "preset tum_fr1 (from the folder name)", ...
+  const std::string& layout() const { return layout_; }
+  const std::string& camera_source() const { return camera_source_; }
   bool has_labels() const { return has_labels_; }
 
   struct Entry {
@@ -51,7 +55,7 @@ class TumDataset {
   const std::vector<Entry>& entries() const { return frames_; }
 
  private:
-  std::string dir_;
+  std::string dir_, layout_, camera_source_;
   PinholeCamera camera_;
   std::vector<Entry> frames_;
   Trajectory groundtruth_;

@@ -41,13 +41,14 @@ DepthScaleCheck check_depth_scale(const std::vector<RgbdFrame>& sample, double d
   return c;
 }
 
-std::vector<RgbdFrame> sample_frames(const FrameSource& source) {
+std::vector<RgbdFrame> sample_frames(const FrameSource& source, std::vector<std::string>* unreadable) {
   std::vector<RgbdFrame> sample;
   for (std::size_t i = 0; i < std::min<std::size_t>(source.size(), 120) && sample.size() < 6; i += 20) {
     try {
       sample.push_back(source.load(i));
     } catch (const ParseError& e) {  // the run skips it too (run.cpp); the checks use the others
       spdlog::warn("run: depth checks: frame {} not used: {}", i, e.what());
+      if (unreadable) unreadable->push_back(fmt::format("frame {}: {}", i, e.what()));
     }
   }
   return sample;

@@ -24,7 +24,7 @@ inline constexpr double kFarthestMedianM = 6.0;
 DepthScaleCheck check_depth_scale(const std::vector<RgbdFrame>& sample, double depth_factor);
 
 // Frames 0, 20, 40, ... (at most 6, within the first 120) of `source`; an unreadable one is left
-// out with a warning (the run skips it too).
-std::vector<RgbdFrame> sample_frames(const FrameSource& source);
+// out with a warning (the run skips it too) and, when `unreadable` is given, its error added there.
+std::vector<RgbdFrame> sample_frames(const FrameSource& source, std::vector<std::string>* unreadable = nullptr);
 
 }  // namespace s3m::pipeline

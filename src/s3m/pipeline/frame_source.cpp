@@ -27,7 +27,11 @@ std::unique_ptr<FrameSource> open_tum_source(const std::string& dir, const Datas
   io::TumDatasetOptions options;
   options.max_dt_s = config.max_dt_s;
   options.camera = config.camera;
-  return std::make_unique<TumFrameSource>(io::TumDataset::open(dir, options));
+  return tum_source(io::TumDataset::open(dir, options));
+}
+
+std::unique_ptr<FrameSource> tum_source(io::TumDataset dataset) {
+  return std::make_unique<TumFrameSource>(std::move(dataset));
 }
 
 }  // namespace s3m::pipeline

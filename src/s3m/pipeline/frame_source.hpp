@@ -8,6 +8,7 @@
 #include "s3m/core/camera.hpp"
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/io/trajectory.hpp"
+#include "s3m/io/tum_dataset.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 
 namespace s3m::pipeline {
@@ -29,5 +30,7 @@ class FrameSource {
 
 // A TUM-layout directory (io::TumDataset) with the association window and camera of `config`.
 std::unique_ptr<FrameSource> open_tum_source(const std::string& dir, const DatasetConfig& config);
+// The same for a dataset already open.
+std::unique_ptr<FrameSource> tum_source(io::TumDataset dataset);
 
 }  // namespace s3m::pipeline

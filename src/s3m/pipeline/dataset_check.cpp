@@ -1,0 +1,101 @@
+#include "s3m/pipeline/dataset_check.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "s3m/io/tum_dataset.hpp"
+#include "s3m/pipeline/factories.hpp"
+#include "s3m/pipeline/frame_source.hpp"
+#include "s3m/pipeline/run.hpp"
+#include "s3m/pipeline/unregistered_depth.hpp"
+
+namespace s3m::pipeline {
+namespace {
+
+void timing(const io::TumDataset& ds, DatasetCheck& c) {
+  c.frames = ds.size();
+  c.t_first_s = ds.timestamp(0);
+  c.t_last_s = ds.timestamp(ds.size() - 1);
+  std::vector<double> steps;
+  for (std::size_t i = 1; i < ds.size(); ++i) {
+    const double step = ds.timestamp(i) - ds.timestamp(i - 1);
+    steps.push_back(step);
+    if (step > c.largest_gap_s) c.largest_gap_s = step, c.largest_gap_after = i - 1;
+  }
+  if (steps.empty()) return;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  c.median_step_s = steps[steps.size() / 2];
+}
+
+void ground_truth(const io::TumDataset& ds, double max_dt_s, DatasetCheck& c) {
+  const auto& gt = ds.groundtruth();
+  c.gt_poses = gt.size();
+  for (std::size_t i = 1; i < gt.size(); ++i)
+    c.gt_path_m += (gt[i].T_w_x.translation() - gt[i - 1].T_w_x.translation()).norm();
+  for (std::size_t i = 0; i < ds.size(); ++i) c.frames_with_gt += ds.groundtruth_at(ds.timestamp(i), max_dt_s) ? 1 : 0;
+}
+
+}  // namespace
+
+DatasetCheck check_dataset(const std::string& dir, const PipelineConfig& config) {
+  DatasetCheck c;
+  c.dir = dir;
+  // 1. The folder as io reads it: layout, camera, timing, ground truth, labels.
+  io::TumDatasetOptions options;
+  options.max_dt_s = config.dataset.max_dt_s;
+  options.camera = config.dataset.camera;
+  const io::TumDataset ds = io::TumDataset::open(dir, options);
+  c.layout = ds.layout();
+  c.camera = ds.camera();
+  c.camera_source = ds.camera_source();
+  c.labels = ds.has_labels();
+  timing(ds, c);
+  ground_truth(ds, config.eval.gt_max_dt_s, c);
+  // 2. The checks a run makes before its first frame, on the same sample frames.
+  const auto source = tum_source(ds);
+  const std::vector<RgbdFrame> sample = sample_frames(*source, &c.unreadable);
+  c.sampled = sample.size() + c.unreadable.size();
+  PipelineConfig resolved = config;
+  c.depth_registration = resolve_depth_registration(resolved, sample, c.camera);
+  c.depth_scale = check_depth_scale(sample, c.camera.depth_factor);
+  // 3. The segmenter a run would choose.
+  const SegmenterChoice choice = choose_segmenter(parse_segmenter_spec(""), config, simulator_sign(dir, c.labels));
+  c.segmenter = (choice.type == "onnx" ? choice.model : choice.type) + " (" + choice.reason + ")";
+  return c;
+}
+
+std::string format_dataset_check(const DatasetCheck& c) {
+  std::ostringstream o;
+  const PinholeCamera& k = c.camera;
+  o << "dataset: " << c.dir << " (" << c.layout << ")\n";
+  o << fmt::format("frames: {}, t {:.3f} .. {:.3f} s ({:.1f} s)", c.frames, c.t_first_s, c.t_last_s, c.t_last_s - c.t_first_s);
+  if (c.median_step_s > 0)
+    o << fmt::format(", median step {:.1f} ms ({:.1f} Hz), longest {:.1f} ms after frame {}", 1e3 * c.median_step_s,
+                     1.0 / c.median_step_s, 1e3 * c.largest_gap_s, c.largest_gap_after);
+  o << "\n";
+  if (c.median_step_s > 0 && c.largest_gap_s > 5 * c.median_step_s)
+    o << fmt::format("warning: a gap of {:.2f} s after frame {}: tracking may be lost there (dropped frames?)\n",
+                     c.largest_gap_s, c.largest_gap_after);
+  o << fmt::format("camera: {}x{}, fx {:g} fy {:g} cx {:g} cy {:g}, {}, depth factor {:g} (from {})\n", k.width, k.height,
+                   k.fx, k.fy, k.cx, k.cy, k.has_distortion() ? "with distortion" : "no distortion", k.depth_factor,
+                   c.camera_source);
+  if (c.gt_poses == 0)
+    o << "ground truth: none (no ATE; s3m eval can score the trajectory later)\n";
+  else
+    o << fmt::format("ground truth: {} poses, camera path {:.2f} m; {} of {} frames have a pose\n", c.gt_poses,
+                     c.gt_path_m, c.frames_with_gt, c.frames);
+  o << "labels: " << (c.labels ? "ground-truth label images (segmentation and map mIoU)" : "none") << "\n";
+  o << fmt::format("sample: frames 0, 20, ... ({} read)\n", c.sampled);
+  for (const auto& u : c.unreadable) o << "warning: unreadable " << u << "\n";
+  o << "depth: " << c.depth_registration << "\n";
+  if (c.depth_scale.warning.empty())
+    o << fmt::format("depth scale: median {:.2f} m over {} frame(s), plausible\n", c.depth_scale.median_m, c.depth_scale.frames);
+  else
+    o << "warning: " << c.depth_scale.warning << "\n";
+  o << "segmenter: " << c.segmenter << "\n";
+  return o.str();
+}
+
+}  // namespace s3m::pipeline

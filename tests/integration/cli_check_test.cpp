@@ -1,0 +1,48 @@
+// `s3m check` (the built binary, as a user runs it) on the fixture's simulated sequence: every line
+// says what the folder holds, and a camera file with the wrong depth factor is warned about.
+#include "pipeline_fixture.hpp"
+
+namespace s3m::it {
+namespace {
+
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+
+bool has(const std::string& log, const std::string& fragment) { return log.find(fragment) != std::string::npos; }
+
+TEST(CliCheck, SaysWhatTheFolderHolds) {
+  const fs::path dir = scratch_dir() / "cli_check";
+  fs::create_directories(dir);
+  std::string log;
+  ASSERT_EQ(run_s3m("check '" + sequence_dir() + "'", dir / "log.txt", &log), 0) << log;
+  EXPECT_TRUE(has(log, "(TUM layout)")) << log;
+  EXPECT_TRUE(has(log, "frames: 60, t ")) << log;
+  EXPECT_TRUE(has(log, "median step 33.3 ms (30.0 Hz)")) << log;
+  EXPECT_TRUE(has(log, "camera: 640x480, fx 525 fy 525 cx 319.5 cy 239.5, no distortion, depth factor 5000 (from ")) << log;
+  EXPECT_TRUE(has(log, "ground truth: 60 poses, camera path ")) << log;
+  EXPECT_TRUE(has(log, "60 of 60 frames have a pose")) << log;
+  EXPECT_TRUE(has(log, "labels: ground-truth label images")) << log;
+  EXPECT_TRUE(has(log, "sample: frames 0, 20, ... (3 read)")) << log;
+  EXPECT_TRUE(has(log, "depth: registered (depth edges")) << log;
+  EXPECT_TRUE(has(log, "plausible")) << log;
+  EXPECT_TRUE(has(log, "segmenter: oracle (simulator sequence (sim.yaml)")) << log;
+  EXPECT_FALSE(has(log, "warning")) << log;
+
+  // The same camera said to be in millimetres: the depth reads 5x too far, and the check says so.
+  std::string yaml = read_bytes(sequence_dir() + "/camera.yaml");
+  yaml.replace(yaml.find("depth_factor: 5000"), 18, "depth_factor: 1000");
+  std::ofstream(dir / "camera_mm.yaml") << yaml;
+  ASSERT_EQ(run_s3m("check '" + sequence_dir() + "' --camera '" + (dir / "camera_mm.yaml").string() + "'",
+                    dir / "log.txt", &log),
+            0)
+      << log;
+  EXPECT_TRUE(has(log, "warning: depth scale check: median depth")) << log;
+  EXPECT_TRUE(has(log, "with depth factor 5000 it would be")) << log;
+  EXPECT_TRUE(has(log, "depth factor 1000 (from " + (dir / "camera_mm.yaml").string() + " (dataset.camera))")) << log;
+
+  // A folder s3m cannot read: exit 1 and the reason, as s3m run would say it.
+  EXPECT_EQ(run_s3m("check '" + dir.string() + "'", dir / "log.txt", &log), 1) << log;
+  EXPECT_TRUE(has(log, "rgb.txt: file not found")) << log;
+}
+
+}  // namespace
+}  // namespace s3m::it
