@@ -14,7 +14,7 @@ void register_check(CLI::App& app) {
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand("check", "Say what s3m makes of a dataset folder before a run: layout, camera, "
                                           "timing, ground truth, depth registration and scale, segmenter");
-  cmd->add_option("dataset", args->dataset, "dataset folder (TUM layout, ETH3D, 7-Scenes, ScanNet)")->required();
+  cmd->add_option("dataset", args->dataset, "dataset folder (TUM layout, ETH3D, 7-Scenes, ScanNet, Replica)")->required();
   cmd->add_option("--config", args->config, "pipeline preset the run would use (its dataset and segmenter sections)");
   cmd->add_option("--camera", args->camera, "camera file or preset instead of the dataset's (dataset.camera)");
   cmd->callback([args] {

@@ -29,7 +29,7 @@ io::Trajectory read_any(const std::string& path, const EvalArgs& a) {
 // A folder whose ground truth is one pose file per frame (7-Scenes, ScanNet), not groundtruth.txt.
 bool pose_file_folder(const std::string& path) {
   return fs::is_directory(path) && !fs::exists(fs::path(path) / "groundtruth.txt") &&
-         (io::is_seven_scenes_folder(path) || io::is_scannet_folder(path));
+         io::folder_layout(path) != io::FolderLayout::kNone;
 }
 
 // --gt: a trajectory file, or a dataset folder: its groundtruth.txt, or its pose files.
@@ -47,12 +47,10 @@ CLI::Validator ground_truth_source() {
 io::Trajectory read_ground_truth(const EvalArgs& a) {
   if (!fs::is_directory(a.gt)) return read_any(a.gt, a);
   io::Trajectory gt;
-  const bool seven_scenes = io::is_seven_scenes_folder(a.gt);
-  for (const auto& f : seven_scenes ? io::read_seven_scenes(a.gt) : io::read_scannet(a.gt))
+  const io::FolderLayout layout = io::folder_layout(a.gt);
+  for (const auto& f : io::read_folder_frames(a.gt, layout))
     if (f.T_w_c) gt.push_back({f.t_s, *f.T_w_c});
-  if (gt.empty())
-    throw ParseError(a.gt, 0, seven_scenes ? "no frame-NNNNNN.pose.txt with a finite pose" : "no pose/N.txt with a finite pose",
-                     "a dataset folder with ground truth");
+  if (gt.empty()) throw ParseError(a.gt, 0, "no finite pose in its pose files", "a " + io::layout_name(layout) + " with ground truth");
   return gt;
 }
 
@@ -112,7 +110,7 @@ void register_eval(CLI::App& app) {
   auto* cmd = app.add_subcommand("eval", "Evaluate trajectories against ground truth: ATE, RPE, plots (TUM definitions)");
   cmd->add_option("--gt", args->gt,
                   "Ground-truth trajectory (TUM 't tx ty tz qx qy qz qw' or KITTI 3x4), or a dataset folder (its "
-                  "groundtruth.txt; a 7-Scenes or ScanNet folder's pose files at t = N / 30 s)")
+                  "groundtruth.txt; a 7-Scenes, ScanNet or Replica folder's poses at t = N / 30 s)")
       ->required()
       ->transform(ground_truth_source());
   const auto run_folder = file_or_folder("trajectory_camera.txt", "not a folder s3m run wrote?");

@@ -53,11 +53,12 @@ void print_summary(const pipeline::RunResult& r, const std::string& out) {
 
 void register_run(CLI::App& app) {
   auto args = std::make_shared<RunArgs>();
-  auto* cmd = app.add_subcommand(
-      "run", "Run SLAM + segmentation + semantic mapping on an RGB-D dataset folder (TUM layout, ETH3D, 7-Scenes, ScanNet)");
+  auto* cmd = app.add_subcommand("run", "Run SLAM + segmentation + semantic mapping on an RGB-D dataset folder (TUM "
+                                        "layout, ETH3D, 7-Scenes, ScanNet, Replica)");
   cmd->add_option("dataset", args->dataset,
                   "TUM-layout directory (rgb.txt, depth.txt, ...; ETH3D too), a 7-Scenes folder as downloaded "
-                  "(frame-NNNNNN.color.png, ...) or a ScanNet export (color/, depth/, ...); omit with --rosbag");
+                  "(frame-NNNNNN.color.png, ...), a ScanNet export (color/, depth/, ...) or a Replica scene "
+                  "(results/, traj.txt); omit with --rosbag");
   cmd->add_option("--config", args->config, "pipeline preset, e.g. config/tum_fr1.yaml (default: built-in defaults)");
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_option("--segmenter", args->segmenter,

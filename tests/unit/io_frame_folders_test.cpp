@@ -2,7 +2,8 @@
 // ScanNet exports (color/N.jpg, depth/N.png, pose/N.txt, intrinsic/) open like a TUM sequence:
 // frames in number order, t = number / 30 s, the pose files as ground truth; 7-Scenes' 65535 depth
 // as holes and its camera from camera-intrinsics.txt or the dataset's nominal values; ScanNet's
-// colour resized to the depth's size with its intrinsics scaled.
+// colour resized to the depth's size with its intrinsics scaled; Replica (NICE-SLAM renders) with
+// traj.txt's rows as ground truth and cam_params.json's camera.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -126,7 +127,7 @@ TEST(IoSevenScenes, BadFilesAreNamed) {
   expect_error([&] { TumDataset::open(d); }, {"frame-000003.depth.png", "file not found", "frame-000003.color.png"});
   // A .jpg beside a .png of the same frame is ambiguous.
   write_frame(seq, 0, "jpg");
-  expect_error([&] { TumDataset::open(d); }, {"frame 0 has both a .png and a .jpg"});
+  expect_error([&] { TumDataset::open(d); }, {"frame 0 has two colour images (frame-000000.color.jpg and frame-000000.color.png)"});
 }
 
 TEST(IoScanNet, ExportOpensWithColourResizedToDepth) {
@@ -167,4 +168,43 @@ TEST(IoScanNet, ExportOpensWithColourResizedToDepth) {
   expect_error([&] { TumDataset::open(scan.string()); }, {"intrinsic_color.txt", "file not found", "camera.yaml"});
   fs::remove(scan / "depth" / "10.png");
   expect_error([&] { TumDataset::open(scan.string()); }, {"depth/10.png", "file not found", "color/10.png"});
+}
+
+TEST(IoReplica, NiceSlamRenderOpensWithTrajAndCamParams) {
+  const fs::path root = fresh_temp_dir() / "Replica";
+  const fs::path scene = root / "office0";
+  fs::create_directories(scene / "results");
+  for (int n = 0; n < 3; ++n) {
+    char stem[32];
+    std::snprintf(stem, sizeof stem, "%06d", n);
+    cv::imwrite((scene / "results" / ("frame" + std::string(stem) + ".jpg")).string(), cv::Mat(6, 8, CV_8UC3, cv::Scalar::all(100)));
+    cv::imwrite((scene / "results" / ("depth" + std::string(stem) + ".png")).string(), cv::Mat(6, 8, CV_16UC1, cv::Scalar(13107)));
+  }
+  // One row-major camera-to-world matrix per line; frame 2 has none (a short traj.txt).
+  write_file(scene / "traj.txt", "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 0 0 0.25 0 1 0 0 0 0 1 -0.5 0 0 0 1\n");
+  // NICE-SLAM keeps cam_params.json beside the scenes, one level up.
+  write_file(root / "cam_params.json",
+             R"({"camera": {"w": 8, "h": 6, "fx": 6.0, "fy": 6.5, "cx": 3.5, "cy": 2.5, "scale": 6553.5}})");
+  const TumDataset ds = TumDataset::open(scene.string());
+  ASSERT_EQ(ds.size(), 3u);
+  EXPECT_EQ(ds.entries()[1].rgb, "results/frame000001.jpg");
+  EXPECT_EQ(ds.entries()[1].depth, "results/depth000001.png");
+  EXPECT_DOUBLE_EQ(ds.timestamp(2), 2.0 / 30.0);
+  EXPECT_EQ(ds.camera().fy, 6.5);
+  EXPECT_EQ(ds.camera().depth_factor, 6553.5);
+  EXPECT_FLOAT_EQ(ds.load(0).depth_m.at<float>(2, 2), 2.0f);  // 13107 / 6553.5
+  ASSERT_EQ(ds.groundtruth().size(), 2u);
+  EXPECT_DOUBLE_EQ(ds.groundtruth()[1].T_w_x.translation().z(), -0.5);
+  EXPECT_NE(ds.layout().find("Replica"), std::string::npos);
+  // A traj.txt line that is not 16 numbers, and a cam_params.json without the depth scale, are named.
+  write_file(scene / "traj.txt", "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 0 0 0.25 0 1 0 0 0 0 1\n");
+  expect_error([&] { TumDataset::open(scene.string()); }, {"traj.txt:2", "found 11 columns", "16 numbers"});
+  fs::remove(scene / "traj.txt");
+  write_file(scene / "traj.txt", "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n");
+  write_file(root / "cam_params.json", R"({"camera": {"w": 8, "h": 6, "fx": 6.0, "fy": 6.5, "cx": 3.5, "cy": 2.5}})");
+  expect_error([&] { TumDataset::open(scene.string()); }, {"cam_params.json", "no number camera.scale"});
+  // Without cam_params.json: NICE-SLAM's values (1200x680), which these 8x6 images do not match.
+  fs::remove(root / "cam_params.json");
+  expect_error([&] { TumDataset::open(scene.string()); }, {"frame000000.jpg", "image is 8x6", "1200x680 as preset replica"});
+  EXPECT_EQ(camera_preset("replica")->depth_factor, 6553.5);
 }

@@ -58,6 +58,11 @@ std::optional<PinholeCamera> camera_preset(const std::string& name) {
     // depth in millimetres. The raw Kinect depth is not registered to these colour pixels.
     c.fx = c.fy = 585.0; c.cx = 320.0; c.cy = 240.0;
     c.depth_factor = 1000.0;
+  } else if (name == "replica") {
+    // Replica as NICE-SLAM renders it (its cam_params.json): 1200x680, depth 6553.5 per metre.
+    c.fx = c.fy = 600.0; c.cx = 599.5; c.cy = 339.5;
+    c.width = 1200; c.height = 680;
+    c.depth_factor = 6553.5;
   } else {
     return std::nullopt;
   }

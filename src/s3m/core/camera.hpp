@@ -43,7 +43,7 @@ struct PinholeCamera {
 };
 
 // Well-known dataset intrinsics (from the datasets' web pages): "tum_fr1", "tum_fr2", "tum_fr3",
-// "7scenes" (Microsoft 7-Scenes, depth factor 1000).
+// "7scenes" (Microsoft 7-Scenes, depth factor 1000), "replica" (NICE-SLAM's Replica renders).
 // Returns nullopt for an unknown name.
 std::optional<PinholeCamera> camera_preset(const std::string& name);
 

@@ -155,7 +155,7 @@ PinholeCamera load_camera(const std::string& path_or_preset) {
   if (auto preset = camera_preset(path_or_preset)) return *preset;
   if (!std::filesystem::exists(path_or_preset))
     throw ParseError(path_or_preset, 0, "no such camera file or preset",
-                     "a camera YAML file or one of the presets tum_fr1, tum_fr2, tum_fr3, 7scenes");
+                     "a camera YAML file or one of the presets tum_fr1, tum_fr2, tum_fr3, 7scenes, replica");
   require_input_file(path_or_preset, "a camera YAML file");  // before looks_like_orbslam() opens it
   return looks_like_orbslam(path_or_preset) ? read_orbslam_settings(path_or_preset) : read_camera_yaml(path_or_preset);
 }

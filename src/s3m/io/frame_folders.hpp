@@ -10,8 +10,14 @@
 // millimetres), pose/N.txt (4x4 camera-to-world; inf where its tracking failed) and
 // intrinsic/intrinsic_color.txt (4x4). Colour is resized to the depth image's size and its
 // intrinsics scaled with it, as ScanNet's depth is aligned to the colour camera.
+// Replica as NICE-SLAM renders it: results/frameNNNNNN.jpg, results/depthNNNNNN.png (depth scale
+// 6553.5 per metre), traj.txt (line N: frame N's camera-to-world as a row-major 4x4, OpenCV axes)
+// and cam_params.json (camera.w, h, fx, fy, cx, cy, scale) beside the scene or one level up.
+#include <functional>
 #include <optional>
+#include <regex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -22,6 +28,8 @@
 namespace s3m::io {
 
 inline constexpr double kFolderFrameRateHz = 30.0;
+
+enum class FolderLayout { kNone, kSevenScenes, kScanNet, kReplica };
 
 struct NumberedFrame {
   int number = 0;                // N of the file names
@@ -42,20 +50,42 @@ struct FolderCamera {
 bool is_seven_scenes_folder(const std::string& dir);
 // True when dir has color/ and depth/ subfolders.
 bool is_scannet_folder(const std::string& dir);
+// True when dir has results/ and traj.txt.
+bool is_replica_folder(const std::string& dir);
 
 // Frames sorted by number. Throw ParseError naming the file when a colour frame has no depth image
 // or a pose file is not a rigid 4x4 matrix (see matrix_files.hpp; inf/nan poses give no ground
 // truth for that frame, with a warning).
 std::vector<NumberedFrame> read_seven_scenes(const std::string& dir);
 std::vector<NumberedFrame> read_scannet(const std::string& dir);
+std::vector<NumberedFrame> read_replica(const std::string& dir);
 
 // 7-Scenes: camera-intrinsics.txt (3DMatch's K, in the folder or its parent), else the dataset's
 // nominal intrinsics (preset "7scenes"); depth factor 1000; size from the first colour image.
 FolderCamera seven_scenes_camera(const std::string& dir, const NumberedFrame& first);
-// Checks every frame's depth image exists and reads its pose file when there is one (both readers).
-void read_depth_and_poses(const std::string& dir, std::vector<NumberedFrame>& frames);
 
 // ScanNet: intrinsic/intrinsic_color.txt scaled to the depth image's size; depth factor 1000.
 FolderCamera scannet_camera(const std::string& dir, const NumberedFrame& first);
+// Replica: cam_params.json (in the folder or its parent) else the NICE-SLAM renders' values (preset
+// "replica"); size checked against the first colour image.
+FolderCamera replica_camera(const std::string& dir, const NumberedFrame& first);
+
+// Which of the folders above dir is (tested in that order), and its name for people.
+FolderLayout folder_layout(const std::string& dir);
+std::string layout_name(FolderLayout layout);
+// The readers and cameras above, by layout (not kNone).
+std::vector<NumberedFrame> read_folder_frames(const std::string& dir, FolderLayout layout);
+FolderCamera folder_camera(const std::string& dir, FolderLayout layout, const NumberedFrame& first);
+
+// Checks every frame's depth image exists and reads its pose file when it has one (the readers).
+void read_depth_and_poses(const std::string& dir, std::vector<NumberedFrame>& frames);
+
+// The readers' common part: the files of dir/folder whose names match `colour` (group 1: the frame
+// number), sorted by number, with the depth and pose paths names(number's digits) gives (pose may be
+// ""), checked by read_depth_and_poses(). Throws ParseError when none match (`expected` says what
+// was) or two colour images have one number.
+using DepthAndPoseNames = std::function<std::pair<std::string, std::string>(const std::string& digits)>;
+std::vector<NumberedFrame> numbered_frames(const std::string& dir, const std::string& folder, const std::regex& colour,
+                                           const DepthAndPoseNames& names, const std::string& expected);
 
 }  // namespace s3m::io

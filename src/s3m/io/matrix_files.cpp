@@ -12,6 +12,16 @@
 namespace s3m::io {
 namespace {
 
+// Token i as a matrix entry: true with *x set, false for inf/nan; garbage throws naming the line.
+bool entry(const LineReader& reader, const std::vector<std::string_view>& tok, std::size_t i, double* x) {
+  if (parse_finite_double(tok[i], *x)) return true;
+  const std::string t(tok[i]);
+  const bool non_finite = !std::isfinite(std::strtod(t.c_str(), nullptr)) && t.find_first_of("nNiI") != std::string::npos;
+  if (!non_finite) reader.number(tok, i, "matrix entry");  // throws
+  *x = 0;
+  return false;
+}
+
 // n rows of n entries; non-finite entries (inf/nan) are allowed only when *finite is given.
 Eigen::MatrixXd read_square(LineReader& reader, int n, bool* finite) {
   Eigen::MatrixXd M(n, n);
@@ -23,10 +33,8 @@ Eigen::MatrixXd read_square(LineReader& reader, int n, bool* finite) {
     reader.expect_tokens(tok, n, fmt::format("{} numbers per row", n));
     for (int c = 0; c < n; ++c) {
       double x = 0;
-      if (!parse_finite_double(tok[c], x)) {
-        const std::string t(tok[c]);
-        const bool non_finite = !std::isfinite(std::strtod(t.c_str(), nullptr)) && t.find_first_of("nNiI") != std::string::npos;
-        if (!non_finite || finite == nullptr) reader.number(tok, c, "matrix entry");  // throws naming the line
+      if (!entry(reader, tok, c, &x)) {
+        if (finite == nullptr) reader.number(tok, c, "matrix entry");  // throws: K must be finite
         *finite = false;
       }
       M(row, c) = x;
@@ -37,6 +45,17 @@ Eigen::MatrixXd read_square(LineReader& reader, int n, bool* finite) {
   return M;
 }
 
+// M as a rigid transform, else ParseError(path, line).
+SE3 rigid(const Eigen::Matrix4d& M, const std::string& path, int line) {
+  const Mat3 R = M.topLeftCorner<3, 3>();
+  const double ortho_err = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
+  if (!(ortho_err <= 1e-2) || !(R.determinant() > 0) || !(M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).isZero(1e-9))
+    throw ParseError(path, line, fmt::format("not a rigid transform (|R^T R - I| = {:.3g}, last row {} {} {} {})",
+                                             ortho_err, M(3, 0), M(3, 1), M(3, 2), M(3, 3)),
+                     "a rotation block with det +1 and a last row 0 0 0 1");
+  return orthonormalized(make_se3(R, Vec3(M.topRightCorner<3, 1>())));
+}
+
 }  // namespace
 
 std::optional<SE3> read_pose_matrix(const std::string& path) {
@@ -44,13 +63,25 @@ std::optional<SE3> read_pose_matrix(const std::string& path) {
   bool finite = true;
   const Eigen::Matrix4d M = read_square(reader, 4, &finite);
   if (!finite) return std::nullopt;
-  const Mat3 R = M.topLeftCorner<3, 3>();
-  const double ortho_err = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
-  if (!(ortho_err <= 1e-2) || !(R.determinant() > 0) || !(M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).isZero(1e-9))
-    throw ParseError(path, 0, fmt::format("not a rigid transform (|R^T R - I| = {:.3g}, last row {} {} {} {})",
-                                          ortho_err, M(3, 0), M(3, 1), M(3, 2), M(3, 3)),
-                     "a rotation block with det +1 and a last row 0 0 0 1");
-  return orthonormalized(make_se3(R, Vec3(M.topRightCorner<3, 1>())));
+  return rigid(M, path, 0);
+}
+
+std::vector<std::optional<SE3>> read_pose_rows(const std::string& path) {
+  LineReader reader(path, "camera-to-world poses, one row-major 4x4 matrix (16 numbers) per line");
+  std::vector<std::optional<SE3>> poses;
+  std::vector<std::string_view> tok;
+  while (reader.next(tok)) {
+    reader.expect_tokens(tok, 16, "16 numbers: a row-major 4x4 matrix");
+    Eigen::Matrix4d M;
+    bool finite = true;
+    for (int i = 0; i < 16; ++i) {
+      double x = 0;
+      finite = entry(reader, tok, i, &x) && finite;
+      M(i / 4, i % 4) = x;
+    }
+    poses.push_back(finite ? std::optional<SE3>(rigid(M, path, reader.line())) : std::nullopt);
+  }
+  return poses;
 }
 
 PinholeCamera read_intrinsic_matrix(const std::string& path) {

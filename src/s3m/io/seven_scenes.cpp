@@ -1,5 +1,4 @@
 // Microsoft 7-Scenes folders (frame_folders.hpp).
-#include <algorithm>
 #include <filesystem>
 #include <regex>
 
@@ -30,28 +29,10 @@ bool is_seven_scenes_folder(const std::string& dir) {
 }
 
 std::vector<NumberedFrame> read_seven_scenes(const std::string& dir) {
-  std::vector<NumberedFrame> frames;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    std::smatch m;
-    const std::string name = e.path().filename().string();
-    if (!std::regex_match(name, m, colour_name())) continue;
-    NumberedFrame f;
-    f.number = std::stoi(m[1].str());
-    f.t_s = f.number / kFolderFrameRateHz;
-    f.rgb = name;
-    f.depth = "frame-" + m[1].str() + ".depth.png";
-    f.pose = "frame-" + m[1].str() + ".pose.txt";
-    frames.push_back(std::move(f));
-  }
-  if (frames.empty()) throw ParseError(dir, 0, "no frame-NNNNNN.color.png or .jpg", "a 7-Scenes sequence folder");
-  std::sort(frames.begin(), frames.end(), [](const auto& a, const auto& b) { return a.number < b.number; });
-  for (std::size_t i = 1; i < frames.size(); ++i)
-    if (frames[i].number == frames[i - 1].number)
-      throw ParseError((fs::path(dir) / frames[i].rgb).string(), 0,
-                       "frame " + std::to_string(frames[i].number) + " has both a .png and a .jpg colour image",
-                       "one colour image per frame");
-  read_depth_and_poses(dir, frames);
-  return frames;
+  return numbered_frames(
+      dir, "", colour_name(),
+      [](const std::string& n) { return std::pair{"frame-" + n + ".depth.png", "frame-" + n + ".pose.txt"}; },
+      "a 7-Scenes sequence folder (frame-NNNNNN.color.png or .jpg)");
 }
 
 FolderCamera seven_scenes_camera(const std::string& dir, const NumberedFrame& first) {

@@ -150,7 +150,7 @@ std::pair<PinholeCamera, std::string> dataset_camera(const std::string& dir, con
   }
   throw ParseError(yaml.string(), 0, "file not found",
                    "a camera.yaml (or ETH3D's calibration.txt) in the sequence directory, or a camera file / preset "
-                   "(tum_fr1, tum_fr2, tum_fr3, 7scenes)");
+                   "(tum_fr1, tum_fr2, tum_fr3, 7scenes, replica)");
 }
 
 }  // namespace
@@ -167,11 +167,12 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
   // A folder as 7-Scenes ships it (no lists, frame-NNNNNN.* files) is read as it is.
   const std::string associations = association_file(dir);
   if (!fs::exists(fs::path(dir) / "rgb.txt") && associations.empty()) {
-    if (is_seven_scenes_folder(dir)) return open_folder(dir, options, Layout::kSevenScenes);
-    if (is_scannet_folder(dir)) return open_folder(dir, options, Layout::kScanNet);
+    if (const FolderLayout layout = folder_layout(dir); layout != FolderLayout::kNone)
+      return open_folder(dir, options, layout);
     throw ParseError((fs::path(dir) / "rgb.txt").string(), 0, "file not found",
                      "a TUM RGB-D sequence (rgb.txt, depth.txt, optional associations.txt), a 7-Scenes folder "
-                     "(frame-NNNNNN.color.png, frame-NNNNNN.depth.png) or a ScanNet export (color/, depth/)");
+                     "(frame-NNNNNN.color.png, frame-NNNNNN.depth.png), a ScanNet export (color/, depth/) or a "
+                     "Replica scene (results/, traj.txt)");
   }
   ds.layout_ = associations == "associated.txt" ? "TUM layout (ETH3D's associated.txt)" : "TUM layout";
   // 1. Camera first: without intrinsics and depth factor no frame can be used.
@@ -204,25 +205,24 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
   return ds;
 }
 
-TumDataset TumDataset::open_folder(const std::string& dir, const TumDatasetOptions& options, Layout layout) {
-  const bool seven_scenes = layout == Layout::kSevenScenes;
+TumDataset TumDataset::open_folder(const std::string& dir, const TumDatasetOptions& options, FolderLayout layout) {
   TumDataset ds;
   ds.dir_ = dir;
-  ds.saturated_depth_is_hole_ = seven_scenes;
+  ds.layout_ = layout_name(layout);
+  ds.saturated_depth_is_hole_ = layout == FolderLayout::kSevenScenes;
   // 1. Frames and ground truth from the numbered files.
-  const auto frames = seven_scenes ? read_seven_scenes(dir) : read_scannet(dir);
+  const auto frames = read_folder_frames(dir, layout);
   for (const auto& f : frames) {
     ds.frames_.push_back({f.t_s, f.t_s, f.rgb, f.depth, ""});
     if (f.T_w_c) ds.groundtruth_.push_back({f.t_s, *f.T_w_c});
   }
   ds.gt_times_ = timestamps(ds.groundtruth_);
   // 2. Camera: a given one or camera.yaml, else what the folder implies; colour resized to its size.
-  ds.layout_ = seven_scenes ? "7-Scenes folder (frame-NNNNNN.*; t = N / 30 s)" : "ScanNet export (color/, depth/; t = N / 30 s)";
   if (!options.camera.empty() || fs::exists(fs::path(dir) / "camera.yaml")) {
     std::tie(ds.camera_, ds.camera_source_) = dataset_camera(dir, options);
     ds.colour_size_ = read_rgb((fs::path(dir) / frames.front().rgb).string()).size();
   } else {
-    const FolderCamera c = seven_scenes ? seven_scenes_camera(dir, frames.front()) : scannet_camera(dir, frames.front());
+    const FolderCamera c = folder_camera(dir, layout, frames.front());
     ds.camera_ = c.camera;
     ds.camera_source_ = c.source;
     ds.colour_size_ = c.colour_size;

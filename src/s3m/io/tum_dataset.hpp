@@ -5,15 +5,16 @@
 // ETH3D's RGB-D sequences are this layout with associated.txt for associations.txt and a
 // calibration.txt ('fx fy cx cy', depth factor 5000, image size from the first image) for camera.yaml.
 // A folder without rgb.txt/associations.txt that holds Microsoft 7-Scenes frames
-// (frame-NNNNNN.color.png|jpg, .depth.png, .pose.txt) or a ScanNet export (color/, depth/, pose/,
-// intrinsic/) is read as well (frame_folders.hpp): the pose files are its ground truth, timestamps
-// are frame number / 30 s.
+// (frame-NNNNNN.color.png|jpg, .depth.png, .pose.txt), a ScanNet export (color/, depth/, pose/,
+// intrinsic/) or a Replica scene as NICE-SLAM renders it (results/, traj.txt) is read as well
+// (frame_folders.hpp): the pose files are its ground truth, timestamps are frame number / 30 s.
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "s3m/core/camera.hpp"
 #include "s3m/core/rgbd_frame.hpp"
+#include "s3m/io/frame_folders.hpp"
 #include "s3m/io/trajectory.hpp"
 
 namespace s3m::io {
@@ -64,8 +65,7 @@ class TumDataset {
   bool saturated_depth_is_hole_ = false;  // 7-Scenes: raw 65535 = no measurement
   cv::Size colour_size_;                  // colour images on disk, when not the camera's size (ScanNet)
 
-  enum class Layout { kSevenScenes, kScanNet };
-  static TumDataset open_folder(const std::string& dir, const TumDatasetOptions& options, Layout layout);
+  static TumDataset open_folder(const std::string& dir, const TumDatasetOptions& options, FolderLayout layout);
 };
 
 // Writes a TUM-layout sequence: rgb/<t>.png, depth/<t>.png (16-bit, camera.depth_factor),

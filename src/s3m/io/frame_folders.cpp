@@ -1,0 +1,94 @@
+// What the dataset-folder readers share, and the choice between them (frame_folders.hpp).
+#include "s3m/io/frame_folders.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <tuple>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "s3m/core/error.hpp"
+#include "s3m/io/matrix_files.hpp"
+
+namespace s3m::io {
+namespace fs = std::filesystem;
+
+void read_depth_and_poses(const std::string& dir, std::vector<NumberedFrame>& frames) {
+  int lost = 0;
+  for (auto& f : frames) {
+    const fs::path depth = fs::path(dir) / f.depth;
+    if (!fs::exists(depth)) throw ParseError(depth.string(), 0, "file not found", "a depth image beside " + f.rgb);
+    if (f.pose.empty()) continue;  // Replica: one traj.txt, read by its reader
+    const fs::path pose = fs::path(dir) / f.pose;
+    if (!fs::exists(pose)) continue;
+    f.T_w_c = read_pose_matrix(pose.string());
+    lost += f.T_w_c ? 0 : 1;
+  }
+  if (lost > 0) spdlog::warn("{}: {} pose file(s) hold inf/nan; those frames have no ground truth", dir, lost);
+}
+
+std::vector<NumberedFrame> numbered_frames(const std::string& dir, const std::string& folder, const std::regex& colour,
+                                           const DepthAndPoseNames& names, const std::string& expected) {
+  std::vector<NumberedFrame> frames;
+  for (const auto& e : fs::directory_iterator(fs::path(dir) / folder)) {
+    std::smatch m;
+    const std::string name = e.path().filename().string();
+    if (!std::regex_match(name, m, colour)) continue;
+    NumberedFrame f;
+    f.number = std::stoi(m[1].str());
+    f.t_s = f.number / kFolderFrameRateHz;
+    f.rgb = folder.empty() ? name : folder + "/" + name;
+    std::tie(f.depth, f.pose) = names(m[1].str());
+    frames.push_back(std::move(f));
+  }
+  if (frames.empty()) throw ParseError((fs::path(dir) / folder).string(), 0, "no colour images", expected);
+  std::sort(frames.begin(), frames.end(), [](const auto& a, const auto& b) { return a.number < b.number; });
+  for (std::size_t i = 1; i < frames.size(); ++i)
+    if (frames[i].number == frames[i - 1].number)
+      throw ParseError((fs::path(dir) / frames[i].rgb).string(), 0,
+                       fmt::format("frame {} has two colour images ({} and {})", frames[i].number, frames[i - 1].rgb,
+                                   frames[i].rgb),
+                       "one colour image per frame");
+  read_depth_and_poses(dir, frames);
+  return frames;
+}
+
+FolderLayout folder_layout(const std::string& dir) {
+  if (is_seven_scenes_folder(dir)) return FolderLayout::kSevenScenes;
+  if (is_scannet_folder(dir)) return FolderLayout::kScanNet;
+  if (is_replica_folder(dir)) return FolderLayout::kReplica;
+  return FolderLayout::kNone;
+}
+
+std::string layout_name(FolderLayout layout) {
+  switch (layout) {
+    case FolderLayout::kSevenScenes: return "7-Scenes folder (frame-NNNNNN.*; t = N / 30 s)";
+    case FolderLayout::kScanNet: return "ScanNet export (color/, depth/; t = N / 30 s)";
+    case FolderLayout::kReplica: return "Replica scene as NICE-SLAM renders it (results/, traj.txt; t = N / 30 s)";
+    case FolderLayout::kNone: break;
+  }
+  return "none";
+}
+
+std::vector<NumberedFrame> read_folder_frames(const std::string& dir, FolderLayout layout) {
+  switch (layout) {
+    case FolderLayout::kSevenScenes: return read_seven_scenes(dir);
+    case FolderLayout::kScanNet: return read_scannet(dir);
+    case FolderLayout::kReplica: return read_replica(dir);
+    case FolderLayout::kNone: break;
+  }
+  throw Error("read_folder_frames: " + dir + " is none of the known dataset folders");
+}
+
+FolderCamera folder_camera(const std::string& dir, FolderLayout layout, const NumberedFrame& first) {
+  switch (layout) {
+    case FolderLayout::kSevenScenes: return seven_scenes_camera(dir, first);
+    case FolderLayout::kScanNet: return scannet_camera(dir, first);
+    case FolderLayout::kReplica: return replica_camera(dir, first);
+    case FolderLayout::kNone: break;
+  }
+  throw Error("folder_camera: " + dir + " is none of the known dataset folders");
+}
+
+}  // namespace s3m::io
