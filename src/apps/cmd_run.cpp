@@ -45,6 +45,9 @@ void print_summary(const pipeline::RunResult& r, const std::string& out) {
     std::cout << "segmentation mIoU (single frame): " << m["segmentation"]["miou"].get<double>() << "\n";
   if (m.contains("map") && m["map"].contains("miou"))
     std::cout << "map mIoU (fused): " << m["map"]["miou"].get<double>() << "\n";
+  // Said before the first frame too, but a long run's log has scrolled it away by now.
+  if (m.contains("inputs") && m["inputs"].contains("depth_scale_warning"))
+    std::cout << "warning: " << m["inputs"]["depth_scale_warning"].get<std::string>() << "\n";
   std::cout << "outputs: " << out << "\n";
   if (!r.report_html.empty()) std::cout << "report: " << r.report_html << "\n";
 }

@@ -1,5 +1,6 @@
 // `s3m check` (the built binary, as a user runs it) on the fixture's simulated sequence: every line
-// says what the folder holds, and a camera file with the wrong depth factor is warned about.
+// says what the folder holds, and a camera file with the wrong depth factor is warned about, by
+// `s3m check` and in `s3m run`'s closing summary.
 #include "pipeline_fixture.hpp"
 
 namespace s3m::it {
@@ -42,6 +43,28 @@ TEST(CliCheck, SaysWhatTheFolderHolds) {
   // A folder s3m cannot read: exit 1 and the reason, as s3m run would say it.
   EXPECT_EQ(run_s3m("check '" + dir.string() + "'", dir / "log.txt", &log), 1) << log;
   EXPECT_TRUE(has(log, "rgb.txt: file not found")) << log;
+}
+
+TEST(CliRun, SummaryRepeatsTheDepthScaleWarning) {
+  // A preset whose camera says millimetres for the sequence's 5000-per-metre depth: the run goes
+  // on, and its closing summary (what a user reads after a long run) repeats the warning.
+  const fs::path dir = scratch_dir() / "cli_run_depth_scale";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string yaml = read_bytes(sequence_dir() + "/camera.yaml");
+  yaml.replace(yaml.find("depth_factor: 5000"), 18, "depth_factor: 1000");
+  std::ofstream(dir / "camera_mm.yaml") << yaml;
+  std::ofstream(dir / "preset.yaml") << "dataset: {camera: " << (dir / "camera_mm.yaml").string() << "}\n";
+  std::string log;
+  ASSERT_EQ(run_s3m("run '" + sequence_dir() + "' --config '" + (dir / "preset.yaml").string() +
+                        "' --slam-only --deterministic --no-report --max-frames 3 --out '" + (dir / "out").string() + "'",
+                    dir / "log.txt", &log),
+            0)
+      << log;
+  const auto summary = log.find("frames: 3/");
+  ASSERT_NE(summary, std::string::npos) << log;
+  EXPECT_NE(log.find("warning: depth scale check: median depth", summary), std::string::npos) << log;
+  EXPECT_NE(log.find("with depth factor 5000 it would be", summary), std::string::npos) << log;
 }
 
 }  // namespace
