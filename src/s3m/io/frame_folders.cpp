@@ -14,6 +14,19 @@
 namespace s3m::io {
 namespace fs = std::filesystem;
 
+fs::path folder_path(const std::string& dir) {
+  fs::path folder = fs::absolute(dir).lexically_normal();
+  if (folder.filename().empty()) folder = folder.parent_path();  // "seq/" and "." end in a separator
+  return folder;
+}
+
+std::optional<fs::path> beside_or_above(const std::string& dir, const std::string& name) {
+  const fs::path folder = folder_path(dir);
+  for (const fs::path& p : {folder / name, folder.parent_path() / name})
+    if (fs::exists(p)) return p;
+  return std::nullopt;
+}
+
 void read_depth_and_poses(const std::string& dir, std::vector<NumberedFrame>& frames) {
   int lost = 0;
   for (auto& f : frames) {

@@ -13,6 +13,7 @@
 // Replica as NICE-SLAM renders it: results/frameNNNNNN.jpg, results/depthNNNNNN.png (depth scale
 // 6553.5 per metre), traj.txt (line N: frame N's camera-to-world as a row-major 4x4, OpenCV axes)
 // and cam_params.json (camera.w, h, fx, fy, cx, cy, scale) beside the scene or one level up.
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <regex>
@@ -76,6 +77,12 @@ std::string layout_name(FolderLayout layout);
 // The readers and cameras above, by layout (not kNone).
 std::vector<NumberedFrame> read_folder_frames(const std::string& dir, FolderLayout layout);
 FolderCamera folder_camera(const std::string& dir, FolderLayout layout, const NumberedFrame& first);
+
+// dir as an absolute, normal path that names the folder itself ("seq/" and "." too).
+std::filesystem::path folder_path(const std::string& dir);
+// The file `name` in dir, else one level up (where 3DMatch and NICE-SLAM keep their camera files
+// for all of a scene's sequences), else nullopt.
+std::optional<std::filesystem::path> beside_or_above(const std::string& dir, const std::string& name);
 
 // Checks every frame's depth image exists and reads its pose file when it has one (the readers).
 void read_depth_and_poses(const std::string& dir, std::vector<NumberedFrame>& frames);

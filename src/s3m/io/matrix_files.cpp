@@ -1,7 +1,5 @@
 #include "s3m/io/matrix_files.hpp"
 
-#include <cmath>
-#include <cstdlib>
 #include <vector>
 
 #include <fmt/format.h>
@@ -15,20 +13,24 @@ namespace {
 // Token i as a matrix entry: true with *x set, false for inf/nan; garbage throws naming the line.
 bool entry(const LineReader& reader, const std::vector<std::string_view>& tok, std::size_t i, double* x) {
   if (parse_finite_double(tok[i], *x)) return true;
-  const std::string t(tok[i]);
-  const bool non_finite = !std::isfinite(std::strtod(t.c_str(), nullptr)) && t.find_first_of("nNiI") != std::string::npos;
-  if (!non_finite) reader.number(tok, i, "matrix entry");  // throws
+  if (!is_non_finite_number(tok[i])) reader.number(tok, i, "matrix entry");  // throws
   *x = 0;
   return false;
 }
 
 // n rows of n entries; non-finite entries (inf/nan) are allowed only when *finite is given.
+// n = 0 reads an intrinsic matrix K: 4x4 when its first row has 4 numbers, else 3x3.
 Eigen::MatrixXd read_square(LineReader& reader, int n, bool* finite) {
-  Eigen::MatrixXd M(n, n);
   std::vector<std::string_view> tok;
+  bool more = reader.next(tok);
+  if (n == 0) {
+    if (!more) throw ParseError(reader.path(), 0, "no rows", "an intrinsic matrix K (3x3 or 4x4)");
+    n = tok.size() == 4 ? 4 : 3;
+  }
+  Eigen::MatrixXd M(n, n);
   int row = 0;
   const std::string layout = fmt::format("{} rows of {} numbers", n, n);
-  while (reader.next(tok)) {
+  for (; more; more = reader.next(tok)) {
     if (row == n) reader.fail("a row too many", layout);
     reader.expect_tokens(tok, n, fmt::format("{} numbers per row", n));
     for (int c = 0; c < n; ++c) {
@@ -85,16 +87,9 @@ std::vector<std::optional<SE3>> read_pose_rows(const std::string& path) {
 }
 
 PinholeCamera read_intrinsic_matrix(const std::string& path) {
-  // The row count decides between 3x3 and 4x4: count the first line's numbers.
-  int n = 0;
-  {
-    LineReader probe(path, "an intrinsic matrix K (3x3 or 4x4), one row per line");
-    std::vector<std::string_view> tok;
-    if (!probe.next(tok)) throw ParseError(path, 0, "no rows", "an intrinsic matrix K (3x3 or 4x4)");
-    n = tok.size() == 4 ? 4 : 3;
-  }
   LineReader reader(path, "an intrinsic matrix K (3x3 or 4x4), one row per line");
-  const Eigen::MatrixXd K = read_square(reader, n, nullptr);
+  const Eigen::MatrixXd K = read_square(reader, /*n=*/0, nullptr);
+  const int n = static_cast<int>(K.rows());
   const bool pinhole = K(0, 0) > 0 && K(1, 1) > 0 && K(0, 1) == 0 && K(1, 0) == 0 && K(2, 0) == 0 && K(2, 1) == 0 &&
                        K(2, 2) == 1 && (n == 3 || (K.row(3).head<3>().isZero() && K(3, 3) == 1));
   if (!pinhole) throw ParseError(path, 0, "not a pinhole matrix", "fx 0 cx / 0 fy cy / 0 0 1 with fx, fy > 0");

@@ -71,15 +71,11 @@ std::vector<NumberedFrame> read_replica(const std::string& dir) {
 }
 
 FolderCamera replica_camera(const std::string& dir, const NumberedFrame& first) {
-  fs::path folder = fs::absolute(dir).lexically_normal();
-  if (folder.filename().empty()) folder = folder.parent_path();
   PinholeCamera cam = *camera_preset("replica");
   std::string source = "preset replica (no cam_params.json)";
-  for (const fs::path& p : {folder / "cam_params.json", folder.parent_path() / "cam_params.json"}) {
-    if (!fs::exists(p)) continue;
-    cam = read_cam_params(p.string());
-    source = p.string();
-    break;
+  if (const auto p = beside_or_above(dir, "cam_params.json")) {  // NICE-SLAM: beside the scenes
+    cam = read_cam_params(p->string());
+    source = p->string();
   }
   const cv::Mat rgb = read_rgb((fs::path(dir) / first.rgb).string());
   if (rgb.cols != cam.width || rgb.rows != cam.height)

@@ -38,20 +38,16 @@ std::vector<NumberedFrame> read_seven_scenes(const std::string& dir) {
 FolderCamera seven_scenes_camera(const std::string& dir, const NumberedFrame& first) {
   PinholeCamera cam = *camera_preset("7scenes");
   // 3DMatch keeps camera-intrinsics.txt beside the frames or one level up, beside seq-01/ etc.
-  fs::path folder = fs::absolute(dir).lexically_normal();
-  if (folder.filename().empty()) folder = folder.parent_path();
   std::string source = "preset 7scenes (no camera-intrinsics.txt)";
-  for (const fs::path& k : {folder / "camera-intrinsics.txt", folder.parent_path() / "camera-intrinsics.txt"}) {
-    if (!fs::exists(k)) continue;
-    const PinholeCamera K = read_intrinsic_matrix(k.string());
+  if (const auto k = beside_or_above(dir, "camera-intrinsics.txt")) {
+    const PinholeCamera K = read_intrinsic_matrix(k->string());
     cam.fx = K.fx, cam.fy = K.fy, cam.cx = K.cx, cam.cy = K.cy;
-    spdlog::info("{}: 7-Scenes layout, camera from {}, depth in millimetres", dir, k.string());
-    source = k.string();
-    break;
-  }
-  if (source.rfind("preset", 0) == 0)
+    spdlog::info("{}: 7-Scenes layout, camera from {}, depth in millimetres", dir, k->string());
+    source = k->string();
+  } else {
     spdlog::info("{}: 7-Scenes layout, no camera.yaml or camera-intrinsics.txt: the dataset's nominal intrinsics "
                  "(preset 7scenes: fx = fy = 585, cx = 320, cy = 240), depth in millimetres", dir);
+  }
   const cv::Mat rgb = read_rgb((fs::path(dir) / first.rgb).string());
   cam.width = rgb.cols;
   cam.height = rgb.rows;

@@ -46,15 +46,18 @@ bool parse_finite_double(std::string_view token, double& out) {
   return ec == std::errc() && ptr == end && std::isfinite(out);
 }
 
+bool is_non_finite_number(std::string_view token) {
+  const std::string tok(token);
+  return !std::isfinite(std::strtod(tok.c_str(), nullptr)) && tok.find_first_of("nNiI") != std::string::npos;
+}
+
 double LineReader::number(const std::vector<std::string_view>& tokens, std::size_t i,
                           const std::string& name) const {
   double v = 0;
   if (parse_finite_double(tokens.at(i), v)) return v;
   // Distinguish NaN/Inf from garbage: both are errors, but the message should say which.
   const std::string tok(tokens[i]);
-  const double loose = std::strtod(tok.c_str(), nullptr);
-  const bool non_finite = !std::isfinite(loose) && tok.find_first_of("nNiI") != std::string::npos;
-  fail((non_finite ? "non-finite value '" : "cannot parse '") + tok + "' as " + name,
+  fail((is_non_finite_number(tok) ? "non-finite value '" : "cannot parse '") + tok + "' as " + name,
        "a finite number in column " + std::to_string(i + 1));
 }
 

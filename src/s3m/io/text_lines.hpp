@@ -43,5 +43,8 @@ inline constexpr double kMaxCoordinateM = 1e9;
 
 // Parses a whole token as a finite double; false on garbage, trailing characters, NaN or Inf.
 bool parse_finite_double(std::string_view token, double& out);
+// True for a token that reads as inf or nan ("inf", "-inf", "nan", "NaN", "1e999", ...), which
+// parse_finite_double() refuses like garbage; files that mark missing values that way need to tell.
+bool is_non_finite_number(std::string_view token);
 
 }  // namespace s3m::io

@@ -138,10 +138,7 @@ std::pair<PinholeCamera, std::string> dataset_camera(const std::string& dir, con
   if (fs::exists(yaml)) return {load_camera(yaml.string()), yaml.string()};
   if (const fs::path calib = fs::path(dir) / "calibration.txt"; fs::exists(calib))
     return {read_calibration_txt(calib.string()), calib.string() + " (ETH3D; depth factor 5000)"};
-  // "seq/" (shell completion) and "." name the folder too: their filename() is empty.
-  fs::path folder = fs::absolute(dir).lexically_normal();
-  if (folder.filename().empty()) folder = folder.parent_path();
-  const std::string name = folder.filename().string();
+  const std::string name = folder_path(dir).filename().string();  // "seq/" and "." too
   for (const char* fr : {"freiburg1", "freiburg2", "freiburg3"}) {
     if (name.find(fr) == std::string::npos) continue;
     const std::string preset = std::string("tum_fr") + fr[8];
