@@ -1,0 +1,86 @@
+#include "s3m/io/depth_to_colour.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/calib3d.hpp>
+
+#include "s3m/core/error.hpp"
+
+namespace s3m::io {
+namespace {
+
+// Normalised image coordinates (x/z, y/z) of depth-image points, the depth camera's distortion undone.
+std::vector<cv::Point2d> normalised(const PinholeCamera& cam, double offset_px) {
+  std::vector<cv::Point2d> px;
+  px.reserve(static_cast<std::size_t>(cam.width) * cam.height);
+  for (int v = 0; v < cam.height; ++v)
+    for (int u = 0; u < cam.width; ++u) px.emplace_back(u + offset_px, v + offset_px);
+  if (!cam.has_distortion()) {
+    for (cv::Point2d& p : px) p = {(p.x - cam.cx) / cam.fx, (p.y - cam.cy) / cam.fy};
+    return px;
+  }
+  const cv::Matx33d K(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1);
+  std::vector<cv::Point2d> out;
+  cv::undistortPoints(px, out, K, std::vector<double>(cam.dist.begin(), cam.dist.end()));
+  return out;
+}
+
+}  // namespace
+
+DepthToColour::DepthToColour(const PinholeCamera& depth, const PinholeCamera& colour, const SE3& T_c_d)
+    : depth_(depth), colour_(colour), T_c_d_(T_c_d) {
+  depth_.validate();
+  colour_.validate();
+  corner_lo_ = normalised(depth_, -0.5);
+  corner_hi_ = normalised(depth_, 0.5);
+}
+
+cv::Point2d DepthToColour::to_pixel(const Vec3& p_c) const {
+  double x = p_c.x() / p_c.z(), y = p_c.y() / p_c.z();
+  if (colour_.has_distortion()) {  // OpenCV's forward model, as cv::projectPoints
+    const auto& d = colour_.dist;  // k1 k2 p1 p2 k3
+    const double r2 = x * x + y * y, radial = 1 + r2 * (d[0] + r2 * (d[1] + r2 * d[4]));
+    const double xd = x * radial + 2 * d[2] * x * y + d[3] * (r2 + 2 * x * x);
+    const double yd = y * radial + d[2] * (r2 + 2 * y * y) + 2 * d[3] * x * y;
+    x = xd, y = yd;
+  }
+  return {colour_.fx * x + colour_.cx, colour_.fy * y + colour_.cy};
+}
+
+cv::Mat DepthToColour::operator()(const cv::Mat& depth_m) const {
+  require(depth_m.type() == CV_32FC1 && depth_m.cols == depth_.width && depth_m.rows == depth_.height,
+          "depth to colour: the depth image is " + std::to_string(depth_m.cols) + "x" + std::to_string(depth_m.rows) +
+              " (expected CV_32FC1 " + std::to_string(depth_.width) + "x" + std::to_string(depth_.height) +
+              ", the depth camera's size)");
+  cv::Mat out(colour_.height, colour_.width, CV_32FC1, cv::Scalar(0.0f));
+  for (int v = 0; v < depth_m.rows; ++v) {
+    const float* row = depth_m.ptr<float>(v);
+    for (int u = 0; u < depth_m.cols; ++u) {
+      const float z = row[u];
+      if (!(z > 0.0f) || !std::isfinite(z)) continue;
+      const std::size_t i = static_cast<std::size_t>(v) * depth_m.cols + u;
+      const Vec3 lo = T_c_d_ * Vec3(corner_lo_[i].x * z, corner_lo_[i].y * z, z);
+      const Vec3 hi = T_c_d_ * Vec3(corner_hi_[i].x * z, corner_hi_[i].y * z, z);
+      if (lo.z() <= 0 || hi.z() <= 0) continue;
+      const cv::Point2d a = to_pixel(lo), b = to_pixel(hi);
+      // Colour pixels whose centres lie inside the patch; at least the one nearest its centre.
+      // (Pixel centres are at integer coordinates, s3m/core/camera.hpp.)
+      int u0 = static_cast<int>(std::ceil(std::min(a.x, b.x))), u1 = static_cast<int>(std::floor(std::max(a.x, b.x)));
+      int v0 = static_cast<int>(std::ceil(std::min(a.y, b.y))), v1 = static_cast<int>(std::floor(std::max(a.y, b.y)));
+      if (u0 > u1) u0 = u1 = static_cast<int>(std::lround(0.5 * (a.x + b.x)));
+      if (v0 > v1) v0 = v1 = static_cast<int>(std::lround(0.5 * (a.y + b.y)));
+      u0 = std::max(u0, 0), v0 = std::max(v0, 0);
+      u1 = std::min(u1, colour_.width - 1), v1 = std::min(v1, colour_.height - 1);
+      const float z_c = static_cast<float>(0.5 * (lo.z() + hi.z()));
+      for (int y = v0; y <= v1; ++y) {
+        float* o = out.ptr<float>(y);
+        for (int x = u0; x <= u1; ++x)
+          if (o[x] == 0.0f || z_c < o[x]) o[x] = z_c;
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace s3m::io
