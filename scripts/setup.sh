@@ -26,7 +26,7 @@ if [ "$with_ros" = 1 ]; then
   # ROS1 as packaged by Debian 12: the node's libraries and messages, rosbag (C++ API), and
   # rosmaster/roslaunch for roscore, the launch file and the node test. octomap_msgs is not packaged.
   packages+=(ros-core-dev libroscpp-dev librosbag-dev librosbag-storage-dev libsensor-msgs-dev
-             libcv-bridge-dev libtf2-ros-dev libtf2-geometry-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
+             libcv-bridge-dev libtf2-ros-dev libtf2-msgs-dev libtf2-geometry-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libstd-msgs-dev
              libvisualization-msgs-dev libstd-srvs-dev libmessage-filters-dev python3-rosmaster
              python3-roslaunch python3-rosbag)
 fi

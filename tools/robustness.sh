@@ -27,6 +27,7 @@ row() {
   (ulimit -v 4000000; exec timeout 120 "$@") >/dev/null 2>stderr.txt
   code=$?
   err="$(grep -v '^\s*$' stderr.txt | head -n 3 | tr '\n' ' ' | sed 's/ *$//; s/|/\\|/g')"
+  err="${err//$W\//}"  # files the script made, named relative to its folder
   local shown="${*/#$S3M/s3m}"
   shown="${shown//$REPO\//}"
   printf '| %s | `%s` | %s | %s |\n' "$name" "$shown" "$code" "$err"
@@ -178,6 +179,15 @@ row "map.insert.num_threads: 65537 in the preset" "$S3M" run --config threads_65
 row "threads: 65537 in the model card" "${RUN[@]}" seq --out out --segmenter onnx:card_threads/tiny_rgb.yaml
 row "cloud.pixel_stride 1, map.resolution_m 0.005, cloud.max_depth_m 100" "$S3M" run --config cost.yaml --deterministic --no-report seq --out out
 row "s3m query on a map that is a FIFO (named pipe)" "$S3M" query fifo_map.ot --class chair
+# Bags (ROS builds only: tum2bag and --rosbag exist there): a recorder s3m does not know, and a
+# config camera that does not fit the recording's images.
+if "$S3M" tum2bag seq --out unknown.bag --rgb-topic /cam/left --depth-topic /cam/depth --camera-info-topic /cam/info >/dev/null 2>&1; then
+  printf 'fx: 262.5\nfy: 262.5\ncx: 159.5\ncy: 119.5\nwidth: 320\nheight: 240\ndepth_factor: 1000\n' > cam320.yaml
+  preset bag_cam320 "s|  camera: \"\" |  camera: $W/cam320.yaml |"
+  "$S3M" tum2bag seq --out tum.bag >/dev/null 2>&1
+  row "rosbag whose topics no known recorder wrote (ROS builds)" "${RUN[@]}" --rosbag unknown.bag --out out
+  row "rosbag of 640x480 images, config camera 320x240 (ROS builds)" "$S3M" run --config bag_cam320.yaml --deterministic --no-report --rosbag tum.bag --out out
+fi
 # Out of disk: a good run first, then the same run into the same folder on a full file system.
 if mkdir -p tmpfs && mount -t tmpfs -o size=768k tmpfs tmpfs 2>/dev/null; then
   how="768 KiB tmpfs"; trap 'umount "$W/tmpfs" 2>/dev/null; rm -rf "$W"' EXIT

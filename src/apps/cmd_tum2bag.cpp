@@ -21,7 +21,7 @@ namespace {
 
 struct Tum2BagArgs {
   std::string dataset, out, depth_encoding = "32FC1", frame = "camera_rgb_optical_frame";
-  RosbagArgs topics;
+  RosbagArgs topics{"", "/camera/rgb/image_color", "/camera/depth/image", "/camera/rgb/camera_info", "", "/groundtruth"};
   bool labels = true;
   long max_frames = -1;
 };
@@ -36,12 +36,14 @@ ros1::BagTopics bag_topics(const RosbagArgs& a) {
 
 void add_rosbag_options(CLI::App& cmd, RosbagArgs& a) {
   cmd.add_option("--rosbag", a.bag, "read frames from a ROS1 bag instead of a directory (ROS builds)");
-  cmd.add_option("--rgb-topic", a.rgb_topic, "with --rosbag: colour sensor_msgs/Image topic")->capture_default_str();
-  cmd.add_option("--depth-topic", a.depth_topic, "with --rosbag: depth image topic (16UC1 mm or 32FC1 m)")
-      ->capture_default_str();
+  cmd.add_option("--rgb-topic", a.rgb_topic,
+                 "with --rosbag: colour sensor_msgs/Image topic (default: recognised from the bag's topics: TUM "
+                 "RGB-D, RealSense SDK, realsense2_camera, openni_launch, Azure Kinect)");
+  cmd.add_option("--depth-topic", a.depth_topic,
+                 "with --rosbag: depth image topic registered to colour (16UC1 mm or 32FC1 m; default: recognised)");
   cmd.add_option("--camera-info-topic", a.camera_info_topic,
-                 "with --rosbag: sensor_msgs/CameraInfo topic (\"\": camera from the config's dataset.camera)")
-      ->capture_default_str();
+                 "with --rosbag: sensor_msgs/CameraInfo topic (default: recognised, or the colour topic's "
+                 "camera_info; the config's dataset.camera wins when set)");
   cmd.add_option("--labels-topic", a.labels_topic, "with --rosbag: optional mono16 ground-truth class ids (oracle)");
   cmd.add_option("--gt-topic", a.gt_topic, "with --rosbag: optional geometry_msgs/PoseStamped ground truth (T_w_c)")
       ->capture_default_str();

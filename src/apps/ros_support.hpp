@@ -11,9 +11,10 @@ namespace s3m::apps {
 
 struct RosbagArgs {
   std::string bag;
-  std::string rgb_topic = "/camera/rgb/image_color";
-  std::string depth_topic = "/camera/depth/image";
-  std::string camera_info_topic = "/camera/rgb/camera_info";
+  // "" = the bag's recorder decides (`s3m run`); `s3m tum2bag` writes the TUM RGB-D names.
+  std::string rgb_topic;
+  std::string depth_topic;
+  std::string camera_info_topic;
   std::string labels_topic;  // optional
   std::string gt_topic = "/groundtruth";
 };

@@ -3,20 +3,28 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/Transform.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <spdlog/spdlog.h>
+#include <std_msgs/Float32.h>
+#include <tf2/buffer_core.h>
+#include <tf2/exceptions.h>
+#include <tf2_msgs/TFMessage.h>
 
+#include "bag_recordings.hpp"
 #include "conversions.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/input_file.hpp"
 #include "s3m/io/camera_yaml.hpp"
+#include "s3m/io/depth_to_colour.hpp"
 
 namespace s3m::ros1 {
 namespace {
@@ -58,6 +66,44 @@ std::string topics_of_type(const rosbag::Bag& bag, const std::string& datatype) 
   return "; its " + datatype + " topics (messages): " + list;
 }
 
+// topic -> message type of every connection, for recognise_recording.
+std::map<std::string, std::string> topic_types(const rosbag::Bag& bag) {
+  std::map<std::string, std::string> out;
+  rosbag::View all(bag);
+  for (const rosbag::ConnectionInfo* c : all.getConnections()) out[c->topic] = c->datatype;
+  return out;
+}
+
+template <typename Msg>
+boost::shared_ptr<Msg> first_message(const rosbag::Bag& bag, const std::string& topic, const std::string& path) {
+  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic))) return instantiate<Msg>(m, path);
+  return nullptr;
+}
+
+// Which topics to read: the ones given, or (none given) the recorder's, recognised by topic names.
+BagRecording choose_topics(const rosbag::Bag& bag, const BagTopics& given, const std::string& path) {
+  const std::map<std::string, std::string> types = topic_types(bag);
+  BagRecording r;
+  if (given.rgb.empty() && given.depth.empty()) {
+    try {
+      r = recognise_recording(types);
+    } catch (const Error& e) {
+      throw Error(path + ": " + e.what());
+    }
+  } else {
+    const BagTopics tum;
+    r.recorder = "topics given";
+    r.rgb = given.rgb.empty() ? tum.rgb : given.rgb;
+    r.depth = given.depth.empty() ? tum.depth : given.depth;
+    // The colour topic's sibling camera_info (image_raw -> camera_info), as drivers name them.
+    const std::string sibling = r.rgb.substr(0, r.rgb.rfind('/') + 1) + "camera_info";
+    const auto it = types.find(sibling);
+    if (it != types.end() && it->second == "sensor_msgs/CameraInfo") r.rgb_info = sibling;
+  }
+  if (!given.camera_info.empty()) r.rgb_info = given.camera_info;
+  return r;
+}
+
 Stream image_index(const rosbag::Bag& bag, const std::string& path, const std::string& topic) {
   Stream out;
   for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic))) {
@@ -96,18 +142,24 @@ class BagFrameSource final : public pipeline::FrameSource {
     } catch (const rosbag::BagException& e) {
       throw Error("--rosbag " + path + ": " + e.what());
     }
-    rgb_ = image_index(bag_, path, topics.rgb);
-    depth_ = image_index(bag_, path, topics.depth);
+    const BagRecording rec = choose_topics(bag_, topics, path);
+    rgb_ = image_index(bag_, path, rec.rgb);
+    depth_ = image_index(bag_, path, rec.depth);
     const std::string images = "sensor_msgs/Image";
     if (rgb_.empty())
-      throw Error(path + ": no messages on the colour topic " + topics.rgb + " (--rgb-topic)" + topics_of_type(bag_, images));
+      throw Error(path + ": no messages on the colour topic " + rec.rgb + " (--rgb-topic)" + topics_of_type(bag_, images));
     if (depth_.empty())
-      throw Error(path + ": no messages on the depth topic " + topics.depth + " (--depth-topic)" +
+      throw Error(path + ": no messages on the depth topic " + rec.depth + " (--depth-topic)" +
                   topics_of_type(bag_, images));
     if (!topics.labels.empty()) labels_ = image_index(bag_, path, topics.labels);
-    camera_ = read_camera(topics.camera_info, dataset.camera);
+    camera_ = read_camera(rec.rgb_info, !topics.camera_info.empty(), dataset.camera);
+    read_depth_units(rec.depth_units);
+    if (!rec.registered()) align_depth(rec);
     read_groundtruth(topics.groundtruth);
     pair(dataset.max_dt_s);
+    spdlog::info("{}: {}: colour {}, depth {} ({}{}), {} frames", path, rec.recorder, rec.rgb, rec.depth,
+                 rec.registered() ? "registered to colour" : "aligned to colour here",
+                 rec.depth_units.empty() ? "" : fmt::format(", depth unit {:.3g} mm", metres_per_unit_ * 1e3), pairs_.size());
   }
 
   RgbdFrame load(std::size_t index) const override {
@@ -118,7 +170,8 @@ class BagFrameSource final : public pipeline::FrameSource {
     f.index = static_cast<int>(index);
     f.t_s = rgb_.by_time[p.rgb].t_s;
     f.rgb = colour_to_bgr(*image_at(rgb_, p.rgb, path_));
-    f.depth_m = depth_to_metres(*image_at(depth_, p.depth, path_));
+    f.depth_m = depth_to_metres(*image_at(depth_, p.depth, path_), metres_per_unit_);
+    if (to_colour_) f.depth_m = aligned(f.depth_m, f.index);
     if (p.labels >= 0) f.labels = labels_to_ids(*image_at(labels_, p.labels, path_));
     check_size(f);
     return f;
@@ -135,15 +188,95 @@ class BagFrameSource final : public pipeline::FrameSource {
     long rgb, depth, labels;
   };
 
-  PinholeCamera read_camera(const std::string& topic, const std::string& override_camera) const {
-    if (!override_camera.empty()) return io::load_camera(override_camera);
-    if (topic.empty()) throw Error(path_ + ": no camera: pass --camera-info-topic or set dataset.camera in the config");
-    for (const rosbag::MessageInstance& m : rosbag::View(bag_, rosbag::TopicQuery(topic))) {
-      const PinholeCamera defaults;
-      return camera_from_info(*instantiate<sensor_msgs::CameraInfo>(m, path_), defaults.bf);
+  // Precedence: a camera-info topic given on the command line, then the config's dataset.camera
+  // (a calibrated preset: a TUM bag's CameraInfo holds the driver's uncalibrated defaults), then the
+  // recording's CameraInfo. Where the config's camera and the recording's disagree, the log says so.
+  PinholeCamera read_camera(const std::string& topic, bool topic_given, const std::string& config_camera) const {
+    const auto info = topic.empty() ? nullptr : first_message<sensor_msgs::CameraInfo>(bag_, topic, path_);
+    PinholeCamera c;
+    std::string source;
+    if (!config_camera.empty() && !topic_given) {
+      c = io::load_camera(config_camera), source = "dataset.camera " + config_camera;
+      if (info && (info->width != static_cast<unsigned>(c.width) || std::abs(info->K[0] - c.fx) > 0.01 * c.fx))
+        spdlog::warn("{}: the config's camera ({}: {}x{}, fx {:.1f}) is not the recording's ({}: {}x{}, fx {:.1f}); "
+                     "--camera-info-topic {} uses the recording's", path_, config_camera, c.width, c.height, c.fx,
+                     topic, info->width, info->height, info->K[0], topic);
+    } else if (info) {
+      c = camera_from_info(*info, PinholeCamera{}.bf), source = "CameraInfo on " + topic;
+    } else if (topic.empty()) {
+      throw Error(path_ + ": no camera: the bag has no CameraInfo for its colour topic; pass --camera-info-topic or "
+                  "set dataset.camera in the config" + topics_of_type(bag_, "sensor_msgs/CameraInfo"));
+    } else {
+      throw Error(path_ + ": no messages on the camera-info topic " + topic + " (--camera-info-topic, or the "
+                  "config's dataset.camera)" + topics_of_type(bag_, "sensor_msgs/CameraInfo"));
     }
-    throw Error(path_ + ": no messages on the camera-info topic " + topic + " (--camera-info-topic, or \"\" and the "
-                "config's dataset.camera)" + topics_of_type(bag_, "sensor_msgs/CameraInfo"));
+    // The first colour image must fit the camera: said now, not at frame 0 of the run.
+    const auto first = image_at(rgb_, 0, path_);
+    if (first->width != static_cast<unsigned>(c.width) || first->height != static_cast<unsigned>(c.height))
+      throw Error(path_ + ": the colour images are " + std::to_string(first->width) + "x" +
+                  std::to_string(first->height) + " but the camera (" + source + ") is " + std::to_string(c.width) +
+                  "x" + std::to_string(c.height) +
+                  (info && !topic_given ? "; --camera-info-topic " + topic + " uses the recording's calibration" : ""));
+    return c;
+  }
+
+  // The RealSense SDK records its depth unit (0.001 m by default; 0.0001 m in its high-accuracy modes).
+  void read_depth_units(const std::string& topic) {
+    if (topic.empty()) return;
+    const auto units = first_message<std_msgs::Float32>(bag_, topic, path_);
+    if (!units) return;
+    if (!(units->data > 0.0f) || units->data > 1.0f)
+      throw Error(path_ + ": " + topic + " = " + std::to_string(units->data) + " (expected metres per depth unit in (0, 1])");
+    metres_per_unit_ = units->data;
+  }
+
+  // Raw depth: the depth camera's intrinsics and where it sits, for io::DepthToColour.
+  void align_depth(const BagRecording& rec) {
+    const auto info = first_message<sensor_msgs::CameraInfo>(bag_, rec.depth_info, path_);
+    if (!info) throw Error(path_ + ": no messages on " + rec.depth_info + " (the depth camera's intrinsics)");
+    const PinholeCamera depth_camera = camera_from_info(*info, PinholeCamera{}.bf);
+    SE3 T_c_d;
+    if (!rec.depth_extrinsics.empty()) {  // RealSense SDK: both transforms map the reference stream into theirs
+      const auto T_rgb_ref = first_message<geometry_msgs::Transform>(bag_, rec.rgb_extrinsics, path_);
+      const auto T_depth_ref = first_message<geometry_msgs::Transform>(bag_, rec.depth_extrinsics, path_);
+      if (!T_rgb_ref || !T_depth_ref)
+        throw Error(path_ + ": no messages on " + rec.rgb_extrinsics + " / " + rec.depth_extrinsics);
+      T_c_d = from_transform(*T_rgb_ref) * from_transform(*T_depth_ref).inverse();
+    } else {
+      const auto rgb_info = first_message<sensor_msgs::CameraInfo>(bag_, rec.rgb_info, path_);
+      T_c_d = static_transform(rgb_info ? rgb_info->header.frame_id : "", info->header.frame_id);
+    }
+    to_colour_ = std::make_shared<io::DepthToColour>(depth_camera, camera_, T_c_d);
+    spdlog::info("{}: depth camera {}x{} fx {:.1f}, {:.1f} cm from the colour camera; its depth is drawn into the "
+                 "colour camera's {}x{} pixels", path_, depth_camera.width, depth_camera.height, depth_camera.fx,
+                 T_c_d.translation().norm() * 100, camera_.width, camera_.height);
+  }
+
+  // T_c_d from the bag's /tf_static (a driver's static camera frames), colour frame <- depth frame.
+  SE3 static_transform(const std::string& colour_frame, const std::string& depth_frame) const {
+    if (colour_frame.empty() || depth_frame.empty())
+      throw Error(path_ + ": the depth is not registered to colour and the CameraInfo messages name no frame_id");
+    tf2::BufferCore tf;
+    for (const rosbag::MessageInstance& m : rosbag::View(bag_, rosbag::TopicQuery("/tf_static"))) {
+      const auto msg = instantiate<tf2_msgs::TFMessage>(m, path_);  // held: a range-for would not keep it alive
+      for (const auto& t : msg->transforms) tf.setTransform(t, "bag", true);
+    }
+    try {
+      return from_transform(tf.lookupTransform(colour_frame, depth_frame, ros::Time(0)).transform);
+    } catch (const tf2::TransformException& e) {
+      throw Error(path_ + ": the depth (" + depth_frame + ") is not registered to colour (" + colour_frame +
+                  ") and /tf_static does not connect them: " + e.what() +
+                  "; record /tf_static, or the driver's depth aligned to colour");
+    }
+  }
+
+  cv::Mat aligned(const cv::Mat& depth_m, int index) const {
+    const PinholeCamera& d = to_colour_->depth_camera();
+    if (depth_m.cols != d.width || depth_m.rows != d.height)
+      throw Error(path_ + ": frame " + std::to_string(index) + " depth image is " + std::to_string(depth_m.cols) + "x" +
+                  std::to_string(depth_m.rows) + " (expected the depth camera's " + std::to_string(d.width) + "x" +
+                  std::to_string(d.height) + ")");
+    return (*to_colour_)(depth_m);
   }
 
   void read_groundtruth(const std::string& topic) {
@@ -188,6 +321,8 @@ class BagFrameSource final : public pipeline::FrameSource {
   Stream rgb_, depth_, labels_;
   std::vector<Pair> pairs_;
   PinholeCamera camera_;
+  double metres_per_unit_ = 1e-3;  // 16-bit depth: millimetres unless the recorder says otherwise
+  std::shared_ptr<const io::DepthToColour> to_colour_;  // raw depth; null = registered
   io::Trajectory groundtruth_;
 };
 

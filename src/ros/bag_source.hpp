@@ -1,5 +1,9 @@
 #pragma once
 // A rosbag as a pipeline::FrameSource, read with the rosbag C++ API (`s3m run --rosbag`).
+// Topics: the ones given, or, when neither a colour nor a depth topic is given, the recorder's
+// (bag_recordings.hpp: TUM RGB-D, the RealSense SDK, realsense2_camera, openni, Azure Kinect). A
+// raw depth stream (not registered to colour) is drawn into the colour camera (io::DepthToColour)
+// with the depth camera's CameraInfo and the recorded extrinsics (RealSense SDK) or /tf_static.
 // Colour and depth images are paired by header stamp: each colour image takes the depth image with
 // the nearest stamp within dataset.max_dt_s (each depth image used once; unpaired colour images are
 // skipped and counted). The camera comes from the first CameraInfo on camera_info_topic, or from
@@ -11,6 +15,9 @@
 
 namespace s3m::ros1 {
 
+// The defaults are the TUM RGB-D bags' names (what `s3m tum2bag` writes). For reading, rgb and
+// depth both "" = recognise the recorder; camera_info "" = the recognised (or the colour topic's
+// sibling) camera_info topic, or dataset.camera.
 struct BagTopics {
   std::string rgb = "/camera/rgb/image_color";
   std::string depth = "/camera/depth/image";

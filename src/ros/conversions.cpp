@@ -1,6 +1,11 @@
 #include "conversions.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
+
+#include <Eigen/Dense>
 
 #include <cv_bridge/cv_bridge.h>
 #include <opencv2/imgproc.hpp>
@@ -24,15 +29,15 @@ cv::Mat colour_to_bgr(const sensor_msgs::Image& msg) {
   return cv_bridge::toCvCopy(msg, enc::BGR8)->image;
 }
 
-cv::Mat depth_to_metres(const sensor_msgs::Image& msg) {
+cv::Mat depth_to_metres(const sensor_msgs::Image& msg, double metres_per_unit) {
   const cv_bridge::CvImageConstPtr cv = cv_bridge::toCvCopy(msg);
   cv::Mat depth_m;
   if (msg.encoding == enc::TYPE_16UC1 || msg.encoding == enc::MONO16) {
-    cv->image.convertTo(depth_m, CV_32F, 1e-3);  // millimetres; 0 stays "no measurement"
+    cv->image.convertTo(depth_m, CV_32F, metres_per_unit);  // 0 stays "no measurement"
   } else if (msg.encoding == enc::TYPE_32FC1) {
     depth_m = cv->image;
   } else {
-    throw Error("depth image: encoding " + describe(msg) + " (expected 16UC1 in millimetres or 32FC1 in metres)");
+    throw Error("depth image: encoding " + describe(msg) + " (expected 16UC1 / mono16 in depth units or 32FC1 in metres)");
   }
   return depth_m;
 }
@@ -43,6 +48,36 @@ cv::Mat labels_to_ids(const sensor_msgs::Image& msg) {
   return cv_bridge::toCvCopy(msg)->image;
 }
 
+namespace {
+
+// OpenCV's forward coefficients (k1 k2 p1 p2 k3: undistorted -> distorted) equivalent to the
+// RealSense SDK's "Inverse Brown Conrady" ones (the same polynomial, applied distorted ->
+// undistorted): a least-squares fit over a grid of the image's pixels. Linear in the coefficients.
+std::array<double, 5> forward_from_inverse_brown_conrady(const std::vector<double>& c, const sensor_msgs::CameraInfo& info) {
+  std::vector<Eigen::Matrix<double, 1, 5>> rows;
+  std::vector<double> rhs;
+  const double fx = info.K[0], fy = info.K[4], cx = info.K[2], cy = info.K[5];
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j) {
+      const double xd = (i * (info.width - 1.0) / 20 - cx) / fx, yd = (j * (info.height - 1.0) / 20 - cy) / fy;
+      const double r2d = xd * xd + yd * yd, f = 1 + r2d * (c[0] + r2d * (c[1] + r2d * c[4]));
+      const double x = xd * f + 2 * c[2] * xd * yd + c[3] * (r2d + 2 * xd * xd);  // undistorted
+      const double y = yd * f + c[2] * (r2d + 2 * yd * yd) + 2 * c[3] * xd * yd;
+      const double r2 = x * x + y * y;
+      rows.push_back((Eigen::Matrix<double, 1, 5>() << x * r2, x * r2 * r2, 2 * x * y, r2 + 2 * x * x, x * r2 * r2 * r2).finished());
+      rhs.push_back(xd - x);
+      rows.push_back((Eigen::Matrix<double, 1, 5>() << y * r2, y * r2 * r2, r2 + 2 * y * y, 2 * x * y, y * r2 * r2 * r2).finished());
+      rhs.push_back(yd - y);
+    }
+  Eigen::MatrixXd A(rows.size(), 5);
+  Eigen::VectorXd b(rows.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) A.row(static_cast<Eigen::Index>(r)) = rows[r], b(static_cast<Eigen::Index>(r)) = rhs[r];
+  const Eigen::VectorXd k = A.colPivHouseholderQr().solve(b);
+  return {k(0), k(1), k(2), k(3), k(4)};
+}
+
+}  // namespace
+
 PinholeCamera camera_from_info(const sensor_msgs::CameraInfo& info, double default_bf) {
   PinholeCamera c;
   c.fx = info.K[0];
@@ -52,10 +87,19 @@ PinholeCamera camera_from_info(const sensor_msgs::CameraInfo& info, double defau
   c.width = static_cast<int>(info.width);
   c.height = static_cast<int>(info.height);
   c.dist = {0, 0, 0, 0, 0};
-  if (!info.D.empty()) {
-    if (info.distortion_model != "plumb_bob" && info.distortion_model != "rational_polynomial")
-      throw Error("camera_info: distortion model '" + info.distortion_model + "' (expected plumb_bob)");
-    for (std::size_t i = 0; i < 5 && i < info.D.size(); ++i) c.dist[i] = info.D[i];
+  const std::string& model = info.distortion_model;
+  std::vector<double> d(info.D.begin(), info.D.end());
+  d.resize(std::max<std::size_t>(d.size(), 5), 0.0);
+  const bool none = std::all_of(d.begin(), d.end(), [](double x) { return x == 0.0; });
+  if (none) {
+    // no distortion, whatever the model is called
+  } else if (model == "Inverse Brown Conrady") {  // the RealSense SDK's colour streams
+    c.dist = forward_from_inverse_brown_conrady(d, info);
+  } else if (model == "plumb_bob" || model == "rational_polynomial" || model == "Brown Conrady") {
+    for (std::size_t i = 0; i < 5; ++i) c.dist[i] = d[i];
+  } else {
+    throw Error("camera_info: distortion model '" + model +
+                "' (expected plumb_bob, or the RealSense SDK's Brown Conrady / Inverse Brown Conrady)");
   }
   c.bf = info.P[3] < 0 ? -info.P[3] : default_bf;
   c.depth_factor = 1000.0;  // unused: depth arrives converted to metres

@@ -1,7 +1,8 @@
 #pragma once
 // Conversions between ROS1 messages and s3m types. Only src/ros includes ROS headers.
 //  - colour: rgb8 / bgr8 / rgba8 / bgra8 / mono8 -> CV_8UC3 BGR (OpenCV order, as RgbdFrame)
-//  - depth: 16UC1 (millimetres, the REP 118 convention) or 32FC1 (metres) -> CV_32FC1 metres
+//  - depth: 16UC1 / mono16 (millimetres, the REP 118 convention, unless the recorder says otherwise:
+//    the RealSense SDK's Depth Units) or 32FC1 (metres) -> CV_32FC1 metres
 //  - labels (s3m simulator): mono16 / 16UC1 class ids -> CV_16UC1
 //  - CameraInfo <-> PinholeCamera (K, plumb_bob D, and the virtual stereo term bf in P, see below)
 #include <string>
@@ -19,12 +20,15 @@
 namespace s3m::ros1 {
 
 cv::Mat colour_to_bgr(const sensor_msgs::Image& msg);
-cv::Mat depth_to_metres(const sensor_msgs::Image& msg);
+cv::Mat depth_to_metres(const sensor_msgs::Image& msg, double metres_per_unit = 1e-3);
 cv::Mat labels_to_ids(const sensor_msgs::Image& msg);
 
 // RGB-D SLAM's virtual stereo baseline bf = baseline * fx [px m] (ORB-SLAM's Camera.bf) has no
 // field in CameraInfo. s3m stores it as a right stereo camera would: P[3] = -bf (Tx = -fx * B).
 // P[3] >= 0 (a plain monocular CameraInfo): bf falls back to `default_bf`.
+// Distortion: plumb_bob (or rational_polynomial's first five) and the RealSense SDK's "Brown
+// Conrady" as they are; its "Inverse Brown Conrady" (the colour streams; coefficients that undo the
+// distortion) converted to the equivalent forward coefficients by a least-squares fit.
 PinholeCamera camera_from_info(const sensor_msgs::CameraInfo& info, double default_bf);
 sensor_msgs::CameraInfo info_from_camera(const PinholeCamera& camera);
 

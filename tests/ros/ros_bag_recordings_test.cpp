@@ -1,0 +1,368 @@
+// Bags as camera drivers and recorders write them (bag_recordings.hpp): recognised by their topics,
+// raw depth drawn into the colour camera with the recorded extrinsics, the RealSense SDK's depth
+// unit and distortion model. The SDK and realsense2_camera bags here are written from a simulated
+// flight with a separate depth camera (848x480, 1.5 cm beside the colour camera, slightly turned),
+// so what `s3m run --rosbag` makes of them is compared with the flight's exact depth and poses.
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include <cv_bridge/cv_bridge.h>
+#include <gtest/gtest.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <rosbag/bag.h>
+#include <std_msgs/Float32.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include "bag_recordings.hpp"
+#include "bag_source.hpp"
+#include "conversions.hpp"
+#include "ros_test_util.hpp"
+#include "s3m/core/error.hpp"
+#include "s3m/eval/trajectory_eval.hpp"
+#include "s3m/io/depth_to_colour.hpp"
+#include "s3m/io/trajectory.hpp"
+#include "s3m/io/tum_dataset.hpp"
+#include "s3m/sim/simulate.hpp"
+
+namespace s3m {
+namespace {
+
+namespace fs = std::filesystem;
+using Topics = std::map<std::string, std::string>;
+const std::string kImage = "sensor_msgs/Image", kInfo = "sensor_msgs/CameraInfo";
+
+std::string error_of(const Topics& t) {
+  try {
+    ros1::recognise_recording(t);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+TEST(RosBagRecordings, RealSenseSdkLayoutWithItsUnitsAndExtrinsics) {
+  const std::string dev = "/device_0/sensor_", tf = "geometry_msgs/Transform";
+  const Topics t{{dev + "1/Color_0/image/data", kImage},          {dev + "0/Depth_0/image/data", kImage},
+                 {dev + "1/Color_0/info/camera_info", kInfo},     {dev + "0/Depth_0/info/camera_info", kInfo},
+                 {dev + "1/Color_0/tf/0", tf},                    {dev + "0/Depth_0/tf/0", tf},
+                 {dev + "0/Infrared_1/image/data", kImage},       {dev + "0/option/Depth Units/value", "std_msgs/Float32"},
+                 {"/file_version", "std_msgs/UInt32"}};
+  const ros1::BagRecording r = ros1::recognise_recording(t);
+  EXPECT_EQ(r.recorder, "RealSense SDK (realsense-viewer, rs-record)");
+  EXPECT_EQ(r.rgb, dev + "1/Color_0/image/data");
+  EXPECT_EQ(r.depth, dev + "0/Depth_0/image/data");
+  EXPECT_EQ(r.rgb_info, dev + "1/Color_0/info/camera_info");
+  EXPECT_EQ(r.depth_info, dev + "0/Depth_0/info/camera_info");
+  EXPECT_EQ(r.rgb_extrinsics, dev + "1/Color_0/tf/0");
+  EXPECT_EQ(r.depth_extrinsics, dev + "0/Depth_0/tf/0");
+  EXPECT_EQ(r.depth_units, dev + "0/option/Depth Units/value");
+  EXPECT_FALSE(r.registered());
+  Topics no_tf = t;
+  no_tf.erase(dev + "1/Color_0/tf/0");
+  EXPECT_NE(error_of(no_tf).find("no extrinsics /device_0/sensor_0/Depth_0/tf/N"), std::string::npos) << error_of(no_tf);
+}
+
+TEST(RosBagRecordings, DriversThatRegisterDepthAndRealsenseRosRaw) {
+  const auto recorded = [](const Topics& t) { return ros1::recognise_recording(t); };
+  const ros1::BagRecording aligned = recorded({{"/d435/color/image_raw", kImage},
+                                               {"/d435/color/camera_info", kInfo},
+                                               {"/d435/depth/image_rect_raw", kImage},
+                                               {"/d435/aligned_depth_to_color/image_raw", kImage}});
+  EXPECT_EQ(aligned.recorder, "realsense2_camera (ROS), depth aligned to colour");
+  EXPECT_EQ(aligned.depth, "/d435/aligned_depth_to_color/image_raw");
+  EXPECT_EQ(aligned.rgb_info, "/d435/color/camera_info");
+  EXPECT_TRUE(aligned.registered());
+  const ros1::BagRecording raw = recorded({{"/camera/color/image_raw", kImage},
+                                           {"/camera/color/camera_info", kInfo},
+                                           {"/camera/depth/image_rect_raw", kImage},
+                                           {"/camera/depth/camera_info", kInfo}});
+  EXPECT_EQ(raw.depth_info, "/camera/depth/camera_info");
+  EXPECT_TRUE(raw.depth_extrinsics.empty());  // from /tf_static
+  const ros1::BagRecording openni = recorded({{"/camera/rgb/image_raw", kImage},
+                                              {"/camera/rgb/camera_info", kInfo},
+                                              {"/camera/depth/image_raw", kImage},
+                                              {"/camera/depth_registered/image_raw", kImage}});
+  EXPECT_EQ(openni.recorder, "openni_launch / openni2_launch");
+  EXPECT_EQ(openni.depth, "/camera/depth_registered/image_raw");
+  const ros1::BagRecording k4a = recorded({{"/rgb/image_raw", kImage}, {"/depth_to_rgb/image_raw", kImage},
+                                           {"/depth/image_raw", kImage}, {"/rgb/camera_info", kInfo}});
+  EXPECT_EQ(k4a.recorder, "Azure Kinect ROS driver");
+  EXPECT_EQ(k4a.rgb, "/rgb/image_raw");
+  const ros1::BagRecording tum = recorded({{"/camera/rgb/image_color", kImage}, {"/camera/depth/image", kImage},
+                                           {"/camera/rgb/camera_info", kInfo}, {"/tf", "tf/tfMessage"}});
+  EXPECT_EQ(tum.recorder, "TUM RGB-D");
+}
+
+TEST(RosBagRecordings, NothingKnownOrTwoCamerasIsSaidWithTheTopics) {
+  const std::string none = error_of({{"/cam/left", kImage}, {"/cam/right", kImage}});
+  EXPECT_NE(none.find("the bag's sensor_msgs/Image topics: /cam/left, /cam/right; pass --rgb-topic and --depth-topic"),
+            std::string::npos)
+      << none;
+  const std::string two = error_of({{"/front/color/image_raw", kImage},
+                                    {"/front/aligned_depth_to_color/image_raw", kImage},
+                                    {"/down/color/image_raw", kImage},
+                                    {"/down/aligned_depth_to_color/image_raw", kImage}});
+  EXPECT_NE(two.find("2 colour/depth pairs"), std::string::npos) << two;
+  EXPECT_NE(two.find("/down/color/image_raw + /down/aligned_depth_to_color/image_raw"), std::string::npos) << two;
+  EXPECT_NE(two.find("/front/color/image_raw"), std::string::npos) << two;
+}
+
+TEST(RosConversions, InverseBrownConradyBecomesForwardCoefficients) {
+  // A D455 colour stream's kind of coefficients (they undo the distortion: distorted -> undistorted).
+  sensor_msgs::CameraInfo info;
+  info.width = 1280, info.height = 720;
+  info.K = {640, 0, 641.2, 0, 639.5, 362.7, 0, 0, 1};
+  info.distortion_model = "Inverse Brown Conrady";
+  const std::vector<double> c{-0.0556, 0.0646, -0.0004, 0.0009, -0.0208};
+  info.D = c;
+  const PinholeCamera cam = ros1::camera_from_info(info, 40.0);
+  // Every distorted pixel, undone with the SDK's formula and projected with OpenCV's forward model
+  // and the fitted coefficients, comes back to itself.
+  std::vector<cv::Point3d> undistorted;
+  std::vector<cv::Point2d> pixels;
+  for (double u = 0; u < 1280; u += 71)
+    for (double v = 0; v < 720; v += 53) {
+      const double x = (u - 641.2) / 640, y = (v - 362.7) / 639.5, r2 = x * x + y * y;
+      const double f = 1 + c[0] * r2 + c[1] * r2 * r2 + c[4] * r2 * r2 * r2;
+      undistorted.emplace_back(x * f + 2 * c[2] * x * y + c[3] * (r2 + 2 * x * x),
+                               y * f + 2 * c[3] * x * y + c[2] * (r2 + 2 * y * y), 1.0);
+      pixels.emplace_back(u, v);
+    }
+  std::vector<cv::Point2d> projected;
+  cv::projectPoints(undistorted, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0),
+                    cv::Matx33d(640, 0, 641.2, 0, 639.5, 362.7, 0, 0, 1),
+                    std::vector<double>(cam.dist.begin(), cam.dist.end()), projected);
+  double worst = 0;
+  for (std::size_t i = 0; i < pixels.size(); ++i) worst = std::max(worst, cv::norm(projected[i] - pixels[i]));
+  EXPECT_LT(worst, 0.1) << "px";
+  EXPECT_GT(cam.dist[0], 0.03);  // forward k1 has the opposite sign of the inverse one
+  sensor_msgs::CameraInfo zeros = info;
+  zeros.D.assign(5, 0.0);
+  EXPECT_FALSE(ros1::camera_from_info(zeros, 40.0).has_distortion());  // a D435's colour stream
+  zeros.distortion_model = "Kannala Brandt4";
+  EXPECT_FALSE(ros1::camera_from_info(zeros, 40.0).has_distortion());  // no coefficients: any name
+  info.distortion_model = "Kannala Brandt4";
+  EXPECT_THROW(ros1::camera_from_info(info, 40.0), Error);
+}
+
+// ---- Bags written from a simulated flight, as a RealSense would record it --------------------
+
+struct Flight {
+  fs::path dir, seq;
+  PinholeCamera colour, depth;  // depth: the D4xx-like depth camera beside the colour camera
+  SE3 T_c_d;
+};
+
+const Flight& flight() {
+  static const Flight f = [] {
+    Flight out;
+    out.dir = fs::temp_directory_path() / ("s3m_ros_recordings_" + std::to_string(::getpid()));
+    fs::remove_all(out.dir);
+    fs::create_directories(out.dir);
+    sim::SimConfig c;
+    c.scene = "office";
+    c.seed = 7;
+    c.trajectory.type = "handheld";
+    c.trajectory.frames = 40;
+    out.seq = out.dir / "seq";
+    sim::simulate_sequence(c, out.seq.string());
+    out.colour = io::TumDataset::open(out.seq.string()).camera();
+    out.depth.fx = out.depth.fy = 425, out.depth.cx = 423.5, out.depth.cy = 239.5;
+    out.depth.width = 848, out.depth.height = 480;
+    out.T_c_d = make_se3(Vec3(-0.015, 0.0003, 0.0002), Quat(Eigen::AngleAxisd(0.006, Vec3(0.3, 1, 0.2).normalized())));
+    return out;
+  }();
+  return f;
+}
+
+sensor_msgs::Image mono16_depth(const cv::Mat& depth_m, double metres_per_unit, const std::string& encoding) {
+  cv::Mat units(depth_m.size(), CV_16UC1);
+  depth_m.convertTo(units, CV_16U, 1.0 / metres_per_unit);  // rounds; 0 stays 0
+  return *cv_bridge::CvImage(std_msgs::Header(), encoding, units).toImageMsg();
+}
+
+sensor_msgs::CameraInfo info(const PinholeCamera& c, const std::string& model, const std::string& frame) {
+  sensor_msgs::CameraInfo i = ros1::info_from_camera(c);
+  i.distortion_model = model;
+  i.P[3] = 0;  // a driver's CameraInfo carries no virtual stereo term
+  i.header.frame_id = frame;
+  return i;
+}
+
+// Writes every frame of the flight: colour as recorded, depth seen from the depth camera.
+template <typename WriteFrame>
+void write_frames(const Flight& f, WriteFrame write_frame) {
+  const io::TumDataset ds = io::TumDataset::open(f.seq.string());
+  const io::DepthToColour to_depth_camera(f.colour, f.depth, f.T_c_d.inverse());
+  for (std::size_t i = 0; i < ds.size(); ++i) {
+    const RgbdFrame fr = ds.load(i);
+    write_frame(ros1::to_ros_time(fr.t_s), ros1::bgr_to_msg(fr.rgb), to_depth_camera(fr.depth_m));
+  }
+}
+
+fs::path realsense_sdk_bag(const Flight& f) {
+  const fs::path bag = f.dir / "realsense_sdk.bag";
+  const std::string colour = "/device_0/sensor_1/Color_0", depth = "/device_0/sensor_0/Depth_0";
+  const double unit = 0.0005;  // not the default 1 mm: a run that ignored it would see everything halved
+  rosbag::Bag b(bag.string(), rosbag::bagmode::Write);
+  const ros::Time t0(1.0);
+  b.write(colour + "/info/camera_info", t0, info(f.colour, "Inverse Brown Conrady", ""));
+  b.write(depth + "/info/camera_info", t0, info(f.depth, "Brown Conrady", ""));
+  std_msgs::Float32 units;
+  units.data = static_cast<float>(unit);
+  b.write("/device_0/sensor_0/option/Depth Units/value", t0, units);
+  // Extrinsics from the reference stream (the depth stream, group 0) into each stream.
+  b.write(depth + "/tf/0", t0, ros1::to_transform(SE3::Identity()));
+  b.write(colour + "/tf/0", t0, ros1::to_transform(f.T_c_d));
+  write_frames(f, [&](const ros::Time& t, sensor_msgs::Image rgb, const cv::Mat& depth_m) {
+    sensor_msgs::Image d = mono16_depth(depth_m, unit, "mono16");
+    rgb.header.stamp = d.header.stamp = t;
+    b.write(colour + "/image/data", t, rgb);
+    b.write(depth + "/image/data", t, d);
+  });
+  return bag;
+}
+
+fs::path realsense_ros_raw_bag(const Flight& f) {
+  const fs::path bag = f.dir / "realsense_ros_raw.bag";
+  rosbag::Bag b(bag.string(), rosbag::bagmode::Write);
+  const ros::Time t0(1.0);
+  const std::string colour_frame = "camera_color_optical_frame", depth_frame = "camera_depth_optical_frame";
+  // The driver's static frames: both optical frames hang off camera_link.
+  const SE3 T_link_c = make_se3(Vec3(0, 0.015, 0), Quat(0.5, -0.5, 0.5, -0.5));
+  tf2_msgs::TFMessage statics;
+  for (const auto& [child, T] : {std::pair{colour_frame, T_link_c}, std::pair{depth_frame, SE3(T_link_c * f.T_c_d)}}) {
+    geometry_msgs::TransformStamped ts;
+    ts.header.stamp = t0, ts.header.frame_id = "camera_link", ts.child_frame_id = child;
+    ts.transform = ros1::to_transform(T);
+    statics.transforms.push_back(ts);
+  }
+  b.write("/tf_static", t0, statics);
+  b.write("/camera/color/camera_info", t0, info(f.colour, "plumb_bob", colour_frame));
+  b.write("/camera/depth/camera_info", t0, info(f.depth, "plumb_bob", depth_frame));
+  write_frames(f, [&](const ros::Time& t, sensor_msgs::Image rgb, const cv::Mat& depth_m) {
+    sensor_msgs::Image d = mono16_depth(depth_m, 0.001, "16UC1");
+    rgb.header.stamp = d.header.stamp = t;
+    b.write("/camera/color/image_raw", t, rgb);
+    b.write("/camera/depth/image_rect_raw", t, d);
+  });
+  return bag;
+}
+
+// Depth read from the bag (aligned to colour here) against the flight's own colour-registered depth.
+void expect_depth_like_the_flight(const fs::path& bag, double quantum_m) {
+  const Flight& f = flight();
+  const auto source = ros1::open_bag_source(bag.string(), ros1::BagTopics{"", "", "", "", ""}, pipeline::DatasetConfig{});
+  const io::TumDataset ds = io::TumDataset::open(f.seq.string());
+  ASSERT_EQ(source->size(), ds.size());
+  EXPECT_DOUBLE_EQ(source->camera().fx, f.colour.fx);
+  EXPECT_EQ(source->camera().width, f.colour.width);
+  for (std::size_t i : {5u, 30u}) {
+    const cv::Mat truth = ds.load(i).depth_m, got = source->load(i).depth_m;
+    ASSERT_EQ(got.size(), truth.size());
+    // Resampled twice (into the depth camera and back), a pixel's depth comes from a point of the
+    // surface within about a pixel: it must lie within the truth's 3x3 neighbourhood (1 % + one unit).
+    cv::Mat lo, hi;
+    cv::erode(truth, lo, cv::Mat());   // 3x3 minimum
+    cv::dilate(truth, hi, cv::Mat());  // 3x3 maximum
+    long valid = 0, close = 0, missing = 0, invented = 0;
+    for (int v = 0; v < truth.rows; ++v)
+      for (int u = 0; u < truth.cols; ++u) {
+        const float z = truth.at<float>(v, u), g = got.at<float>(v, u);
+        if (z > 0) {
+          ++valid;
+          missing += g == 0;
+          const float tol = 0.01f * z + static_cast<float>(quantum_m);
+          close += g > 0 && g >= lo.at<float>(v, u) - tol && g <= hi.at<float>(v, u) + tol;
+        } else {
+          invented += g > 0;
+        }
+      }
+    std::cout << bag.filename().string() << " frame " << i << ": " << close << " of " << valid
+              << " within the 3x3 range, missing " << missing << ", invented " << invented << "\n";
+    EXPECT_GT(valid, 200000);
+    EXPECT_GE(static_cast<double>(close) / valid, 0.99) << "frame " << i;
+    EXPECT_LE(invented, valid / 100) << "frame " << i;
+  }
+}
+
+TEST(RosBagRecordings, RealSenseSdkBagIsAlignedToColourWithItsUnit) {
+  expect_depth_like_the_flight(realsense_sdk_bag(flight()), 0.0005);
+}
+
+TEST(RosBagRecordings, RealsenseRosRawDepthIsPlacedByTfStatic) {
+  expect_depth_like_the_flight(realsense_ros_raw_bag(flight()), 0.001);
+}
+
+TEST(RosBagRecordings, ConfigCameraWinsUnlessTheTopicIsGivenAndMustFitTheImages) {
+  const Flight& f = flight();
+  const fs::path bag = f.dir / "realsense_sdk.bag";
+  if (!fs::exists(bag)) realsense_sdk_bag(f);
+  pipeline::DatasetConfig preset;
+  preset.camera = "tum_fr1";  // 640x480 like the flight, another focal length: used, with a warning
+  EXPECT_NEAR(ros1::open_bag_source(bag.string(), ros1::BagTopics{"", "", "", "", ""}, preset)->camera().fx, 517.3, 0.1);
+  ros1::BagTopics given{"", "", "/device_0/sensor_1/Color_0/info/camera_info", "", ""};
+  EXPECT_DOUBLE_EQ(ros1::open_bag_source(bag.string(), given, preset)->camera().fx, f.colour.fx);
+  const fs::path small = f.dir / "camera_320.yaml";
+  std::ofstream(small) << "fx: 262.5\nfy: 262.5\ncx: 159.5\ncy: 119.5\nwidth: 320\nheight: 240\ndepth_factor: 1000\n";
+  preset.camera = small.string();
+  try {
+    ros1::open_bag_source(bag.string(), ros1::BagTopics{"", "", "", "", ""}, preset);
+    ADD_FAILURE() << "a 320x240 camera was accepted for 640x480 images";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("the colour images are 640x480 but the camera (dataset.camera " + small.string() + ") is 320x240; "
+                     "--camera-info-topic /device_0/sensor_1/Color_0/info/camera_info uses the recording's calibration"),
+              std::string::npos)
+        << m;
+  }
+}
+
+double ate_cm(const fs::path& run_dir) {
+  const io::Trajectory gt = io::TumDataset::open(flight().seq.string()).groundtruth();
+  const io::Trajectory est = io::read_tum_trajectory((run_dir / "trajectory_camera.txt").string());
+  return eval::evaluate_trajectory(gt, est).ate.stats_m.rmse * 100;
+}
+
+int run(const std::string& cmd, const fs::path& log) {
+  return std::system((cmd + " > " + log.string() + " 2>&1").c_str());
+}
+
+TEST(RosBagRecordings, RealSenseSdkBagRunsWithoutTopicOptions) {
+  // What a user with a RealSense types: the bag and nothing about its topics, units or extrinsics.
+  const Flight& f = flight();
+  const fs::path bag = f.dir / "realsense_sdk.bag";
+  if (!fs::exists(bag)) realsense_sdk_bag(f);
+  const std::string s3m = S3M_BINARY, common = " --config " + std::string(S3M_SOURCE_DIR) +
+                                                "/config/sim.yaml --slam-only --deterministic --no-report --out ";
+  ASSERT_EQ(run(s3m + " run " + f.seq.string() + common + (f.dir / "dir_run").string(), f.dir / "dir.log"), 0)
+      << rostest::read_file(f.dir / "dir.log");
+  ASSERT_EQ(run(s3m + " run --rosbag " + bag.string() + common + (f.dir / "bag_run").string(), f.dir / "bag.log"), 0)
+      << rostest::read_file(f.dir / "bag.log");
+  const std::string log = rostest::read_file(f.dir / "bag.log");
+  EXPECT_NE(log.find("RealSense SDK (realsense-viewer, rs-record)"), std::string::npos) << log;
+  EXPECT_NE(log.find("depth camera 848x480 fx 425.0, 1.5 cm from the colour camera"), std::string::npos) << log;
+  const double from_dir = ate_cm(f.dir / "dir_run"), from_bag = ate_cm(f.dir / "bag_run");
+  std::cout << "ATE: directory (registered depth) " << from_dir << " cm, RealSense SDK bag (raw depth aligned here) "
+            << from_bag << " cm\n";
+  EXPECT_LT(from_bag, std::max(1.5 * from_dir, from_dir + 0.5));
+}
+
+// The flight and its bags are made once per test process; removed at its end.
+class RemoveFlight : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    const fs::path dir = fs::temp_directory_path() / ("s3m_ros_recordings_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+  }
+};
+const auto* const kRemoveFlight = ::testing::AddGlobalTestEnvironment(new RemoveFlight);
+
+}  // namespace
+}  // namespace s3m
