@@ -26,19 +26,32 @@ std::vector<cv::Point2d> normalised(const PinholeCamera& cam, double offset_px) 
   return out;
 }
 
+// floor / ceil to int without a libm call (the x86-64 baseline has no rounding instruction).
+int floor_int(double x) {
+  const int i = static_cast<int>(x);
+  return i - (x < i);
+}
+int ceil_int(double x) {
+  const int i = static_cast<int>(x);
+  return i + (x > i);
+}
+
 }  // namespace
 
 DepthToColour::DepthToColour(const PinholeCamera& depth, const PinholeCamera& colour, const SE3& T_c_d)
     : depth_(depth), colour_(colour), T_c_d_(T_c_d) {
   depth_.validate();
   colour_.validate();
-  corner_lo_ = normalised(depth_, -0.5);
-  corner_hi_ = normalised(depth_, 0.5);
+  distorted_ = colour_.has_distortion();
+  const Mat3 R = T_c_d_.linear();
+  for (const cv::Point2d& p : normalised(depth_, -0.5)) ray_lo_.push_back(R * Vec3(p.x, p.y, 1.0));
+  for (const cv::Point2d& p : normalised(depth_, 0.5)) ray_hi_.push_back(R * Vec3(p.x, p.y, 1.0));
 }
 
 cv::Point2d DepthToColour::to_pixel(const Vec3& p_c) const {
-  double x = p_c.x() / p_c.z(), y = p_c.y() / p_c.z();
-  if (colour_.has_distortion()) {  // OpenCV's forward model, as cv::projectPoints
+  const double iz = 1.0 / p_c.z();
+  double x = p_c.x() * iz, y = p_c.y() * iz;
+  if (distorted_) {  // OpenCV's forward model, as cv::projectPoints
     const auto& d = colour_.dist;  // k1 k2 p1 p2 k3
     const double r2 = x * x + y * y, radial = 1 + r2 * (d[0] + r2 * (d[1] + r2 * d[4]));
     const double xd = x * radial + 2 * d[2] * x * y + d[3] * (r2 + 2 * x * x);
@@ -54,22 +67,22 @@ cv::Mat DepthToColour::operator()(const cv::Mat& depth_m) const {
               " (expected CV_32FC1 " + std::to_string(depth_.width) + "x" + std::to_string(depth_.height) +
               ", the depth camera's size)");
   cv::Mat out(colour_.height, colour_.width, CV_32FC1, cv::Scalar(0.0f));
+  const Vec3 t = T_c_d_.translation();
   for (int v = 0; v < depth_m.rows; ++v) {
     const float* row = depth_m.ptr<float>(v);
     for (int u = 0; u < depth_m.cols; ++u) {
       const float z = row[u];
       if (!(z > 0.0f) || !std::isfinite(z)) continue;
       const std::size_t i = static_cast<std::size_t>(v) * depth_m.cols + u;
-      const Vec3 lo = T_c_d_ * Vec3(corner_lo_[i].x * z, corner_lo_[i].y * z, z);
-      const Vec3 hi = T_c_d_ * Vec3(corner_hi_[i].x * z, corner_hi_[i].y * z, z);
+      const Vec3 lo = z * ray_lo_[i] + t, hi = z * ray_hi_[i] + t;
       if (lo.z() <= 0 || hi.z() <= 0) continue;
       const cv::Point2d a = to_pixel(lo), b = to_pixel(hi);
       // Colour pixels whose centres lie inside the patch; at least the one nearest its centre.
       // (Pixel centres are at integer coordinates, s3m/core/camera.hpp.)
-      int u0 = static_cast<int>(std::ceil(std::min(a.x, b.x))), u1 = static_cast<int>(std::floor(std::max(a.x, b.x)));
-      int v0 = static_cast<int>(std::ceil(std::min(a.y, b.y))), v1 = static_cast<int>(std::floor(std::max(a.y, b.y)));
-      if (u0 > u1) u0 = u1 = static_cast<int>(std::lround(0.5 * (a.x + b.x)));
-      if (v0 > v1) v0 = v1 = static_cast<int>(std::lround(0.5 * (a.y + b.y)));
+      int u0 = ceil_int(std::min(a.x, b.x)), u1 = floor_int(std::max(a.x, b.x));
+      int v0 = ceil_int(std::min(a.y, b.y)), v1 = floor_int(std::max(a.y, b.y));
+      if (u0 > u1) u0 = u1 = floor_int(0.5 * (a.x + b.x) + 0.5);
+      if (v0 > v1) v0 = v1 = floor_int(0.5 * (a.y + b.y) + 0.5);
       u0 = std::max(u0, 0), v0 = std::max(v0, 0);
       u1 = std::min(u1, colour_.width - 1), v1 = std::min(v1, colour_.height - 1);
       const float z_c = static_cast<float>(0.5 * (lo.z() + hi.z()));

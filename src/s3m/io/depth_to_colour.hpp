@@ -38,11 +38,14 @@ class DepthToColour {
   const SE3& T_c_d() const { return T_c_d_; }
 
  private:
-  cv::Point2d to_pixel(const Vec3& p_c) const;
+  inline cv::Point2d to_pixel(const Vec3& p_c) const;
 
   PinholeCamera depth_, colour_;
   SE3 T_c_d_;
-  std::vector<cv::Point2d> corner_lo_, corner_hi_;  // per depth pixel: normalised rays of (u-.5, v-.5), (u+.5, v+.5)
+  bool distorted_ = false;  // the colour camera's
+  // Per depth pixel, its corners (u-.5, v-.5) and (u+.5, v+.5) as rays R_c_d * (x, y, 1): a corner
+  // at depth z is then z * ray + t_c_d in the colour camera.
+  std::vector<Vec3> ray_lo_, ray_hi_;
 };
 
 }  // namespace s3m::io
