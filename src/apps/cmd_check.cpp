@@ -1,27 +1,42 @@
-// `s3m check DATASET [--config PRESET] [--camera FILE|PRESET]`: what s3m makes of a dataset folder
-// before a run (layout, camera, timing, ground truth, depth registration and scale, segmenter).
+// `s3m check DATASET|--rosbag FILE [--config PRESET] [--camera FILE|PRESET]`: what s3m makes of a
+// dataset folder or a bag before a run (layout or recorder, camera, timing, ground truth, depth
+// registration and scale, segmenter).
 #include <iostream>
 
 #include "commands.hpp"
+#include "ros_support.hpp"
+#include "s3m/core/error.hpp"
 #include "s3m/pipeline/dataset_check.hpp"
+#include "s3m/pipeline/factories.hpp"
 
 namespace s3m::apps {
 
 void register_check(CLI::App& app) {
   struct Args {
     std::string dataset, config, camera;
+    RosbagArgs bag;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("check", "Say what s3m makes of a dataset folder before a run: layout, camera, "
-                                          "timing, ground truth, depth registration and scale, segmenter");
-  cmd->add_option("dataset", args->dataset, "dataset folder (TUM layout, ETH3D, 7-Scenes, ScanNet, Replica)")->required();
+  auto* cmd = app.add_subcommand("check", "Say what s3m makes of a dataset folder or a rosbag before a run: layout "
+                                          "or recorder, camera, timing, ground truth, depth registration and scale, "
+                                          "segmenter");
+  cmd->add_option("dataset", args->dataset, "dataset folder (TUM layout, ETH3D, 7-Scenes, ScanNet, Replica)");
   cmd->add_option("--config", args->config, "pipeline preset the run would use (its dataset and segmenter sections)");
   cmd->add_option("--camera", args->camera, "camera file or preset instead of the dataset's (dataset.camera)");
+  add_rosbag_options(*cmd, args->bag);
   cmd->callback([args] {
+    if (args->bag.bag.empty() == args->dataset.empty())
+      throw Error("check: give either a dataset directory or --rosbag FILE.bag (exactly one)");
     pipeline::PipelineConfig config =
         args->config.empty() ? pipeline::PipelineConfig{} : pipeline::load_pipeline_config(args->config);
     if (!args->camera.empty()) config.dataset.camera = args->camera;
-    std::cout << pipeline::format_dataset_check(pipeline::check_dataset(args->dataset, config));
+    if (!args->dataset.empty()) {
+      std::cout << pipeline::format_dataset_check(pipeline::check_dataset(args->dataset, config));
+      return;
+    }
+    const auto source = rosbag_source(args->bag)(config);
+    std::cout << pipeline::format_dataset_check(
+        pipeline::check_frame_source(*source, config, pipeline::simulator_sign("", source->has_labels())));
   });
 }
 

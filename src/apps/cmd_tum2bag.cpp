@@ -43,7 +43,8 @@ void add_rosbag_options(CLI::App& cmd, RosbagArgs& a) {
                  "with --rosbag: depth image topic registered to colour (16UC1 mm or 32FC1 m; default: recognised)");
   cmd.add_option("--camera-info-topic", a.camera_info_topic,
                  "with --rosbag: sensor_msgs/CameraInfo topic (default: recognised, or the colour topic's "
-                 "camera_info; the config's dataset.camera wins when set)");
+                 "camera_info; a RealSense's or Azure Kinect's own calibration wins over the config's dataset.camera, "
+                 "which wins over other recordings'; \"none\": dataset.camera)");
   cmd.add_option("--labels-topic", a.labels_topic, "with --rosbag: optional mono16 ground-truth class ids (oracle)");
   cmd.add_option("--gt-topic", a.gt_topic, "with --rosbag: optional geometry_msgs/PoseStamped ground truth (T_w_c)")
       ->capture_default_str();

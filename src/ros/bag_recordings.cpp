@@ -34,7 +34,7 @@ std::vector<std::string> namespaces_with(const Topics& t, const std::string& suf
 // Registered drivers: colour NS + one of rgb_suffixes, depth NS + one of depth_suffixes.
 void add_registered(const Topics& t, const std::string& recorder, const std::vector<std::string>& rgb_suffixes,
                     const std::vector<std::string>& depth_suffixes, const std::string& info_suffix,
-                    std::vector<BagRecording>& found) {
+                    bool device_calibration, std::vector<BagRecording>& found) {
   for (const std::string& depth_suffix : depth_suffixes)
     for (const std::string& ns : namespaces_with(t, depth_suffix))
       for (const std::string& rgb_suffix : rgb_suffixes)
@@ -42,6 +42,8 @@ void add_registered(const Topics& t, const std::string& recorder, const std::vec
           BagRecording r;
           r.recorder = recorder, r.rgb = ns + rgb_suffix, r.depth = ns + depth_suffix;
           r.rgb_info = if_has(t, ns + info_suffix, kInfo);
+          r.registered_by = recorder + " (" + r.depth + ")";
+          r.device_calibration = device_calibration;
           found.push_back(r);
           break;
         }
@@ -56,6 +58,7 @@ void add_realsense_ros_raw(const Topics& t, std::vector<BagRecording>& found) {
     r.rgb = ns + "/color/image_raw", r.depth = ns + "/depth/image_rect_raw";
     r.rgb_info = if_has(t, ns + "/color/camera_info", kInfo);
     r.depth_info = if_has(t, ns + "/depth/camera_info", kInfo);
+    r.device_calibration = true;
     if (r.depth_info.empty())
       throw Error("the bag holds realsense2_camera's raw depth " + r.depth + " without " + ns +
                   "/depth/camera_info, which s3m needs to align it to colour; record it too, or "
@@ -83,6 +86,7 @@ void add_realsense_sdk(const Topics& t, std::vector<BagRecording>& found) {
     r.rgb = colour + "/image/data", r.depth = depth + "/image/data";
     r.rgb_info = if_has(t, colour + "/info/camera_info", kInfo);
     r.depth_info = depth + "/info/camera_info";
+    r.device_calibration = true;
     if (!has(t, r.depth_info, kInfo))
       throw Error("RealSense SDK bag: no " + r.depth_info + " (the depth camera's intrinsics, needed to align depth to colour)");
     for (const auto& [topic, type] : t) {  // <stream>/tf/<reference id>: the same reference for both
@@ -122,13 +126,13 @@ BagRecording recognise_recording(const Topics& t) {
   }
   add_realsense_sdk(t, found);
   add_registered(t, "realsense2_camera (ROS), depth aligned to colour", {"/color/image_raw"},
-                 {"/aligned_depth_to_color/image_raw"}, "/color/camera_info", found);
+                 {"/aligned_depth_to_color/image_raw"}, "/color/camera_info", true, found);
   add_realsense_ros_raw(t, found);
   add_registered(t, "openni_launch / openni2_launch", {"/rgb/image_rect_color", "/rgb/image_color", "/rgb/image_raw"},
                  {"/depth_registered/image_raw", "/depth_registered/image", "/depth_registered/sw_registered/image_rect_raw",
                   "/depth_registered/hw_registered/image_rect_raw"},
-                 "/rgb/camera_info", found);
-  add_registered(t, "Azure Kinect ROS driver", {"/rgb/image_raw"}, {"/depth_to_rgb/image_raw"}, "/rgb/camera_info", found);
+                 "/rgb/camera_info", false, found);
+  add_registered(t, "Azure Kinect ROS driver", {"/rgb/image_raw"}, {"/depth_to_rgb/image_raw"}, "/rgb/camera_info", true, found);
   if (found.size() == 1) return found.front();
   if (found.empty())
     throw Error("no colour/depth image pair s3m knows (TUM RGB-D, the RealSense SDK, realsense2_camera, "

@@ -26,6 +26,11 @@ struct BagRecording {
   // SDK's geometry_msgs/Transform topics (reference stream -> stream), or both "" for /tf_static.
   std::string rgb_extrinsics, depth_extrinsics;
   std::string depth_units;  // std_msgs/Float32 metres per unit of 16-bit depth ("" = millimetres)
+  // The driver that registered the depth topic to colour ("" = not known: TUM bags, topics given).
+  std::string registered_by;
+  // The colour CameraInfo is the device's factory calibration (RealSense, Azure Kinect), better
+  // than a preset's camera file; openni's and the TUM bags' hold the driver's defaults.
+  bool device_calibration = false;
   bool registered() const { return depth_info.empty(); }
 };
 

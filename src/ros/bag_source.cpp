@@ -100,7 +100,7 @@ BagRecording choose_topics(const rosbag::Bag& bag, const BagTopics& given, const
     const auto it = types.find(sibling);
     if (it != types.end() && it->second == "sensor_msgs/CameraInfo") r.rgb_info = sibling;
   }
-  if (!given.camera_info.empty()) r.rgb_info = given.camera_info;
+  if (!given.camera_info.empty() && given.camera_info != "none") r.rgb_info = given.camera_info;
   return r;
 }
 
@@ -152,14 +152,16 @@ class BagFrameSource final : public pipeline::FrameSource {
       throw Error(path + ": no messages on the depth topic " + rec.depth + " (--depth-topic)" +
                   topics_of_type(bag_, images));
     if (!topics.labels.empty()) labels_ = image_index(bag_, path, topics.labels);
-    camera_ = read_camera(rec.rgb_info, !topics.camera_info.empty(), dataset.camera);
+    camera_ = read_camera(rec, topics.camera_info, dataset.camera, camera_source_);
     read_depth_units(rec.depth_units);
-    if (!rec.registered()) align_depth(rec);
+    registered_by_ = rec.registered_by;
+    if (!rec.registered()) align_depth(rec), registered_by_ = "s3m, with the recording's depth camera and extrinsics";
     read_groundtruth(topics.groundtruth);
     pair(dataset.max_dt_s);
-    spdlog::info("{}: {}: colour {}, depth {} ({}{}), {} frames", path, rec.recorder, rec.rgb, rec.depth,
-                 rec.registered() ? "registered to colour" : "aligned to colour here",
-                 rec.depth_units.empty() ? "" : fmt::format(", depth unit {:.3g} mm", metres_per_unit_ * 1e3), pairs_.size());
+    layout_ = fmt::format("ROS bag, {}: colour {}, depth {} ({}{})", rec.recorder, rec.rgb, rec.depth,
+                          rec.registered() ? "registered to colour" : "aligned to colour here",
+                          rec.depth_units.empty() ? "" : fmt::format(", depth unit {:.3g} mm", metres_per_unit_ * 1e3));
+    spdlog::info("{}: {}, {} frames", path, layout_, pairs_.size());
   }
 
   RgbdFrame load(std::size_t index) const override {
@@ -182,33 +184,48 @@ class BagFrameSource final : public pipeline::FrameSource {
   bool has_labels() const override { return !labels_.empty(); }
   std::string name() const override { return path_; }
   std::string eval_dir() const override { return ""; }
+  double timestamp(std::size_t index) const override { return rgb_.by_time[pairs_.at(index).rgb].t_s; }
+  std::string layout() const override { return layout_; }
+  std::string camera_source() const override { return camera_source_; }
+  std::string depth_registered_by() const override { return registered_by_; }
 
  private:
   struct Pair {
     long rgb, depth, labels;
   };
 
-  // Precedence: a camera-info topic given on the command line, then the config's dataset.camera
-  // (a calibrated preset: a TUM bag's CameraInfo holds the driver's uncalibrated defaults), then the
-  // recording's CameraInfo. Where the config's camera and the recording's disagree, the log says so.
-  PinholeCamera read_camera(const std::string& topic, bool topic_given, const std::string& config_camera) const {
+  // Precedence: a camera-info topic given on the command line ("none": the config's camera); a
+  // device's factory calibration (rec.device_calibration); the config's dataset.camera (a
+  // calibrated preset: TUM's and openni's CameraInfo hold the driver's uncalibrated defaults); the
+  // recording's CameraInfo. What was not used and why is logged.
+  PinholeCamera read_camera(const BagRecording& rec, const std::string& given_topic, const std::string& config_camera,
+                            std::string& source) const {
+    const bool none = given_topic == "none";
+    if (none && config_camera.empty())
+      throw Error(path_ + ": --camera-info-topic none, but the config sets no dataset.camera");
+    const std::string topic = none ? "" : rec.rgb_info;
     const auto info = topic.empty() ? nullptr : first_message<sensor_msgs::CameraInfo>(bag_, topic, path_);
+    if (!given_topic.empty() && !none && !info)
+      throw Error(path_ + ": no messages on the camera-info topic " + topic + " (--camera-info-topic)" +
+                  topics_of_type(bag_, "sensor_msgs/CameraInfo"));
+    const bool use_info = info && (config_camera.empty() || !given_topic.empty() || rec.device_calibration);
     PinholeCamera c;
-    std::string source;
-    if (!config_camera.empty() && !topic_given) {
+    if (use_info) {
+      c = camera_from_info(*info, PinholeCamera{}.bf), source = "CameraInfo on " + topic;
+      if (!config_camera.empty())
+        spdlog::info("{}: camera from the recording's CameraInfo ({}), not the config's dataset.camera {}{}; "
+                     "--camera-info-topic none uses dataset.camera", path_, topic, config_camera,
+                     given_topic.empty() ? " (the device's own calibration)" : "");
+    } else if (!config_camera.empty()) {
       c = io::load_camera(config_camera), source = "dataset.camera " + config_camera;
       if (info && (info->width != static_cast<unsigned>(c.width) || std::abs(info->K[0] - c.fx) > 0.01 * c.fx))
         spdlog::warn("{}: the config's camera ({}: {}x{}, fx {:.1f}) is not the recording's ({}: {}x{}, fx {:.1f}); "
                      "--camera-info-topic {} uses the recording's", path_, config_camera, c.width, c.height, c.fx,
                      topic, info->width, info->height, info->K[0], topic);
-    } else if (info) {
-      c = camera_from_info(*info, PinholeCamera{}.bf), source = "CameraInfo on " + topic;
-    } else if (topic.empty()) {
-      throw Error(path_ + ": no camera: the bag has no CameraInfo for its colour topic; pass --camera-info-topic or "
-                  "set dataset.camera in the config" + topics_of_type(bag_, "sensor_msgs/CameraInfo"));
     } else {
-      throw Error(path_ + ": no messages on the camera-info topic " + topic + " (--camera-info-topic, or the "
-                  "config's dataset.camera)" + topics_of_type(bag_, "sensor_msgs/CameraInfo"));
+      throw Error(path_ + ": no camera: the bag has no CameraInfo for its colour topic " + rec.rgb +
+                  "; pass --camera-info-topic or set dataset.camera in the config" +
+                  topics_of_type(bag_, "sensor_msgs/CameraInfo"));
     }
     // The first colour image must fit the camera: said now, not at frame 0 of the run.
     const auto first = image_at(rgb_, 0, path_);
@@ -216,7 +233,7 @@ class BagFrameSource final : public pipeline::FrameSource {
       throw Error(path_ + ": the colour images are " + std::to_string(first->width) + "x" +
                   std::to_string(first->height) + " but the camera (" + source + ") is " + std::to_string(c.width) +
                   "x" + std::to_string(c.height) +
-                  (info && !topic_given ? "; --camera-info-topic " + topic + " uses the recording's calibration" : ""));
+                  (info && !use_info ? "; --camera-info-topic " + topic + " uses the recording's calibration" : ""));
     return c;
   }
 
@@ -316,7 +333,7 @@ class BagFrameSource final : public pipeline::FrameSource {
                     std::to_string(camera_.height) + ")");
   }
 
-  std::string path_;
+  std::string path_, layout_, camera_source_, registered_by_;
   rosbag::Bag bag_;
   Stream rgb_, depth_, labels_;
   std::vector<Pair> pairs_;

@@ -17,7 +17,8 @@ namespace s3m::ros1 {
 
 // The defaults are the TUM RGB-D bags' names (what `s3m tum2bag` writes). For reading, rgb and
 // depth both "" = recognise the recorder; camera_info "" = the recognised (or the colour topic's
-// sibling) camera_info topic, or dataset.camera.
+// sibling) camera_info topic or dataset.camera (precedence in bag_source.cpp, read_camera), "none"
+// = dataset.camera.
 struct BagTopics {
   std::string rgb = "/camera/rgb/image_color";
   std::string depth = "/camera/depth/image";

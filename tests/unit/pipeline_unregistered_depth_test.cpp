@@ -1,5 +1,8 @@
 // dataset.depth_registration: what a run changes for depth that is not registered to colour, and
 // that a preset's own values and a registered sequence are left alone.
+#include <string>
+#include <utility>
+
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
@@ -13,7 +16,10 @@ namespace {
 // Frames with boxes before a wall; the depth drawn through "c + s (colour - c) + shift".
 class BoxesSource : public FrameSource {
  public:
-  BoxesSource(double s, double dx) : s_(s), dx_(dx) { cam_.cx = 320, cam_.cy = 240; }
+  BoxesSource(double s, double dx, std::string registered_by = "")
+      : s_(s), dx_(dx), registered_by_(std::move(registered_by)) {
+    cam_.cx = 320, cam_.cy = 240;
+  }
   std::size_t size() const override { return 200; }
   RgbdFrame load(std::size_t index) const override {
     ++loads;
@@ -37,10 +43,12 @@ class BoxesSource : public FrameSource {
   bool has_labels() const override { return false; }
   std::string name() const override { return "boxes"; }
   std::string eval_dir() const override { return ""; }
+  std::string depth_registered_by() const override { return registered_by_; }
   mutable int loads = 0;
 
  private:
   double s_, dx_;
+  std::string registered_by_;
   PinholeCamera cam_;
   io::Trajectory gt_;
 };
@@ -89,6 +97,19 @@ TEST(UnregisteredDepth, ASetModeIsObeyedWithoutReadingFrames) {
   EXPECT_EQ(resolve_depth_registration(c, reg).rfind("not registered (dataset.depth_registration: unregistered)", 0), 0u);
   expect_unregistered_settings(c.slam);
   EXPECT_EQ(reg.loads, 0);
+}
+
+TEST(UnregisteredDepth, ASourceThatAlignedItsDepthIsBelievedWithoutReadingFrames) {
+  // A bag reader that drew a raw depth stream into the colour camera knows the answer; the edge
+  // check would only measure its resampling.
+  PipelineConfig c;
+  BoxesSource aligned(1.10, 8, "s3m, with the recording's depth camera and extrinsics");
+  EXPECT_EQ(resolve_depth_registration(c, aligned),
+            "registered (aligned to colour by s3m, with the recording's depth camera and extrinsics)");
+  expect_defaults(c.slam);
+  EXPECT_EQ(aligned.loads, 0);
+  c.dataset.depth_registration = "unregistered";  // a set mode still wins
+  EXPECT_EQ(resolve_depth_registration(c, aligned).rfind("not registered (dataset.depth_registration: unregistered)", 0), 0u);
 }
 
 TEST(UnregisteredDepth, APresetsOwnValuesStay) {

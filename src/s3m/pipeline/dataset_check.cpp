@@ -5,7 +5,6 @@
 
 #include <fmt/format.h>
 
-#include "s3m/io/tum_dataset.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/frame_source.hpp"
 #include "s3m/pipeline/run.hpp"
@@ -14,13 +13,14 @@
 namespace s3m::pipeline {
 namespace {
 
-void timing(const io::TumDataset& ds, DatasetCheck& c) {
-  c.frames = ds.size();
-  c.t_first_s = ds.timestamp(0);
-  c.t_last_s = ds.timestamp(ds.size() - 1);
+void timing(const FrameSource& source, DatasetCheck& c) {
+  c.frames = source.size();
+  if (c.frames == 0) return;
+  c.t_first_s = source.timestamp(0);
+  c.t_last_s = source.timestamp(c.frames - 1);
   std::vector<double> steps;
-  for (std::size_t i = 1; i < ds.size(); ++i) {
-    const double step = ds.timestamp(i) - ds.timestamp(i - 1);
+  for (std::size_t i = 1; i < c.frames; ++i) {
+    const double step = source.timestamp(i) - source.timestamp(i - 1);
     steps.push_back(step);
     if (step > c.largest_gap_s) c.largest_gap_s = step, c.largest_gap_after = i - 1;
   }
@@ -29,39 +29,47 @@ void timing(const io::TumDataset& ds, DatasetCheck& c) {
   c.median_step_s = steps[steps.size() / 2];
 }
 
-void ground_truth(const io::TumDataset& ds, double max_dt_s, DatasetCheck& c) {
-  const auto& gt = ds.groundtruth();
+// Whether a pose of `gt` (in time order) lies within max_dt_s of t.
+bool has_pose_near(const io::Trajectory& gt, double t, double max_dt_s) {
+  const auto it = std::lower_bound(gt.begin(), gt.end(), t, [](const StampedPose& p, double x) { return p.t_s < x; });
+  return (it != gt.end() && it->t_s - t <= max_dt_s) || (it != gt.begin() && t - std::prev(it)->t_s <= max_dt_s);
+}
+
+void ground_truth(const FrameSource& source, double max_dt_s, DatasetCheck& c) {
+  const io::Trajectory& gt = source.groundtruth();
   c.gt_poses = gt.size();
   for (std::size_t i = 1; i < gt.size(); ++i)
     c.gt_path_m += (gt[i].T_w_x.translation() - gt[i - 1].T_w_x.translation()).norm();
-  for (std::size_t i = 0; i < ds.size(); ++i) c.frames_with_gt += ds.groundtruth_at(ds.timestamp(i), max_dt_s) ? 1 : 0;
+  for (std::size_t i = 0; i < source.size(); ++i) c.frames_with_gt += has_pose_near(gt, source.timestamp(i), max_dt_s);
 }
 
 }  // namespace
 
 DatasetCheck check_dataset(const std::string& dir, const PipelineConfig& config) {
-  DatasetCheck c;
+  const auto source = open_tum_source(dir, config.dataset);
+  DatasetCheck c = check_frame_source(*source, config, simulator_sign(dir, source->has_labels()));
   c.dir = dir;
-  // 1. The folder as io reads it: layout, camera, timing, ground truth, labels.
-  io::TumDatasetOptions options;
-  options.max_dt_s = config.dataset.max_dt_s;
-  options.camera = config.dataset.camera;
-  const io::TumDataset ds = io::TumDataset::open(dir, options);
-  c.layout = ds.layout();
-  c.camera = ds.camera();
-  c.camera_source = ds.camera_source();
-  c.labels = ds.has_labels();
-  timing(ds, c);
-  ground_truth(ds, config.eval.gt_max_dt_s, c);
+  return c;
+}
+
+DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig& config, const std::string& sim_sign) {
+  DatasetCheck c;
+  // 1. What was opened: layout, camera, timing, ground truth, labels.
+  c.dir = source.name();
+  c.layout = source.layout();
+  c.camera = source.camera();
+  c.camera_source = source.camera_source();
+  c.labels = source.has_labels();
+  timing(source, c);
+  ground_truth(source, config.eval.gt_max_dt_s, c);
   // 2. The checks a run makes before its first frame, on the same sample frames.
-  const auto source = tum_source(ds);
-  const std::vector<RgbdFrame> sample = sample_frames(*source, &c.unreadable);
+  const std::vector<RgbdFrame> sample = sample_frames(source, &c.unreadable);
   c.sampled = sample.size() + c.unreadable.size();
   PipelineConfig resolved = config;
-  c.depth_registration = resolve_depth_registration(resolved, sample, c.camera);
+  c.depth_registration = resolve_depth_registration(resolved, sample, c.camera, source.depth_registered_by());
   c.depth_scale = check_depth_scale(sample, c.camera.depth_factor);
   // 3. The segmenter a run would choose.
-  const SegmenterChoice choice = choose_segmenter(parse_segmenter_spec(""), config, simulator_sign(dir, c.labels));
+  const SegmenterChoice choice = choose_segmenter(parse_segmenter_spec(""), config, sim_sign);
   c.segmenter = (choice.type == "onnx" ? choice.model : choice.type) + " (" + choice.reason + ")";
   return c;
 }

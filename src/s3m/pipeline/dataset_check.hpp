@@ -7,6 +7,7 @@
 
 #include "s3m/core/camera.hpp"
 #include "s3m/pipeline/depth_scale.hpp"
+#include "s3m/pipeline/frame_source.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 
 namespace s3m::pipeline {
@@ -32,6 +33,9 @@ struct DatasetCheck {
 // Opens the folder as `s3m run` does with `config` (its dataset section; its segmenter section for
 // the segmenter line). Throws what `s3m run` would throw for a folder it cannot read.
 DatasetCheck check_dataset(const std::string& dir, const PipelineConfig& config);
+
+// The same for any frame source (`s3m check --rosbag`); sim_sign: simulator_sign() of the source.
+DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig& config, const std::string& sim_sign);
 
 // The check for people: one line per item, warnings marked "warning:".
 std::string format_dataset_check(const DatasetCheck& c);

@@ -16,6 +16,9 @@ class TumFrameSource final : public FrameSource {
   bool has_labels() const override { return dataset_.has_labels(); }
   std::string name() const override { return dataset_.dir(); }
   std::string eval_dir() const override { return dataset_.dir(); }
+  double timestamp(std::size_t index) const override { return dataset_.timestamp(index); }
+  std::string layout() const override { return dataset_.layout(); }
+  std::string camera_source() const override { return dataset_.camera_source(); }
 
  private:
   io::TumDataset dataset_;

@@ -26,6 +26,16 @@ class FrameSource {
   virtual std::string name() const = 0;                    // what was opened, for logs and metrics.json
   // Folder with the simulator's evaluation files (groundtruth_robot.txt, gt_voxels.txt); "" when none.
   virtual std::string eval_dir() const = 0;
+  // Frame index's time [s] without decoding its images (this default does decode them).
+  virtual double timestamp(std::size_t index) const { return load(index).t_s; }
+  // For people (`s3m check`): what was recognised ("TUM layout", "ROS bag, RealSense SDK ...") and
+  // where the camera came from.
+  virtual std::string layout() const { return ""; }
+  virtual std::string camera_source() const { return ""; }
+  // Non-empty when the source knows its depth is registered to colour, saying by whom (a driver's
+  // aligned stream, or the reader's own alignment): the image-based check is then not needed
+  // (dataset.depth_registration auto). "" = not known.
+  virtual std::string depth_registered_by() const { return ""; }
 };
 
 // A TUM-layout directory (io::TumDataset) with the association window and camera of `config`.

@@ -81,7 +81,7 @@ Components build(const RunOptions& o) {
   c.info.config_file = o.config.source;
   // Frames 0, 20, ... tell whether depth is registered to colour and whether its scale is plausible.
   const std::vector<RgbdFrame> sample = sample_frames(*c.source);
-  c.info.depth_registration = resolve_depth_registration(c.config, sample, cam);
+  c.info.depth_registration = resolve_depth_registration(c.config, sample, cam, c.source->depth_registered_by());
   spdlog::info("run: depth {}", c.info.depth_registration);
   const DepthScaleCheck scale = check_depth_scale(sample, cam.depth_factor);
   c.info.depth_median_m = scale.median_m;

@@ -21,11 +21,16 @@ void use_unregistered_depth_settings(slam::SlamConfig& slam) {
 }
 
 std::string resolve_depth_registration(PipelineConfig& config, const std::vector<RgbdFrame>& sample,
-                                       const PinholeCamera& camera) {
+                                       const PinholeCamera& camera, const std::string& registered_by) {
   const std::string& mode = config.dataset.depth_registration;
   std::string why = "dataset.depth_registration: " + mode;
   bool registered = mode == "registered";
-  if (mode == "auto") {
+  if (mode == "auto" && !registered_by.empty()) {
+    // The edge check would measure the alignment's own resampling (a nearest-surface splat widens
+    // foreground edges by up to a pixel) and could call exactly aligned depth unregistered.
+    registered = true;
+    why = "aligned to colour by " + registered_by;
+  } else if (mode == "auto") {
     const auto check = features::check_depth_registration(sample, camera.cx, camera.cy);
     registered = check.registered;
     why = check.summary;
@@ -37,9 +42,9 @@ std::string resolve_depth_registration(PipelineConfig& config, const std::vector
 }
 
 std::string resolve_depth_registration(PipelineConfig& config, const FrameSource& source) {
-  const std::vector<RgbdFrame> sample = config.dataset.depth_registration == "auto" ? sample_frames(source)
-                                                                                    : std::vector<RgbdFrame>{};
-  return resolve_depth_registration(config, sample, source.camera());
+  const bool check = config.dataset.depth_registration == "auto" && source.depth_registered_by().empty();
+  const std::vector<RgbdFrame> sample = check ? sample_frames(source) : std::vector<RgbdFrame>{};
+  return resolve_depth_registration(config, sample, source.camera(), source.depth_registered_by());
 }
 
 }  // namespace s3m::pipeline

@@ -15,11 +15,12 @@ namespace s3m::pipeline {
 // still at their built-in default change, so a preset's own values stay.
 void use_unregistered_depth_settings(slam::SlamConfig& slam);
 
-// Resolves config.dataset.depth_registration: "auto" checks the frames of `sample` (their colour
+// Resolves config.dataset.depth_registration: "auto" takes `registered_by` (FrameSource::
+// depth_registered_by()) when the source knows, else checks the frames of `sample` (their colour
 // and depth edges); when the depth is not registered (checked or set) the settings above are
 // applied. Returns what was decided and why, for the log and metrics.json.
 std::string resolve_depth_registration(PipelineConfig& config, const std::vector<RgbdFrame>& sample,
-                                       const PinholeCamera& camera);
+                                       const PinholeCamera& camera, const std::string& registered_by = "");
 
 // The same with frames 0, 20, 40, ... (at most 6, within the first 120) of `source`; reads no
 // frame unless the mode is "auto".
