@@ -8,10 +8,12 @@
 #include <Eigen/Dense>
 
 #include <cv_bridge/cv_bridge.h>
+#include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 #include <sensor_msgs/image_encodings.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/io/camera_yaml.hpp"
 
 namespace s3m::ros1 {
 namespace enc = sensor_msgs::image_encodings;
@@ -104,6 +106,25 @@ PinholeCamera camera_from_info(const sensor_msgs::CameraInfo& info, double defau
   c.bf = info.P[3] < 0 ? -info.P[3] : default_bf;
   c.depth_factor = 1000.0;  // unused: depth arrives converted to metres
   c.validate();
+  return c;
+}
+
+PinholeCamera live_camera(const sensor_msgs::CameraInfo& info, const std::string& config_camera, bool from_config,
+                          double default_bf, std::string& note) {
+  const bool info_usable = info.K[0] > 0 && info.K[4] > 0 && info.width > 0 && info.height > 0;
+  if (from_config && config_camera.empty()) throw Error("~camera_from_config is set but the config has no dataset.camera");
+  if (config_camera.empty() || (info_usable && !from_config)) {
+    const PinholeCamera c = camera_from_info(info, default_bf);
+    note = fmt::format("camera from the CameraInfo ({}x{}, fx {:.1f})", c.width, c.height, c.fx);
+    if (!config_camera.empty())
+      note += "; the config's dataset.camera " + config_camera + " is not used (~camera_from_config:=true uses it)";
+    return c;
+  }
+  const PinholeCamera c = io::load_camera(config_camera);
+  note = fmt::format("camera from dataset.camera {} ({}x{}, fx {:.1f}), {}", config_camera, c.width, c.height, c.fx,
+                     from_config ? "~camera_from_config" : "the CameraInfo has no intrinsics");
+  if (info_usable && (static_cast<int>(info.width) != c.width || std::abs(info.K[0] - c.fx) > 0.01 * c.fx))
+    note += fmt::format("; the CameraInfo says {}x{}, fx {:.1f}", info.width, info.height, info.K[0]);
   return c;
 }
 

@@ -32,6 +32,14 @@ cv::Mat labels_to_ids(const sensor_msgs::Image& msg);
 PinholeCamera camera_from_info(const sensor_msgs::CameraInfo& info, double default_bf);
 sensor_msgs::CameraInfo info_from_camera(const PinholeCamera& camera);
 
+// The live node's camera. ROS convention: a driver publishes its camera's calibration (a RealSense
+// its factory calibration, any camera what camera_calibration stored), so the CameraInfo wins over
+// a preset's dataset.camera (a file for folders of another unit), unless `from_config`
+// (~camera_from_config) or the CameraInfo has no focal length (then dataset.camera, if set).
+// `note` says which was used and, when both exist and differ, what the other said.
+PinholeCamera live_camera(const sensor_msgs::CameraInfo& info, const std::string& config_camera, bool from_config,
+                          double default_bf, std::string& note);
+
 // Throws s3m::Error naming the encoding when it is not one of the above.
 sensor_msgs::Image bgr_to_msg(const cv::Mat& bgr);            // rgb8
 sensor_msgs::Image depth_to_msg(const cv::Mat& depth_m, const std::string& encoding);  // 32FC1 | 16UC1

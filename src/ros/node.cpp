@@ -77,6 +77,7 @@ NodeParams read_node_params(const ros::NodeHandle& pnh) {
   pnh.param("queue_size", p.queue_size, p.queue_size);
   pnh.param("map_every_n_frames", p.map_every_n_frames, p.map_every_n_frames);
   pnh.param("camera_bf", p.camera_bf, p.camera_bf);
+  pnh.param("camera_from_config", p.camera_from_config, p.camera_from_config);
   pnh.param("output_dir", p.output_dir, p.output_dir);
   pnh.param("save_on_exit", p.save_on_exit, p.save_on_exit);
   pnh.param("map", p.map, p.map);
@@ -158,8 +159,14 @@ void S3mNode::on_frame(const ImageCPtr& rgb, const ImageCPtr& depth, const senso
 
 void S3mNode::start(const CameraInfo& info, const std::string& camera_frame, const RgbdFrame& first) {
   pipeline::PipelineConfig& c = params_.config;
-  const PinholeCamera camera = c.dataset.camera.empty() ? camera_from_info(info, params_.camera_bf)
-                                                        : io::load_camera(c.dataset.camera);
+  std::string camera_note;
+  const PinholeCamera camera =
+      live_camera(info, c.dataset.camera, params_.camera_from_config, params_.camera_bf, camera_note);
+  ROS_INFO("s3m_node: %s", camera_note.c_str());
+  if (first.rgb.cols != camera.width || first.rgb.rows != camera.height)
+    throw Error("the colour images are " + std::to_string(first.rgb.cols) + "x" + std::to_string(first.rgb.rows) +
+                " but the camera is " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " (" +
+                camera_note + ")");
   // A live stream offers one frame before the first is processed (s3m run checks six).
   ROS_INFO("s3m_node: depth %s", pipeline::resolve_depth_registration(c, {first}, camera).c_str());
   // As s3m run does before its first frame: refuse settings that would take seconds per frame and

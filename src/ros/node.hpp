@@ -39,6 +39,7 @@ struct NodeParams {
   int queue_size = 10;
   int map_every_n_frames = 10;     // publish map/markers and map/cloud every n processed frames
   double camera_bf = 40.0;         // virtual stereo bf [px m] when CameraInfo's P[3] does not carry it
+  bool camera_from_config = false;  // the preset's dataset.camera instead of the driver's CameraInfo
   std::string output_dir;          // ~save_map and save_on_exit write here ("" = nowhere)
   bool save_on_exit = true;
   // A saved run to continue in (a folder `s3m run --out`, ~save_map or save_on_exit wrote:

@@ -25,6 +25,7 @@
 #include "ros_test_util.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/eval/trajectory_eval.hpp"
+#include "s3m/io/camera_yaml.hpp"
 #include "s3m/io/depth_to_colour.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/io/tum_dataset.hpp"
@@ -151,6 +152,25 @@ TEST(RosConversions, InverseBrownConradyBecomesForwardCoefficients) {
   EXPECT_FALSE(ros1::camera_from_info(zeros, 40.0).has_distortion());  // no coefficients: any name
   info.distortion_model = "Kannala Brandt4";
   EXPECT_THROW(ros1::camera_from_info(info, 40.0), Error);
+}
+
+TEST(RosConversions, LiveNodeTakesTheDriversCalibrationUnlessTold) {
+  PinholeCamera c;
+  c.fx = c.fy = 615.2, c.cx = 322.1, c.cy = 241.9;
+  sensor_msgs::CameraInfo info = ros1::info_from_camera(c);
+  std::string note;
+  // realsense_d455.yaml's camera file is another unit's: the driver's CameraInfo is used.
+  const std::string preset_camera = std::string(S3M_SOURCE_DIR) + "/config/cameras/realsense_d455_640x480.yaml";
+  EXPECT_DOUBLE_EQ(ros1::live_camera(info, preset_camera, false, 40, note).fx, 615.2);
+  EXPECT_EQ(note, "camera from the CameraInfo (640x480, fx 615.2); the config's dataset.camera " + preset_camera +
+                      " is not used (~camera_from_config:=true uses it)");
+  const double preset_fx = io::load_camera(preset_camera).fx;
+  EXPECT_DOUBLE_EQ(ros1::live_camera(info, preset_camera, true, 40, note).fx, preset_fx);
+  EXPECT_NE(note.find(", ~camera_from_config; the CameraInfo says 640x480, fx 615.2"), std::string::npos) << note;
+  info.K = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // an uncalibrated driver's empty CameraInfo
+  EXPECT_DOUBLE_EQ(ros1::live_camera(info, preset_camera, false, 40, note).fx, preset_fx);
+  EXPECT_NE(note.find("the CameraInfo has no intrinsics"), std::string::npos) << note;
+  EXPECT_THROW(ros1::live_camera(info, "", true, 40, note), Error);
 }
 
 // ---- Bags written from a simulated flight, as a RealSense would record it --------------------
