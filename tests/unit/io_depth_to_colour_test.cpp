@@ -93,6 +93,33 @@ TEST(IoDepthToColour, ColourDistortionIsOpenCvsForwardModel) {
   EXPECT_EQ(cv::countNonZero(out), 1);
 }
 
+TEST(IoDepthToColour, PointsFarOutsideTheViewDoNotFoldBackOrOverflow) {
+  // A very wide depth camera (x, y up to +-1) beside a colour camera with strong barrel distortion
+  // (k1 -2: x (1 - 2 r^2) turns back beyond r = 0.41, so a point at r = 0.55 would land inside the
+  // image's corners). The ring beyond r = 0.45 is at 1 m, nearer than the 2 m inside: any of it
+  // drawn into the image would win there.
+  const PinholeCamera wide = camera(20, 19.5, 14.5, 40, 30);
+  PinholeCamera c = camera(100, 19.5, 14.5, 40, 30);
+  c.dist = {-2.0, 0.0, 0.0, 0.0, 0.0};
+  cv::Mat depth(30, 40, CV_32FC1);
+  for (int v = 0; v < 30; ++v)
+    for (int u = 0; u < 40; ++u) {
+      const double x = (u - 19.5) / 20, y = (v - 14.5) / 20;
+      depth.at<float>(v, u) = x * x + y * y > 0.45 * 0.45 ? 1.0f : 2.0f;
+    }
+  depth.at<float>(0, 0) = 1e-7f;  // a near point the baseline throws 1e8 px away: skipped, no int overflow
+  SE3 T = SE3::Identity();
+  T.translation() = Vec3(0.1, 0, 0);
+  PinholeCamera plain = c;
+  plain.dist = {0, 0, 0, 0, 0};
+  for (const PinholeCamera& colour : {c, plain})
+    for (const SE3& T_c_d : {SE3(SE3::Identity()), T}) {
+      const cv::Mat out = DepthToColour(wide, colour, T_c_d)(depth);
+      EXPECT_EQ(cv::countNonZero(out == 1.0f), 0);
+      EXPECT_GT(cv::countNonZero(out == 2.0f), 0);
+    }
+}
+
 TEST(IoDepthToColour, WrongDepthImageSizeIsNamed) {
   const PinholeCamera d = camera(100, 19.5, 14.5, 40, 30);
   try {

@@ -43,22 +43,32 @@ DepthToColour::DepthToColour(const PinholeCamera& depth, const PinholeCamera& co
   depth_.validate();
   colour_.validate();
   distorted_ = colour_.has_distortion();
+  if (distorted_) {  // (1.2 x the largest undistorted radius of the image's corners)^2: all the image sees
+    const cv::Matx33d K(colour_.fx, 0, colour_.cx, 0, colour_.fy, colour_.cy, 0, 0, 1);
+    std::vector<cv::Point2d> px{{-0.5, -0.5}, {colour_.width - 0.5, -0.5}, {-0.5, colour_.height - 0.5},
+                                {colour_.width - 0.5, colour_.height - 0.5}}, n;
+    cv::undistortPoints(px, n, K, std::vector<double>(colour_.dist.begin(), colour_.dist.end()));
+    for (const cv::Point2d& p : n) max_r2_ = std::max(max_r2_, 1.44 * (p.x * p.x + p.y * p.y));
+  }
   const Mat3 R = T_c_d_.linear();
   for (const cv::Point2d& p : normalised(depth_, -0.5)) ray_lo_.push_back(R * Vec3(p.x, p.y, 1.0));
   for (const cv::Point2d& p : normalised(depth_, 0.5)) ray_hi_.push_back(R * Vec3(p.x, p.y, 1.0));
 }
 
-cv::Point2d DepthToColour::to_pixel(const Vec3& p_c) const {
+bool DepthToColour::to_pixel(const Vec3& p_c, cv::Point2d& px) const {
   const double iz = 1.0 / p_c.z();
   double x = p_c.x() * iz, y = p_c.y() * iz;
   if (distorted_) {  // OpenCV's forward model, as cv::projectPoints
+    // Beyond the image's own field of view the polynomial can fold back into the image.
+    if (x * x + y * y > max_r2_) return false;
     const auto& d = colour_.dist;  // k1 k2 p1 p2 k3
     const double r2 = x * x + y * y, radial = 1 + r2 * (d[0] + r2 * (d[1] + r2 * d[4]));
     const double xd = x * radial + 2 * d[2] * x * y + d[3] * (r2 + 2 * x * x);
     const double yd = y * radial + d[2] * (r2 + 2 * y * y) + 2 * d[3] * x * y;
     x = xd, y = yd;
   }
-  return {colour_.fx * x + colour_.cx, colour_.fy * y + colour_.cy};
+  px = {colour_.fx * x + colour_.cx, colour_.fy * y + colour_.cy};
+  return true;
 }
 
 cv::Mat DepthToColour::operator()(const cv::Mat& depth_m) const {
@@ -76,9 +86,16 @@ cv::Mat DepthToColour::operator()(const cv::Mat& depth_m) const {
       const std::size_t i = static_cast<std::size_t>(v) * depth_m.cols + u;
       const Vec3 lo = z * ray_lo_[i] + t, hi = z * ray_hi_[i] + t;
       if (lo.z() <= 0 || hi.z() <= 0) continue;
-      const cv::Point2d a = to_pixel(lo), b = to_pixel(hi);
+      cv::Point2d a, b;
+      if (!to_pixel(lo, a) || !to_pixel(hi, b)) continue;
+      // Far outside the image: nothing to draw (and no int conversion of a huge coordinate).
+      if (std::max(a.x, b.x) < -1 || std::min(a.x, b.x) > colour_.width || std::max(a.y, b.y) < -1 ||
+          std::min(a.y, b.y) > colour_.height)
+        continue;
       // Colour pixels whose centres lie inside the patch; at least the one nearest its centre.
       // (Pixel centres are at integer coordinates, s3m/core/camera.hpp.)
+      a.x = std::clamp(a.x, -2.0, colour_.width + 1.0), b.x = std::clamp(b.x, -2.0, colour_.width + 1.0);
+      a.y = std::clamp(a.y, -2.0, colour_.height + 1.0), b.y = std::clamp(b.y, -2.0, colour_.height + 1.0);
       int u0 = ceil_int(std::min(a.x, b.x)), u1 = floor_int(std::max(a.x, b.x));
       int v0 = ceil_int(std::min(a.y, b.y)), v1 = floor_int(std::max(a.y, b.y));
       if (u0 > u1) u0 = u1 = floor_int(0.5 * (a.x + b.x) + 0.5);

@@ -38,11 +38,13 @@ class DepthToColour {
   const SE3& T_c_d() const { return T_c_d_; }
 
  private:
-  inline cv::Point2d to_pixel(const Vec3& p_c) const;
+  // false: outside the field of view the colour camera's distortion model is valid for.
+  inline bool to_pixel(const Vec3& p_c, cv::Point2d& px) const;
 
   PinholeCamera depth_, colour_;
   SE3 T_c_d_;
   bool distorted_ = false;  // the colour camera's
+  double max_r2_ = 0;       // with distortion: squared normalised radius beyond which points are dropped
   // Per depth pixel, its corners (u-.5, v-.5) and (u+.5, v+.5) as rays R_c_d * (x, y, 1): a corner
   // at depth z is then z * ray + t_c_d in the colour camera.
   std::vector<Vec3> ray_lo_, ray_hi_;
