@@ -1,6 +1,7 @@
 #include "bag_recordings.hpp"
 
 #include <regex>
+#include <set>
 #include <vector>
 
 #include "s3m/core/error.hpp"
@@ -31,14 +32,18 @@ std::vector<std::string> namespaces_with(const Topics& t, const std::string& suf
   return out;
 }
 
-// Registered drivers: colour NS + one of rgb_suffixes, depth NS + one of depth_suffixes.
+// Registered drivers: colour NS + one of rgb_suffixes, depth NS + one of depth_suffixes; one pair
+// per namespace, the first suffixes in the lists' order (openni publishes depth_registered/image_raw
+// and, through depth_image_proc, depth_registered/image: `rosbag record -a` keeps both).
 void add_registered(const Topics& t, const std::string& recorder, const std::vector<std::string>& rgb_suffixes,
                     const std::vector<std::string>& depth_suffixes, const std::string& info_suffix,
                     bool device_calibration, std::vector<BagRecording>& found) {
+  std::set<std::string> taken;
   for (const std::string& depth_suffix : depth_suffixes)
     for (const std::string& ns : namespaces_with(t, depth_suffix))
       for (const std::string& rgb_suffix : rgb_suffixes)
-        if (has(t, ns + rgb_suffix, kImage)) {
+        if (!taken.count(ns) && has(t, ns + rgb_suffix, kImage)) {
+          taken.insert(ns);
           BagRecording r;
           r.recorder = recorder, r.rgb = ns + rgb_suffix, r.depth = ns + depth_suffix;
           r.rgb_info = if_has(t, ns + info_suffix, kInfo);
@@ -128,7 +133,7 @@ BagRecording recognise_recording(const Topics& t) {
   add_registered(t, "realsense2_camera (ROS), depth aligned to colour", {"/color/image_raw"},
                  {"/aligned_depth_to_color/image_raw"}, "/color/camera_info", true, found);
   add_realsense_ros_raw(t, found);
-  add_registered(t, "openni_launch / openni2_launch", {"/rgb/image_rect_color", "/rgb/image_color", "/rgb/image_raw"},
+  add_registered(t, "openni_launch / openni2_launch", {"/rgb/image_color", "/rgb/image_raw", "/rgb/image_rect_color"},
                  {"/depth_registered/image_raw", "/depth_registered/image", "/depth_registered/sw_registered/image_rect_raw",
                   "/depth_registered/hw_registered/image_rect_raw"},
                  "/rgb/camera_info", false, found);

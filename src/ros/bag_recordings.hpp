@@ -7,7 +7,8 @@
 //    <stream>/tf/<reference> and the depth unit on /device_0/sensor_M/option/Depth Units/value;
 //  - realsense2_camera (ROS): NS/color/image_raw with NS/aligned_depth_to_color/image_raw
 //    (registered) or else NS/depth/image_rect_raw (raw; extrinsics from /tf_static);
-//  - openni_launch / openni2_launch (Kinect v1, Xtion, Astra): NS/rgb/image_* with
+//  - openni_launch / openni2_launch (Kinect v1, Xtion, Astra): NS/rgb/image_color, image_raw (a
+//    Kinect's is Bayer) or image_rect_color (rectified: its CameraInfo's D no longer applies) with
 //    NS/depth_registered/image_raw or NS/depth_registered/image (registered);
 //  - the Azure Kinect ROS driver: NS/rgb/image_raw with NS/depth_to_rgb/image_raw (registered).
 // No ROS header here: the recogniser works on a topic -> message type table.

@@ -26,8 +26,10 @@ std::string describe(const sensor_msgs::Image& msg) {
 
 cv::Mat colour_to_bgr(const sensor_msgs::Image& msg) {
   const std::string& e = msg.encoding;
-  if (e != enc::RGB8 && e != enc::BGR8 && e != enc::RGBA8 && e != enc::BGRA8 && e != enc::MONO8)
-    throw Error("colour image: encoding " + describe(msg) + " (expected rgb8, bgr8, rgba8, bgra8 or mono8)");
+  const bool bayer = e == enc::BAYER_RGGB8 || e == enc::BAYER_BGGR8 || e == enc::BAYER_GBRG8 || e == enc::BAYER_GRBG8;
+  if (e != enc::RGB8 && e != enc::BGR8 && e != enc::RGBA8 && e != enc::BGRA8 && e != enc::MONO8 && !bayer)
+    throw Error("colour image: encoding " + describe(msg) +
+                " (expected rgb8, bgr8, rgba8, bgra8, mono8 or 8-bit Bayer, e.g. a Kinect's bayer_grbg8)");
   return cv_bridge::toCvCopy(msg, enc::BGR8)->image;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Conversions between ROS1 messages and s3m types. Only src/ros includes ROS headers.
-//  - colour: rgb8 / bgr8 / rgba8 / bgra8 / mono8 -> CV_8UC3 BGR (OpenCV order, as RgbdFrame)
+//  - colour: rgb8 / bgr8 / rgba8 / bgra8 / mono8 / 8-bit Bayer (cv_bridge debayers) -> CV_8UC3 BGR
+//    (OpenCV order, as RgbdFrame)
 //  - depth: 16UC1 / mono16 (millimetres, the REP 118 convention, unless the recorder says otherwise:
 //    the RealSense SDK's Depth Units) or 32FC1 (metres) -> CV_32FC1 metres
 //  - labels (s3m simulator): mono16 / 16UC1 class ids -> CV_16UC1

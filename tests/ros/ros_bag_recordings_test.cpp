@@ -86,12 +86,16 @@ TEST(RosBagRecordings, DriversThatRegisterDepthAndRealsenseRosRaw) {
                                            {"/camera/depth/camera_info", kInfo}});
   EXPECT_EQ(raw.depth_info, "/camera/depth/camera_info");
   EXPECT_TRUE(raw.depth_extrinsics.empty());  // from /tf_static
+  // `rosbag record -a` of openni_launch: raw and rectified colour, both registered depth encodings.
   const ros1::BagRecording openni = recorded({{"/camera/rgb/image_raw", kImage},
+                                              {"/camera/rgb/image_rect_color", kImage},
                                               {"/camera/rgb/camera_info", kInfo},
                                               {"/camera/depth/image_raw", kImage},
+                                              {"/camera/depth_registered/image", kImage},
                                               {"/camera/depth_registered/image_raw", kImage}});
   EXPECT_EQ(openni.recorder, "openni_launch / openni2_launch");
   EXPECT_EQ(openni.depth, "/camera/depth_registered/image_raw");
+  EXPECT_EQ(openni.rgb, "/camera/rgb/image_raw");  // not yet rectified: the CameraInfo's D applies
   const ros1::BagRecording k4a = recorded({{"/rgb/image_raw", kImage}, {"/depth_to_rgb/image_raw", kImage},
                                            {"/depth/image_raw", kImage}, {"/rgb/camera_info", kInfo}});
   EXPECT_EQ(k4a.recorder, "Azure Kinect ROS driver");
@@ -114,6 +118,20 @@ TEST(RosBagRecordings, NothingKnownOrTwoCamerasIsSaidWithTheTopics) {
   EXPECT_NE(two.find("2 colour/depth pairs"), std::string::npos) << two;
   EXPECT_NE(two.find("/down/color/image_raw + /down/aligned_depth_to_color/image_raw"), std::string::npos) << two;
   EXPECT_NE(two.find("/front/color/image_raw"), std::string::npos) << two;
+}
+
+TEST(RosConversions, KinectBayerColourIsDebayered) {
+  // A 2x2 GRBG tile: G R / B G. cv_bridge's debayering gives every pixel all three channels.
+  sensor_msgs::Image msg;
+  msg.width = 4, msg.height = 4, msg.step = 4, msg.encoding = "bayer_grbg8";
+  for (int v = 0; v < 4; ++v)
+    for (int u = 0; u < 4; ++u) msg.data.push_back(v % 2 == 0 ? (u % 2 == 0 ? 100 : 200) : (u % 2 == 0 ? 50 : 100));
+  const cv::Mat bgr = ros1::colour_to_bgr(msg);
+  ASSERT_EQ(bgr.type(), CV_8UC3);
+  const cv::Vec3b centre = bgr.at<cv::Vec3b>(1, 1);  // a green site between red and blue ones
+  EXPECT_EQ(centre[0], 50);   // blue
+  EXPECT_EQ(centre[1], 100);  // green
+  EXPECT_EQ(centre[2], 200);  // red
 }
 
 TEST(RosConversions, InverseBrownConradyBecomesForwardCoefficients) {
