@@ -1,10 +1,13 @@
 #include "s3m/pipeline/dataset_check.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include <fmt/format.h>
 
+#include "s3m/io/association.hpp"
+#include "s3m/io/trajectory.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/frame_source.hpp"
 #include "s3m/pipeline/run.hpp"
@@ -29,18 +32,18 @@ void timing(const FrameSource& source, DatasetCheck& c) {
   c.median_step_s = steps[steps.size() / 2];
 }
 
-// Whether a pose of `gt` (in time order) lies within max_dt_s of t.
-bool has_pose_near(const io::Trajectory& gt, double t, double max_dt_s) {
-  const auto it = std::lower_bound(gt.begin(), gt.end(), t, [](const StampedPose& p, double x) { return p.t_s < x; });
-  return (it != gt.end() && it->t_s - t <= max_dt_s) || (it != gt.begin() && t - std::prev(it)->t_s <= max_dt_s);
-}
-
 void ground_truth(const FrameSource& source, double max_dt_s, DatasetCheck& c) {
   const io::Trajectory& gt = source.groundtruth();
   c.gt_poses = gt.size();
   for (std::size_t i = 1; i < gt.size(); ++i)
     c.gt_path_m += (gt[i].T_w_x.translation() - gt[i - 1].T_w_x.translation()).norm();
-  for (std::size_t i = 0; i < source.size(); ++i) c.frames_with_gt += has_pose_near(gt, source.timestamp(i), max_dt_s);
+  if (gt.empty()) return;
+  // As TumDataset::groundtruth_at: the nearest pose, within max_dt_s.
+  const std::vector<double> times = io::timestamps(gt);
+  for (std::size_t i = 0; i < source.size(); ++i) {
+    const double t = source.timestamp(i);
+    c.frames_with_gt += std::abs(times[io::closest_index(times, t)] - t) <= max_dt_s;
+  }
 }
 
 }  // namespace
