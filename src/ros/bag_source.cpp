@@ -152,10 +152,15 @@ class BagFrameSource final : public pipeline::FrameSource {
       throw Error(path + ": no messages on the depth topic " + rec.depth + " (--depth-topic)" +
                   topics_of_type(bag_, images));
     if (!topics.labels.empty()) labels_ = image_index(bag_, path, topics.labels);
-    camera_ = read_camera(rec, topics.camera_info, dataset.camera, camera_source_);
+    // The colour CameraInfo, read once: the camera, and its frame_id places a raw depth camera.
+    const auto rgb_info = rec.rgb_info.empty() ? nullptr : first_message<sensor_msgs::CameraInfo>(bag_, rec.rgb_info, path);
+    camera_ = read_camera(rec, rgb_info, topics.camera_info, dataset.camera, camera_source_);
     read_depth_units(rec.depth_units);
     registered_by_ = rec.registered_by;
-    if (!rec.registered()) align_depth(rec), registered_by_ = "s3m, with the recording's depth camera and extrinsics";
+    if (!rec.registered()) {
+      align_depth(rec, rgb_info ? rgb_info->header.frame_id : "");
+      registered_by_ = "s3m, with the recording's depth camera and extrinsics";
+    }
     read_groundtruth(topics.groundtruth);
     pair(dataset.max_dt_s);
     layout_ = fmt::format("ROS bag, {}: colour {}, depth {} ({}{})", rec.recorder, rec.rgb, rec.depth,
@@ -198,13 +203,13 @@ class BagFrameSource final : public pipeline::FrameSource {
   // device's factory calibration (rec.device_calibration); the config's dataset.camera (a
   // calibrated preset: TUM's and openni's CameraInfo hold the driver's uncalibrated defaults); the
   // recording's CameraInfo. What was not used and why is logged.
-  PinholeCamera read_camera(const BagRecording& rec, const std::string& given_topic, const std::string& config_camera,
-                            std::string& source) const {
+  PinholeCamera read_camera(const BagRecording& rec, sensor_msgs::CameraInfoConstPtr rgb_info,
+                            const std::string& given_topic, const std::string& config_camera, std::string& source) const {
     const bool none = given_topic == "none";
     if (none && config_camera.empty())
       throw Error(path_ + ": --camera-info-topic none, but the config sets no dataset.camera");
     const std::string topic = none ? "" : rec.rgb_info;
-    const auto info = topic.empty() ? nullptr : first_message<sensor_msgs::CameraInfo>(bag_, topic, path_);
+    const auto info = none ? nullptr : rgb_info;
     if (!given_topic.empty() && !none && !info)
       throw Error(path_ + ": no messages on the camera-info topic " + topic + " (--camera-info-topic)" +
                   topics_of_type(bag_, "sensor_msgs/CameraInfo"));
@@ -218,7 +223,7 @@ class BagFrameSource final : public pipeline::FrameSource {
                      given_topic.empty() ? " (the device's own calibration)" : "");
     } else if (!config_camera.empty()) {
       c = io::load_camera(config_camera), source = "dataset.camera " + config_camera;
-      if (info && (info->width != static_cast<unsigned>(c.width) || std::abs(info->K[0] - c.fx) > 0.01 * c.fx))
+      if (info && !info_matches(*info, c))
         spdlog::warn("{}: the config's camera ({}: {}x{}, fx {:.1f}) is not the recording's ({}: {}x{}, fx {:.1f}); "
                      "--camera-info-topic {} uses the recording's", path_, config_camera, c.width, c.height, c.fx,
                      topic, info->width, info->height, info->K[0], topic);
@@ -248,7 +253,7 @@ class BagFrameSource final : public pipeline::FrameSource {
   }
 
   // Raw depth: the depth camera's intrinsics and where it sits, for io::DepthToColour.
-  void align_depth(const BagRecording& rec) {
+  void align_depth(const BagRecording& rec, const std::string& colour_frame) {
     const auto info = first_message<sensor_msgs::CameraInfo>(bag_, rec.depth_info, path_);
     if (!info) throw Error(path_ + ": no messages on " + rec.depth_info + " (the depth camera's intrinsics)");
     const PinholeCamera depth_camera = camera_from_info(*info, PinholeCamera{}.bf);
@@ -260,8 +265,7 @@ class BagFrameSource final : public pipeline::FrameSource {
         throw Error(path_ + ": no messages on " + rec.rgb_extrinsics + " / " + rec.depth_extrinsics);
       T_c_d = from_transform(*T_rgb_ref) * from_transform(*T_depth_ref).inverse();
     } else {
-      const auto rgb_info = first_message<sensor_msgs::CameraInfo>(bag_, rec.rgb_info, path_);
-      T_c_d = static_transform(rgb_info ? rgb_info->header.frame_id : "", info->header.frame_id);
+      T_c_d = static_transform(colour_frame, info->header.frame_id);
     }
     to_colour_ = std::make_shared<io::DepthToColour>(depth_camera, camera_, T_c_d);
     spdlog::info("{}: depth camera {}x{} fx {:.1f}, {:.1f} cm from the colour camera; its depth is drawn into the "

@@ -111,6 +111,10 @@ PinholeCamera camera_from_info(const sensor_msgs::CameraInfo& info, double defau
   return c;
 }
 
+bool info_matches(const sensor_msgs::CameraInfo& info, const PinholeCamera& camera) {
+  return static_cast<int>(info.width) == camera.width && !(std::abs(info.K[0] - camera.fx) > 0.01 * camera.fx);
+}
+
 PinholeCamera live_camera(const sensor_msgs::CameraInfo& info, const std::string& config_camera, bool from_config,
                           double default_bf, std::string& note) {
   const bool info_usable = info.K[0] > 0 && info.K[4] > 0 && info.width > 0 && info.height > 0;
@@ -125,7 +129,7 @@ PinholeCamera live_camera(const sensor_msgs::CameraInfo& info, const std::string
   const PinholeCamera c = io::load_camera(config_camera);
   note = fmt::format("camera from dataset.camera {} ({}x{}, fx {:.1f}), {}", config_camera, c.width, c.height, c.fx,
                      from_config ? "~camera_from_config" : "the CameraInfo has no intrinsics");
-  if (info_usable && (static_cast<int>(info.width) != c.width || std::abs(info.K[0] - c.fx) > 0.01 * c.fx))
+  if (info_usable && !info_matches(info, c))
     note += fmt::format("; the CameraInfo says {}x{}, fx {:.1f}", info.width, info.height, info.K[0]);
   return c;
 }

@@ -33,6 +33,10 @@ cv::Mat labels_to_ids(const sensor_msgs::Image& msg);
 PinholeCamera camera_from_info(const sensor_msgs::CameraInfo& info, double default_bf);
 sensor_msgs::CameraInfo info_from_camera(const PinholeCamera& camera);
 
+// Whether a CameraInfo describes `camera`: the same width and fx within 1 % (what tells a preset's
+// camera file from a recording's or a driver's own calibration).
+bool info_matches(const sensor_msgs::CameraInfo& info, const PinholeCamera& camera);
+
 // The live node's camera. ROS convention: a driver publishes its camera's calibration (a RealSense
 // its factory calibration, any camera what camera_calibration stored), so the CameraInfo wins over
 // a preset's dataset.camera (a file for folders of another unit), unless `from_config`
