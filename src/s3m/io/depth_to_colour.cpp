@@ -10,12 +10,13 @@
 namespace s3m::io {
 namespace {
 
-// Normalised image coordinates (x/z, y/z) of depth-image points, the depth camera's distortion undone.
-std::vector<cv::Point2d> normalised(const PinholeCamera& cam, double offset_px) {
+// Normalised image coordinates (x/z, y/z) of the depth image's pixel corners (u - 0.5, v - 0.5) for
+// u = 0..width, v = 0..height, row by row, the depth camera's distortion undone.
+std::vector<cv::Point2d> normalised_corners(const PinholeCamera& cam) {
   std::vector<cv::Point2d> px;
-  px.reserve(static_cast<std::size_t>(cam.width) * cam.height);
-  for (int v = 0; v < cam.height; ++v)
-    for (int u = 0; u < cam.width; ++u) px.emplace_back(u + offset_px, v + offset_px);
+  px.reserve(static_cast<std::size_t>(cam.width + 1) * (cam.height + 1));
+  for (int v = 0; v <= cam.height; ++v)
+    for (int u = 0; u <= cam.width; ++u) px.emplace_back(u - 0.5, v - 0.5);
   if (!cam.has_distortion()) {
     for (cv::Point2d& p : px) p = {(p.x - cam.cx) / cam.fx, (p.y - cam.cy) / cam.fy};
     return px;
@@ -51,8 +52,7 @@ DepthToColour::DepthToColour(const PinholeCamera& depth, const PinholeCamera& co
     for (const cv::Point2d& p : n) max_r2_ = std::max(max_r2_, 1.44 * (p.x * p.x + p.y * p.y));
   }
   const Mat3 R = T_c_d_.linear();
-  for (const cv::Point2d& p : normalised(depth_, -0.5)) ray_lo_.push_back(R * Vec3(p.x, p.y, 1.0));
-  for (const cv::Point2d& p : normalised(depth_, 0.5)) ray_hi_.push_back(R * Vec3(p.x, p.y, 1.0));
+  for (const cv::Point2d& p : normalised_corners(depth_)) corner_rays_.push_back(R * Vec3(p.x, p.y, 1.0));
 }
 
 bool DepthToColour::to_pixel(const Vec3& p_c, cv::Point2d& px) const {
@@ -83,8 +83,9 @@ cv::Mat DepthToColour::operator()(const cv::Mat& depth_m) const {
     for (int u = 0; u < depth_m.cols; ++u) {
       const float z = row[u];
       if (!(z > 0.0f) || !std::isfinite(z)) continue;
-      const std::size_t i = static_cast<std::size_t>(v) * depth_m.cols + u;
-      const Vec3 lo = z * ray_lo_[i] + t, hi = z * ray_hi_[i] + t;
+      // Pixel (u, v) spans corners (u, v) and (u + 1, v + 1) of the (width + 1)-wide corner grid.
+      const std::size_t lo_i = static_cast<std::size_t>(v) * (depth_m.cols + 1) + u, hi_i = lo_i + depth_m.cols + 2;
+      const Vec3 lo = z * corner_rays_[lo_i] + t, hi = z * corner_rays_[hi_i] + t;
       if (lo.z() <= 0 || hi.z() <= 0) continue;
       cv::Point2d a, b;
       if (!to_pixel(lo, a) || !to_pixel(hi, b)) continue;

@@ -45,9 +45,10 @@ class DepthToColour {
   SE3 T_c_d_;
   bool distorted_ = false;  // the colour camera's
   double max_r2_ = 0;       // with distortion: squared normalised radius beyond which points are dropped
-  // Per depth pixel, its corners (u-.5, v-.5) and (u+.5, v+.5) as rays R_c_d * (x, y, 1): a corner
-  // at depth z is then z * ray + t_c_d in the colour camera.
-  std::vector<Vec3> ray_lo_, ray_hi_;
+  // The depth image's pixel corners (u-.5, v-.5), u = 0..width, v = 0..height, as rays
+  // R_c_d * (x, y, 1): a corner at depth z is then z * ray + t_c_d in the colour camera. Pixel (u, v)
+  // spans corners (u, v) and (u+1, v+1).
+  std::vector<Vec3> corner_rays_;
 };
 
 }  // namespace s3m::io
