@@ -120,6 +120,9 @@ d=$(mk fx0); sed -i 's/^fx: .*/fx: 0/' $d/camera.yaml
 d=$(mk fy_neg); sed -i 's/^fy: .*/fy: -525/' $d/camera.yaml
 d=$(mk width_huge); sed -i 's/^width: .*/width: 1e300/' $d/camera.yaml
 d=$(mk depth_factor0); sed -i 's/^depth_factor: .*/depth_factor: 0/' $d/camera.yaml
+DEPTH_CAMERA='depth_camera:\n  width: 848\n  height: 480\n  fx: 425\n  fy: 425\n  cx: 423.5\n  cy: 239.5\n  T_c_d:\n'
+d=$(mk depth_camera_mm); printf "$DEPTH_CAMERA    translation: [-15, 0.3, 0.2]\n    quaternion: [0, 0, 0, 1]\n" >> $d/camera.yaml
+d=$(mk depth_camera_aligned); printf "$DEPTH_CAMERA    translation: [-0.015, 0, 0]\n    quaternion: [0, 0, 0, 1]\n" >> $d/camera.yaml
 mkdir -p card && cp "$REPO/tests/data/semantics/tiny_rgb.onnx" "$REPO/tests/data/semantics/tiny_rgb.yaml" card/
 printf 'wall\nfloor\nchair\n' > card/tiny_rgb.classes.txt
 echo "not a folder" > out_is_a_file
@@ -169,6 +172,8 @@ row "fx = 0 in camera.yaml" "${RUN[@]}" fx0 --out out
 row "fy < 0 in camera.yaml" "${RUN[@]}" fy_neg --out out
 row "width = 1e300 in camera.yaml" "${RUN[@]}" width_huge --out out
 row "depth_factor = 0 in camera.yaml" "${RUN[@]}" depth_factor0 --out out
+row "camera.yaml depth_camera 15 mm away, written as 15 m" "${RUN[@]}" depth_camera_mm --out out
+row "camera.yaml depth_camera 848x480, depth images 640x480 (already aligned)" "${RUN[@]}" depth_camera_aligned --out out
 row "model card with 3 classes, model with 4 outputs" "${RUN[@]}" seq --out out --segmenter onnx:card/tiny_rgb.yaml
 row "--out is an existing file" "${RUN[@]}" seq --out out_is_a_file
 row "associations.txt is a FIFO (named pipe)" "${RUN[@]}" fifo_assoc --out out

@@ -68,15 +68,22 @@ void fuzz_trajectory(const std::uint8_t* data, std::size_t size) {
 
 void fuzz_camera_yaml(const std::uint8_t* data, std::size_t size) {
   const std::string path = write_scratch("camera.yaml", data, size);
-  std::optional<PinholeCamera> cam;
-  expect_clean([&] { cam = io::read_camera_yaml(path); });
-  if (cam) {  // accepted input must survive write + read exactly (an s3m::Error here is a bug)
+  std::optional<io::CameraFile> file;
+  expect_clean([&] { file = io::read_camera_file(path); });
+  if (file) {  // accepted input must survive write + read exactly (an s3m::Error here is a bug)
     const std::string out = scratch_dir() + "/camera_out.yaml";
-    io::write_camera_yaml(out, *cam);
-    const auto back = io::read_camera_yaml(out);
-    check(back.fx == cam->fx && back.cy == cam->cy && back.width == cam->width && back.height == cam->height &&
-              back.depth_factor == cam->depth_factor && back.dist == cam->dist && back.bf == cam->bf,
-          "camera YAML round trip is exact");
+    io::write_camera_yaml(out, file->camera, file->depth);
+    const io::CameraFile back = io::read_camera_file(out);
+    auto same = [](const PinholeCamera& a, const PinholeCamera& b) {
+      return a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy && a.width == b.width &&
+             a.height == b.height && a.depth_factor == b.depth_factor && a.dist == b.dist && a.bf == b.bf;
+    };
+    check(same(back.camera, file->camera), "camera YAML round trip is exact");
+    check(back.depth.has_value() == file->depth.has_value(), "camera YAML round trip keeps the depth camera");
+    if (back.depth)
+      check(same(back.depth->camera, file->depth->camera) &&
+                (back.depth->T_c_d.matrix() - file->depth->T_c_d.matrix()).cwiseAbs().maxCoeff() <= 1e-12,
+            "camera YAML round trip keeps the depth camera's intrinsics and pose");
   }
   expect_clean([&] { (void)io::load_camera(path); });
 }

@@ -21,6 +21,7 @@
 
 #include "bag_recordings.hpp"
 #include "bag_source.hpp"
+#include "../integration/depth_agreement.hpp"
 #include "conversions.hpp"
 #include "ros_test_util.hpp"
 #include "s3m/core/error.hpp"
@@ -306,24 +307,7 @@ void expect_depth_like_the_flight(const fs::path& bag, double quantum_m) {
   for (std::size_t i : {5u, 30u}) {
     const cv::Mat truth = ds.load(i).depth_m, got = source->load(i).depth_m;
     ASSERT_EQ(got.size(), truth.size());
-    // Resampled twice (into the depth camera and back), a pixel's depth comes from a point of the
-    // surface within about a pixel: it must lie within the truth's 3x3 neighbourhood (1 % + one unit).
-    cv::Mat lo, hi;
-    cv::erode(truth, lo, cv::Mat());   // 3x3 minimum
-    cv::dilate(truth, hi, cv::Mat());  // 3x3 maximum
-    long valid = 0, close = 0, missing = 0, invented = 0;
-    for (int v = 0; v < truth.rows; ++v)
-      for (int u = 0; u < truth.cols; ++u) {
-        const float z = truth.at<float>(v, u), g = got.at<float>(v, u);
-        if (z > 0) {
-          ++valid;
-          missing += g == 0;
-          const float tol = 0.01f * z + static_cast<float>(quantum_m);
-          close += g > 0 && g >= lo.at<float>(v, u) - tol && g <= hi.at<float>(v, u) + tol;
-        } else {
-          invented += g > 0;
-        }
-      }
+    const auto [valid, close, missing, invented] = s3m::testing::depth_agreement(truth, got, quantum_m);
     std::cout << bag.filename().string() << " frame " << i << ": " << close << " of " << valid
               << " within the 3x3 range, missing " << missing << ", invented " << invented << "\n";
     EXPECT_GT(valid, 200000);

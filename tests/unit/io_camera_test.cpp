@@ -74,3 +74,67 @@ TEST(IoCamera, LoadCameraPresetsAndErrors) {
   const auto syntax = write_file(dir / "s.yaml", "%YAML:1.0\nCamera.fx: 500\nCamera.fy: [500\n");
   expect_error([&] { read_orbslam_settings(syntax); }, {"s.yaml:", "YAML syntax error"});
 }
+
+// A depth camera beside the colour camera (raw depth, not registered): its section survives a
+// write/read exactly, and both rotation forms give the same pose.
+TEST(IoCamera, DepthCameraSectionRoundTripAndRotationForms) {
+  const auto dir = fresh_temp_dir();
+  DepthCamera depth;
+  depth.camera.fx = depth.camera.fy = 425.25, depth.camera.cx = 423.5, depth.camera.cy = 239.5;
+  depth.camera.width = 848, depth.camera.height = 480, depth.camera.dist = {0.01, -0.02, 0.001, 0, 0.003};
+  depth.T_c_d = make_se3(Vec3(-0.015, 0.0003, 0.0002), Quat(Eigen::AngleAxisd(0.006, Vec3(0.3, 1, 0.2).normalized())));
+  const PinholeCamera colour = *camera_preset("tum_fr1");
+  write_camera_yaml((dir / "c.yaml").string(), colour, depth);
+  const CameraFile back = read_camera_file((dir / "c.yaml").string());
+  ASSERT_TRUE(back.depth);
+  EXPECT_EQ(back.camera.fx, colour.fx);
+  EXPECT_EQ(back.depth->camera.fx, 425.25);
+  EXPECT_EQ(back.depth->camera.width, 848);
+  EXPECT_EQ(back.depth->camera.dist, depth.camera.dist);
+  EXPECT_EQ(back.depth->camera.depth_factor, colour.depth_factor);  // one unit for the folder's depth images
+  EXPECT_LT((back.depth->T_c_d.matrix() - depth.T_c_d.matrix()).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_FALSE(read_camera_file(write_file(dir / "plain.yaml", "fx: 5\nfy: 5\ncx: 1\ncy: 1\nwidth: 4\nheight: 3\n"
+                                                                 "depth_factor: 1000\n"))
+                   .depth);
+  EXPECT_FALSE(load_camera_file("tum_fr3").depth);
+
+  // 90 degrees about z, 1.5 cm along x: the depth camera's x axis is the colour camera's y axis.
+  const std::string intrinsics = "fx: 5\nfy: 5\ncx: 1.5\ncy: 1\nwidth: 4\nheight: 3\ndepth_factor: 1000\n"
+                                 "depth_camera:\n  fx: 5\n  fy: 5\n  cx: 1.5\n  cy: 1\n  width: 4\n  height: 3\n"
+                                 "  T_c_d:\n    translation: [0.015, 0, 0]\n";
+  const auto by_matrix = write_file(dir / "r.yaml", intrinsics + "    rotation: [0, -1, 0, 1, 0, 0, 0, 0, 1]\n");
+  const auto by_quat = write_file(dir / "q.yaml", intrinsics + "    quaternion: [0, 0, 0.70710678, 0.70710678]\n");
+  const auto by_columns = write_file(dir / "c.yaml", intrinsics + "    rotation_column_major: [0, 1, 0, -1, 0, 0, 0, 0, 1]\n");
+  for (const auto& path : {by_matrix, by_quat, by_columns}) {
+    const Vec3 p_c = load_camera_file(path).depth->T_c_d * Vec3(1, 0, 0);
+    EXPECT_NEAR(p_c.x(), 0.015, 1e-8) << path;
+    EXPECT_NEAR(p_c.y(), 1.0, 1e-8) << path;
+    EXPECT_NEAR(p_c.z(), 0.0, 1e-8) << path;
+  }
+  EXPECT_EQ(read_camera_yaml(by_matrix).width, 4);  // readers that want the colour camera only
+}
+
+TEST(IoCamera, DepthCameraSectionErrorsNameLineAndMismatch) {
+  const auto dir = fresh_temp_dir();
+  const std::string head = "fx: 5\nfy: 5\ncx: 1.5\ncy: 1\nwidth: 4\nheight: 3\ndepth_factor: 1000\n"
+                           "depth_camera:\n  fx: 5\n  fy: 5\n  cx: 1.5\n  cy: 1\n  width: 4\n  height: 3\n";
+  auto yaml = [&](const std::string& name, const std::string& rest) { return write_file(dir / name, head + rest); };
+  // Lines: 15 T_c_d, 16 translation (where yaml-cpp marks the T_c_d map too), 17 the rotation.
+  expect_error([&] { read_camera_file(yaml("mm.yaml", "  T_c_d:\n    translation: [15, 0.3, 0.2]\n    quaternion: [0, 0, 0, 1]\n")); },
+               {"mm.yaml:16", "depth camera 15 m from the colour camera", "millimetres divided by 1000"});
+  expect_error([&] { read_camera_file(yaml("skew.yaml", "  T_c_d:\n    translation: [0.015, 0, 0]\n    rotation: [1, 0.2, 0, 0, 1, 0, 0, 0, 1]\n")); },
+               {"skew.yaml:17", "not a rotation", "orthonormal rotation matrix with det +1"});
+  expect_error([&] { read_camera_file(yaml("q.yaml", "  T_c_d:\n    translation: [0.015, 0, 0]\n    quaternion: [0, 0, 0, 2]\n")); },
+               {"q.yaml:17", "norm 2.0000", "unit quaternion qx qy qz qw"});
+  expect_error([&] { read_camera_file(yaml("both.yaml", "  T_c_d:\n    translation: [0, 0, 0]\n    quaternion: [0, 0, 0, 1]\n"
+                                                        "    rotation: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n")); },
+               {"both.yaml:16", "exactly one of quaternion / rotation / rotation_column_major"});
+  expect_error([&] { read_camera_file(yaml("short.yaml", "  T_c_d:\n    translation: [0.015, 0]\n    quaternion: [0, 0, 0, 1]\n")); },
+               {"short.yaml:16", "bad value for 'translation'", "a list of 3 numbers"});
+  expect_error([&] { read_camera_file(yaml("none.yaml", "")); }, {"none.yaml:9", "missing key 'T_c_d' in depth_camera"});
+  // The depth unit is the folder's: a depth_factor inside the section is a mistake, not a second unit.
+  expect_error([&] { read_camera_file(yaml("df.yaml", "  depth_factor: 1000\n")); }, {"df.yaml:15", "unknown key 'depth_factor'"});
+  expect_error([&] { read_camera_file(write_file(dir / "scalar.yaml", head.substr(0, head.find("depth_camera")) +
+                                                                          "depth_camera: yes\n")); },
+               {"scalar.yaml:8", "bad value for 'depth_camera'"});
+}

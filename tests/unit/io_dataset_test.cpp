@@ -174,3 +174,32 @@ TEST(IoTumDataset, Eth3dCalibrationAndAssociatedTxt) {
   write_file(dir / "calibration.txt", "0 110 3.5 2.5\n");
   expect_error([&] { TumDataset::open(dir.string()); }, {"calibration.txt:1", "focal length <= 0"});
 }
+
+// A camera.yaml with a depth_camera section: depth is read at the depth camera's size and drawn
+// into the colour camera's pixels. Same intrinsics, p_c = p_d + (0.05, 0, 0): at 0.5 m everything
+// moves fx * 0.05 / 0.5 = 1 px to the right.
+TEST(IoTumDataset, DepthCameraSectionAlignsDepthToColour) {
+  const auto dir = write_sequence(2, false);
+  DepthCamera depth{tiny_camera(), make_se3(Vec3(0.05, 0, 0), Quat::Identity())};
+  write_camera_yaml((dir / "camera.yaml").string(), tiny_camera(), depth);
+  const auto ds = TumDataset::open(dir.string());
+  EXPECT_NE(ds.depth_registered_by().find("depth_camera of " + (dir / "camera.yaml").string()), std::string::npos)
+      << ds.depth_registered_by();
+  const cv::Mat d = ds.load(0).depth_m;  // frame 0: 0.5 m everywhere but a hole at (0, 0)
+  ASSERT_EQ(d.size(), cv::Size(8, 6));
+  for (int v = 0; v < 6; ++v)
+    for (int u = 0; u < 8; ++u)
+      EXPECT_FLOAT_EQ(d.at<float>(v, u), u == 0 || (u == 1 && v == 0) ? 0.0f : 0.5f) << u << "," << v;
+
+  // Without the section the same files are read as they are (registered).
+  write_camera_yaml((dir / "camera.yaml").string(), tiny_camera());
+  const auto plain = TumDataset::open(dir.string());
+  EXPECT_TRUE(plain.depth_registered_by().empty());
+  EXPECT_FLOAT_EQ(plain.load(0).depth_m.at<float>(2, 0), 0.5f);
+
+  // A depth camera of another size than the images: named at open(), with the likely reason.
+  depth.camera = tiny_camera().scaled(0.5);
+  write_camera_yaml((dir / "camera.yaml").string(), tiny_camera(), depth);
+  expect_error([&] { TumDataset::open(dir.string()); },
+               {"depth/", "depth image is 8x6", "depth_camera of 4x3", "already aligned to colour?"});
+}

@@ -83,6 +83,97 @@ void validate_in_file(const PinholeCamera& cam, const std::string& path) {
   }
 }
 
+// fx fy cx cy width height [k1 k2 p1 p2 k3] of `node` into cam.
+void read_intrinsics(const YAML::Node& node, const std::string& path, PinholeCamera& cam) {
+  cam.fx = required_number(node, {"fx"}, path);
+  cam.fy = required_number(node, {"fy"}, path);
+  cam.cx = required_number(node, {"cx"}, path);
+  cam.cy = required_number(node, {"cy"}, path);
+  cam.width = required_size(node, {"width"}, path);
+  cam.height = required_size(node, {"height"}, path);
+  const char* dist_keys[] = {"k1", "k2", "p1", "p2", "k3"};
+  for (int i = 0; i < 5; ++i) cam.dist[i] = optional_number(node, {dist_keys[i]}, path, 0.0);
+}
+
+// A list of n numbers, else ParseError at its line.
+std::vector<double> number_list(const YAML::Node& node, std::size_t n, const std::string& key, const std::string& path,
+                                const std::string& what) {
+  const int line = node.Mark().line + 1;
+  if (!node.IsSequence() || node.size() != n)
+    throw ParseError(path, line, "bad value for '" + key + "'", fmt::format("a list of {} numbers ({})", n, what));
+  std::vector<double> v;
+  for (const YAML::Node& x : node) {
+    try {
+      v.push_back(x.as<double>());
+    } catch (const YAML::Exception&) {
+      throw ParseError(path, line, "bad value for '" + key + "'", fmt::format("a list of {} numbers ({})", n, what));
+    }
+    if (!std::isfinite(v.back()))
+      throw ParseError(path, line, "non-finite number in '" + key + "'", fmt::format("{} finite numbers", n));
+  }
+  return v;
+}
+
+// T_c_d: translation [m] and one rotation: a quaternion, a row-major matrix, or a column-major one
+// (librealsense's rs2_extrinsics.rotation, as pyrealsense2 prints it).
+SE3 read_T_c_d(const YAML::Node& node, const std::string& path) {
+  const int line = node.Mark().line + 1;
+  const std::string expected = "translation: [x, y, z] in metres and one of quaternion: [qx, qy, qz, qw], rotation: "
+                               "[9 numbers, row-major], rotation_column_major: [9 numbers]";
+  if (!node.IsMap()) throw ParseError(path, line, "bad value for 'T_c_d'", expected);
+  check_known_keys(node, {"translation", "quaternion", "rotation", "rotation_column_major"}, path);
+  const int n_rotations = !!node["quaternion"] + !!node["rotation"] + !!node["rotation_column_major"];
+  if (!node["translation"] || n_rotations != 1)
+    throw ParseError(path, line, "T_c_d needs a translation and exactly one of quaternion / rotation / "
+                     "rotation_column_major", expected);
+  const std::vector<double> t = number_list(node["translation"], 3, "translation", path, "x y z [m]");
+  const Vec3 t_m(t[0], t[1], t[2]);
+  // A depth camera sits centimetres from the colour camera; a translation of metres is a
+  // calibration written in millimetres (Kinect and many calibration tools use them).
+  if (t_m.norm() > 0.5)
+    throw ParseError(path, node["translation"].Mark().line + 1,
+                     fmt::format("depth camera {:.3g} m from the colour camera", t_m.norm()),
+                     "a translation in metres (a few centimetres; millimetres divided by 1000)");
+  Mat3 R;
+  if (node["quaternion"]) {
+    const std::vector<double> q = number_list(node["quaternion"], 4, "quaternion", path, "qx qy qz qw");
+    const Quat quat(q[3], q[0], q[1], q[2]);
+    if (std::abs(quat.norm() - 1.0) > 0.01)
+      throw ParseError(path, node["quaternion"].Mark().line + 1,
+                       fmt::format("quaternion [{} {} {} {}] has norm {:.4f}", q[0], q[1], q[2], q[3], quat.norm()),
+                       "a unit quaternion qx qy qz qw");
+    R = quat.normalized().toRotationMatrix();
+  } else {
+    const bool by_rows = !!node["rotation"];
+    const std::string key = by_rows ? "rotation" : "rotation_column_major";
+    const std::vector<double> r = number_list(node[key], 9, key, path, by_rows ? "r00 r01 ... r22" : "r00 r10 ... r22");
+    for (int i = 0; i < 9; ++i) (by_rows ? R(i / 3, i % 3) : R(i % 3, i / 3)) = r[i];
+    const double ortho_err = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
+    if (!(ortho_err <= 1e-3) || !(R.determinant() > 0))
+      throw ParseError(path, node[key].Mark().line + 1,
+                       fmt::format("not a rotation (|R^T R - I| = {:.3g}, det = {:.4f})", ortho_err, R.determinant()),
+                       "an orthonormal rotation matrix with det +1");
+  }
+  return orthonormalized(make_se3(R, t_m));
+}
+
+DepthCamera read_depth_camera(const YAML::Node& node, const std::string& path, const PinholeCamera& colour) {
+  if (!node.IsMap())
+    throw ParseError(path, node.Mark().line + 1, "bad value for 'depth_camera'",
+                     "a map with fx, fy, cx, cy, width, height, T_c_d");
+  check_known_keys(node, {"fx", "fy", "cx", "cy", "width", "height", "k1", "k2", "p1", "p2", "k3", "T_c_d"}, path);
+  DepthCamera d;
+  d.camera.depth_factor = colour.depth_factor;  // one unit for every depth image of the folder
+  d.camera.bf = colour.bf;
+  read_intrinsics(node, path, d.camera);
+  validate_in_file(d.camera, path);
+  if (!node["T_c_d"])
+    throw ParseError(path, node.Mark().line + 1, "missing key 'T_c_d' in depth_camera",
+                     "the depth camera's pose in the colour camera (translation, quaternion or rotation)");
+  d.T_c_d = read_T_c_d(node["T_c_d"], path);
+  return d;
+}
+
 bool looks_like_orbslam(const std::string& path) {
   std::ifstream in(path);
   std::string line;
@@ -95,38 +186,51 @@ bool looks_like_orbslam(const std::string& path) {
 
 }  // namespace
 
-PinholeCamera read_camera_yaml(const std::string& path) {
+CameraFile read_camera_file(const std::string& path) {
   const YAML::Node root = load_yaml_file(path);
   if (!root.IsMap()) throw ParseError(path, 1, "not a YAML map", "keys fx, fy, cx, cy, width, height, depth_factor");
   check_known_keys(root, {"camera_model", "fx", "fy", "cx", "cy", "width", "height", "depth_factor", "k1", "k2", "p1",
-                          "p2", "k3", "bf", "fps"},
+                          "p2", "k3", "bf", "fps", "depth_camera"},
                    path);
   if (const std::string model = optional_string(root, "camera_model", path, "pinhole"); model != "pinhole")
     throw ParseError(path, root["camera_model"].Mark().line + 1, "unsupported camera_model '" + model + "'",
                      "pinhole");
-  PinholeCamera cam;
-  cam.fx = required_number(root, {"fx"}, path);
-  cam.fy = required_number(root, {"fy"}, path);
-  cam.cx = required_number(root, {"cx"}, path);
-  cam.cy = required_number(root, {"cy"}, path);
-  cam.width = required_size(root, {"width"}, path);
-  cam.height = required_size(root, {"height"}, path);
+  CameraFile file;
+  PinholeCamera& cam = file.camera;
+  read_intrinsics(root, path, cam);
   cam.depth_factor = required_number(root, {"depth_factor"}, path);
-  const char* dist_keys[] = {"k1", "k2", "p1", "p2", "k3"};
-  for (int i = 0; i < 5; ++i) cam.dist[i] = optional_number(root, {dist_keys[i]}, path, 0.0);
   cam.bf = optional_number(root, {"bf"}, path, cam.bf);
   validate_in_file(cam, path);
-  return cam;
+  if (const YAML::Node d = root["depth_camera"]) file.depth = read_depth_camera(d, path, cam);
+  return file;
 }
 
-void write_camera_yaml(const std::string& path, const PinholeCamera& c) {
+PinholeCamera read_camera_yaml(const std::string& path) { return read_camera_file(path).camera; }
+
+void write_camera_yaml(const std::string& path, const PinholeCamera& c, const std::optional<DepthCamera>& depth) {
   c.validate();
-  write_text_atomic(path, fmt::format("# Pinhole intrinsics written by s3m. Depth in metres = png value / depth_factor.\n"
-                                      "camera_model: pinhole\nwidth: {}\nheight: {}\nfx: {:.17g}\nfy: {:.17g}\n"
-                                      "cx: {:.17g}\ncy: {:.17g}\nk1: {:.17g}\nk2: {:.17g}\np1: {:.17g}\np2: {:.17g}\n"
-                                      "k3: {:.17g}\ndepth_factor: {:.17g}\nbf: {:.17g}\n",
-                                      c.width, c.height, c.fx, c.fy, c.cx, c.cy, c.dist[0], c.dist[1], c.dist[2],
-                                      c.dist[3], c.dist[4], c.depth_factor, c.bf));
+  std::string text = fmt::format(
+      "# Pinhole intrinsics written by s3m. Depth in metres = png value / depth_factor.\n"
+      "camera_model: pinhole\nwidth: {}\nheight: {}\nfx: {:.17g}\nfy: {:.17g}\n"
+      "cx: {:.17g}\ncy: {:.17g}\nk1: {:.17g}\nk2: {:.17g}\np1: {:.17g}\np2: {:.17g}\n"
+      "k3: {:.17g}\ndepth_factor: {:.17g}\nbf: {:.17g}\n",
+      c.width, c.height, c.fx, c.fy, c.cx, c.cy, c.dist[0], c.dist[1], c.dist[2], c.dist[3], c.dist[4], c.depth_factor,
+      c.bf);
+  if (depth) {
+    const PinholeCamera& d = depth->camera;
+    d.validate();
+    const Quat q(depth->T_c_d.rotation());
+    const Vec3 t = depth->T_c_d.translation();
+    text += fmt::format(
+        "# Depth images are this camera's, drawn into the colour camera's pixels by s3m.\n"
+        "depth_camera:\n  width: {}\n  height: {}\n  fx: {:.17g}\n  fy: {:.17g}\n  cx: {:.17g}\n  cy: {:.17g}\n"
+        "  k1: {:.17g}\n  k2: {:.17g}\n  p1: {:.17g}\n  p2: {:.17g}\n  k3: {:.17g}\n"
+        "  T_c_d:  # depth-camera points -> colour camera [m]\n"
+        "    translation: [{:.17g}, {:.17g}, {:.17g}]\n    quaternion: [{:.17g}, {:.17g}, {:.17g}, {:.17g}]\n",
+        d.width, d.height, d.fx, d.fy, d.cx, d.cy, d.dist[0], d.dist[1], d.dist[2], d.dist[3], d.dist[4], t.x(), t.y(),
+        t.z(), q.x(), q.y(), q.z(), q.w());
+  }
+  write_text_atomic(path, text);
 }
 
 PinholeCamera read_orbslam_settings(const std::string& path) {
@@ -151,13 +255,16 @@ PinholeCamera read_orbslam_settings(const std::string& path) {
   return cam;
 }
 
-PinholeCamera load_camera(const std::string& path_or_preset) {
-  if (auto preset = camera_preset(path_or_preset)) return *preset;
+PinholeCamera load_camera(const std::string& path_or_preset) { return load_camera_file(path_or_preset).camera; }
+
+CameraFile load_camera_file(const std::string& path_or_preset) {
+  if (auto preset = camera_preset(path_or_preset)) return {*preset, std::nullopt};
   if (!std::filesystem::exists(path_or_preset))
     throw ParseError(path_or_preset, 0, "no such camera file or preset",
                      "a camera YAML file or one of the presets tum_fr1, tum_fr2, tum_fr3, 7scenes, replica");
   require_input_file(path_or_preset, "a camera YAML file");  // before looks_like_orbslam() opens it
-  return looks_like_orbslam(path_or_preset) ? read_orbslam_settings(path_or_preset) : read_camera_yaml(path_or_preset);
+  if (looks_like_orbslam(path_or_preset)) return {read_orbslam_settings(path_or_preset), std::nullopt};
+  return read_camera_file(path_or_preset);
 }
 
 }  // namespace s3m::io

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
-#include <tuple>
 #include <utility>
 
 #include <fmt/format.h>
@@ -15,6 +14,7 @@
 #include "s3m/io/association.hpp"
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/io/camera_yaml.hpp"
+#include "s3m/io/depth_to_colour.hpp"
 #include "s3m/io/image_io.hpp"
 #include "s3m/io/frame_folders.hpp"
 #include "s3m/io/text_lines.hpp"
@@ -131,19 +131,19 @@ PinholeCamera read_calibration_txt(const std::string& path) {
 }
 
 // The camera and where it came from (for TumDataset::camera_source()).
-std::pair<PinholeCamera, std::string> dataset_camera(const std::string& dir, const TumDatasetOptions& opt) {
+std::pair<CameraFile, std::string> dataset_camera(const std::string& dir, const TumDatasetOptions& opt) {
   if (!opt.camera.empty())
-    return {load_camera(opt.camera), (camera_preset(opt.camera) ? "preset " : "") + opt.camera + " (dataset.camera)"};
+    return {load_camera_file(opt.camera), (camera_preset(opt.camera) ? "preset " : "") + opt.camera + " (dataset.camera)"};
   const fs::path yaml = fs::path(dir) / "camera.yaml";
-  if (fs::exists(yaml)) return {load_camera(yaml.string()), yaml.string()};
+  if (fs::exists(yaml)) return {load_camera_file(yaml.string()), yaml.string()};
   if (const fs::path calib = fs::path(dir) / "calibration.txt"; fs::exists(calib))
-    return {read_calibration_txt(calib.string()), calib.string() + " (ETH3D; depth factor 5000)"};
+    return {{read_calibration_txt(calib.string()), std::nullopt}, calib.string() + " (ETH3D; depth factor 5000)"};
   const std::string name = folder_path(dir).filename().string();  // "seq/" and "." too
   for (const char* fr : {"freiburg1", "freiburg2", "freiburg3"}) {
     if (name.find(fr) == std::string::npos) continue;
     const std::string preset = std::string("tum_fr") + fr[8];
     spdlog::info("{}: no camera.yaml, using preset {} from the directory name", dir, preset);
-    return {*camera_preset(preset), "preset " + preset + " (from the folder name)"};
+    return {{*camera_preset(preset), std::nullopt}, "preset " + preset + " (from the folder name)"};
   }
   throw ParseError(yaml.string(), 0, "file not found",
                    "a camera.yaml (or ETH3D's calibration.txt) in the sequence directory, or a camera file / preset "
@@ -173,7 +173,9 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
   }
   ds.layout_ = associations == "associated.txt" ? "TUM layout (ETH3D's associated.txt)" : "TUM layout";
   // 1. Camera first: without intrinsics and depth factor no frame can be used.
-  std::tie(ds.camera_, ds.camera_source_) = dataset_camera(dir, options);
+  const auto [camera_file, camera_source] = dataset_camera(dir, options);
+  ds.camera_ = camera_file.camera;
+  ds.camera_source_ = camera_source;
   // 2. Frames: the given associations, else TUM-style nearest-timestamp association.
   ds.frames_ = !associations.empty() ? read_associations(dir, associations, options.check_files)
                                      : associate_lists(dir, options);
@@ -183,6 +185,7 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
     ds.camera_.height = first.rows;
     ds.camera_.validate();
   }
+  if (camera_file.depth) ds.use_depth_camera(*camera_file.depth);
   // 3. Optional labels (s3m extension), associated to rgb timestamps.
   if (fs::exists(fs::path(dir) / "labels.txt")) {
     const auto labels = read_list(dir, "labels.txt", options.check_files);
@@ -216,8 +219,11 @@ TumDataset TumDataset::open_folder(const std::string& dir, const TumDatasetOptio
   ds.gt_times_ = timestamps(ds.groundtruth_);
   // 2. Camera: a given one or camera.yaml, else what the folder implies; colour resized to its size.
   if (!options.camera.empty() || fs::exists(fs::path(dir) / "camera.yaml")) {
-    std::tie(ds.camera_, ds.camera_source_) = dataset_camera(dir, options);
+    const auto [camera_file, camera_source] = dataset_camera(dir, options);
+    ds.camera_ = camera_file.camera;
+    ds.camera_source_ = camera_source;
     ds.colour_size_ = read_rgb((fs::path(dir) / frames.front().rgb).string()).size();
+    if (camera_file.depth) ds.use_depth_camera(*camera_file.depth);
   } else {
     const FolderCamera c = folder_camera(dir, layout, frames.front());
     ds.camera_ = c.camera;
@@ -240,11 +246,36 @@ RgbdFrame TumDataset::load(std::size_t i) const {
   const cv::Size colour = colour_size_.area() > 0 ? colour_size_ : size;
   f.rgb = read_rgb((fs::path(dir_) / e.rgb).string(), colour);
   if (colour != size) cv::resize(f.rgb, f.rgb, size, 0, 0, cv::INTER_AREA);
-  f.depth_m = read_depth_png((fs::path(dir_) / e.depth).string(), camera_.depth_factor, size);
+  const PinholeCamera& depth_cam = to_colour_ ? to_colour_->depth_camera() : camera_;
+  f.depth_m = read_depth_png((fs::path(dir_) / e.depth).string(), camera_.depth_factor,
+                             cv::Size(depth_cam.width, depth_cam.height));
   // 7-Scenes writes 65535 where the Kinect measured nothing; read as it is, it would be 65 m of depth.
   if (saturated_depth_is_hole_) f.depth_m.setTo(0.0f, f.depth_m >= static_cast<float>(65534.5 / camera_.depth_factor));
+  if (to_colour_) f.depth_m = (*to_colour_)(f.depth_m);
   if (!e.labels.empty()) f.labels = read_label_png((fs::path(dir_) / e.labels).string(), size);
   return f;
+}
+
+void TumDataset::use_depth_camera(const DepthCamera& depth) {
+  const PinholeCamera& d = depth.camera;
+  // Depth that is already aligned beside a depth_camera section would be moved a second time.
+  const std::string first = (fs::path(dir_) / frames_.front().depth).string();
+  const cv::Mat depth0 = read_depth_png(first, camera_.depth_factor);
+  if (depth0.cols != d.width || depth0.rows != d.height)
+    throw ParseError(first, 0,
+                     fmt::format("depth image is {}x{}, camera file {} has a depth_camera of {}x{}{}", depth0.cols,
+                                 depth0.rows, camera_source_, d.width, d.height,
+                                 depth0.cols == camera_.width && depth0.rows == camera_.height
+                                     ? " (the colour camera's size: is this depth already aligned to colour?)"
+                                     : ""),
+                     "depth images of the depth camera's size, or no depth_camera section for depth registered to "
+                     "colour");
+  to_colour_ = std::make_shared<const DepthToColour>(d, camera_, depth.T_c_d);
+  registered_by_ = "s3m, with the depth_camera of " + camera_source_;
+  spdlog::info("{}: depth camera {}x{} fx {:.1f}, {:.1f} cm from the colour camera ({}); its depth is drawn into the "
+               "colour camera's {}x{} pixels",
+               dir_, d.width, d.height, d.fx, depth.T_c_d.translation().norm() * 100, camera_source_, camera_.width,
+               camera_.height);
 }
 
 double TumDataset::timestamp(std::size_t i) const {

@@ -1,19 +1,23 @@
 #pragma once
 // TUM RGB-D sequence layout: rgb/, depth/, rgb.txt, depth.txt ('t path'), optional associations.txt
 // ('t_rgb rgb_path t_depth depth_path'), optional groundtruth.txt (TUM trajectory, T_w_c) and the s3m
-// extensions camera.yaml (intrinsics + depth_factor) and labels.txt ('t labels/x.png', class-id PNGs).
+// extensions camera.yaml (intrinsics + depth_factor, and a depth_camera section for depth not registered to
+// colour: camera_yaml.hpp) and labels.txt ('t labels/x.png', class-id PNGs).
 // ETH3D's RGB-D sequences are this layout with associated.txt for associations.txt and a
 // calibration.txt ('fx fy cx cy', depth factor 5000, image size from the first image) for camera.yaml.
 // A folder without rgb.txt/associations.txt that holds Microsoft 7-Scenes frames
 // (frame-NNNNNN.color.png|jpg, .depth.png, .pose.txt), a ScanNet export (color/, depth/, pose/,
 // intrinsic/) or a Replica scene as NICE-SLAM renders it (results/, traj.txt) is read as well
 // (frame_folders.hpp): the pose files are its ground truth, timestamps are frame number / 30 s.
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "s3m/core/camera.hpp"
 #include "s3m/core/rgbd_frame.hpp"
+#include "s3m/io/camera_yaml.hpp"
+#include "s3m/io/depth_to_colour.hpp"
 #include "s3m/io/frame_folders.hpp"
 #include "s3m/io/trajectory.hpp"
 
@@ -48,6 +52,9 @@ class TumDataset {
   const std::string& layout() const { return layout_; }
   const std::string& camera_source() const { return camera_source_; }
   bool has_labels() const { return has_labels_; }
+  // Non-empty when the camera file has a depth_camera section: depth is then read at the depth
+  // camera's size and drawn into the colour camera's pixels (io::DepthToColour) by load().
+  const std::string& depth_registered_by() const { return registered_by_; }
 
   struct Entry {
     double t_rgb_s = 0, t_depth_s = 0;
@@ -56,7 +63,7 @@ class TumDataset {
   const std::vector<Entry>& entries() const { return frames_; }
 
  private:
-  std::string dir_, layout_, camera_source_;
+  std::string dir_, layout_, camera_source_, registered_by_;
   PinholeCamera camera_;
   std::vector<Entry> frames_;
   Trajectory groundtruth_;
@@ -64,6 +71,9 @@ class TumDataset {
   bool has_labels_ = false;
   bool saturated_depth_is_hole_ = false;  // 7-Scenes: raw 65535 = no measurement
   cv::Size colour_size_;                  // colour images on disk, when not the camera's size (ScanNet)
+  std::shared_ptr<const DepthToColour> to_colour_;  // a depth camera beside the colour camera (shared: ~10 MB)
+
+  void use_depth_camera(const DepthCamera& depth);  // after the frames are known: checks the first depth image
 
   static TumDataset open_folder(const std::string& dir, const TumDatasetOptions& options, FolderLayout layout);
 };

@@ -19,6 +19,7 @@ class TumFrameSource final : public FrameSource {
   double timestamp(std::size_t index) const override { return dataset_.timestamp(index); }
   std::string layout() const override { return dataset_.layout(); }
   std::string camera_source() const override { return dataset_.camera_source(); }
+  std::string depth_registered_by() const override { return dataset_.depth_registered_by(); }
 
  private:
   io::TumDataset dataset_;
