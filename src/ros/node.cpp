@@ -78,6 +78,7 @@ NodeParams read_node_params(const ros::NodeHandle& pnh) {
   pnh.param("map_every_n_frames", p.map_every_n_frames, p.map_every_n_frames);
   pnh.param("camera_bf", p.camera_bf, p.camera_bf);
   pnh.param("camera_from_config", p.camera_from_config, p.camera_from_config);
+  pnh.param("align_depth", p.align_depth, p.align_depth);
   pnh.param("output_dir", p.output_dir, p.output_dir);
   pnh.param("save_on_exit", p.save_on_exit, p.save_on_exit);
   pnh.param("map", p.map, p.map);
@@ -111,6 +112,7 @@ S3mNode::S3mNode(ros::NodeHandle nh, ros::NodeHandle pnh)
                 ? make_sync<mf::sync_policies::ApproximateTime<Image, Image, CameraInfo>>(q, cb, rgb_sub_, depth_sub_, info_sub_)
                 : make_sync<mf::sync_policies::ExactTime<Image, Image, CameraInfo>>(q, cb, rgb_sub_, depth_sub_, info_sub_);
   }
+  if (params_.align_depth) depth_info_sub_ = nh_.subscribe("depth/camera_info", 2, &S3mNode::on_depth_info, this);
   cam_odom_ = pnh_.advertise<nav_msgs::Odometry>("camera/odom", 10);
   cam_pose_ = pnh_.advertise<geometry_msgs::PoseStamped>("camera/pose", 10);
   robot_odom_ = pnh_.advertise<nav_msgs::Odometry>("robot/odom", 10);
@@ -123,8 +125,10 @@ S3mNode::S3mNode(ros::NodeHandle nh, ros::NodeHandle pnh)
   query_markers_ = pnh_.advertise<visualization_msgs::MarkerArray>("query_markers", 1, true);
   query_sub_ = pnh_.subscribe("query", 10, &S3mNode::on_query, this);
   save_srv_ = pnh_.advertiseService("save_map", &S3mNode::save_map, this);
+  const std::string extra = std::string(params_.use_labels ? " (+ labels/image)" : "") +
+                            (params_.align_depth ? " (+ " + depth_info_sub_.getTopic() + ", ~align_depth)" : "");
   ROS_INFO("s3m_node: waiting for %s, %s and %s%s", rgb_sub_.getTopic().c_str(), depth_sub_.getTopic().c_str(),
-           info_sub_.getTopic().c_str(), params_.use_labels ? " (+ labels/image)" : "");
+           info_sub_.getTopic().c_str(), extra.c_str());
 }
 
 S3mNode::~S3mNode() {
@@ -138,6 +142,11 @@ S3mNode::~S3mNode() {
 void S3mNode::on_frame(const ImageCPtr& rgb, const ImageCPtr& depth, const sensor_msgs::CameraInfoConstPtr& info,
                        const ImageCPtr& labels) {
   if (finished_) return;
+  if (params_.align_depth && !pipeline_ && !depth_info_) {  // a driver publishes it with every depth image
+    ROS_WARN_THROTTLE(2.0, "s3m_node: ~align_depth: waiting for %s (the depth camera's intrinsics)",
+                      depth_info_sub_.getTopic().c_str());
+    return;
+  }
   try {
     RgbdFrame f;
     f.index = frames_++;
@@ -145,7 +154,8 @@ void S3mNode::on_frame(const ImageCPtr& rgb, const ImageCPtr& depth, const senso
     f.rgb = colour_to_bgr(*rgb);
     f.depth_m = depth_to_metres(*depth);
     if (labels) f.labels = labels_to_ids(*labels);
-    if (!pipeline_) start(*info, rgb->header.frame_id, f);
+    if (!pipeline_) start(*info, rgb->header.frame_id, depth->header.frame_id, f);
+    if (to_colour_) f.depth_m = (*to_colour_)(f.depth_m);
     stamp_ = rgb->header.stamp;
     pipeline_->process(std::move(f));  // inline: on_outcome() runs before this returns
     if (frames_ % params_.map_every_n_frames == 0) publish_map(stamp_);
@@ -157,7 +167,8 @@ void S3mNode::on_frame(const ImageCPtr& rgb, const ImageCPtr& depth, const senso
   }
 }
 
-void S3mNode::start(const CameraInfo& info, const std::string& camera_frame, const RgbdFrame& first) {
+void S3mNode::start(const CameraInfo& info, const std::string& camera_frame, const std::string& depth_frame,
+                    const RgbdFrame& first) {
   pipeline::PipelineConfig& c = params_.config;
   std::string camera_note;
   const PinholeCamera camera =
@@ -167,8 +178,17 @@ void S3mNode::start(const CameraInfo& info, const std::string& camera_frame, con
     throw Error("the colour images are " + std::to_string(first.rgb.cols) + "x" + std::to_string(first.rgb.rows) +
                 " but the camera is " + std::to_string(camera.width) + "x" + std::to_string(camera.height) + " (" +
                 camera_note + ")");
+  std::string registered_by;
+  if (params_.align_depth)
+    registered_by = start_alignment(camera_frame, depth_frame, camera);
+  else if (first.depth_m.cols != camera.width || first.depth_m.rows != camera.height)
+    throw Error("the depth images are " + std::to_string(first.depth_m.cols) + "x" + std::to_string(first.depth_m.rows) +
+                " but the colour images " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+                ": the depth is not registered to colour; launch the driver with depth aligned to colour "
+                "(realsense2_camera align_depth:=true) or set ~align_depth:=true (depth/camera_info and the TF "
+                "between the depth and colour frames then place the depth camera)");
   // A live stream offers one frame before the first is processed (s3m run checks six).
-  ROS_INFO("s3m_node: depth %s", pipeline::resolve_depth_registration(c, {first}, camera).c_str());
+  ROS_INFO("s3m_node: depth %s", pipeline::resolve_depth_registration(c, {first}, camera, registered_by).c_str());
   // As s3m run does before its first frame: refuse settings that would take seconds per frame and
   // outgrow the memory (ROS_FATAL and exit 1 from on_frame), unless ~force.
   pipeline::check_cost(c, camera, params_.force, "~force:=true");
@@ -202,6 +222,28 @@ void S3mNode::start(const CameraInfo& info, const std::string& camera_frame, con
   ROS_INFO("s3m_node: started (%dx%d, fx %.1f, segmenter %s (%s), config %s)", camera.width, camera.height,
            camera.fx, segmenter_name.c_str(), choice.reason.c_str(),
            c.source.empty() ? "defaults" : c.source.c_str());
+}
+
+std::string S3mNode::start_alignment(const std::string& colour_frame, const std::string& depth_frame,
+                                     const PinholeCamera& colour) {
+  const std::string frame = depth_frame.empty() ? depth_info_->header.frame_id : depth_frame;
+  if (colour_frame.empty() || frame.empty())
+    throw Error("~align_depth: the colour and depth images need frame_ids to place one camera in the other (colour '" +
+                colour_frame + "', depth '" + frame + "')");
+  SE3 T_c_d;
+  try {
+    T_c_d = from_transform(tf_buffer_.lookupTransform(colour_frame, frame, ros::Time(0), ros::Duration(2.0)).transform);
+  } catch (const tf2::TransformException& e) {
+    throw Error("~align_depth: no TF from the depth frame " + frame + " to the colour frame " + colour_frame + ": " +
+                e.what() + " (the driver's static transforms, e.g. realsense2_camera's /tf_static)");
+  }
+  const PinholeCamera depth = camera_from_info(*depth_info_, PinholeCamera{}.bf);
+  to_colour_ = std::make_shared<const io::DepthToColour>(depth, colour, T_c_d);
+  const Vec3 t_cm = T_c_d.translation() * 100;
+  ROS_INFO("s3m_node: depth camera %dx%d fx %.1f (%s) at (%.2f, %.2f, %.2f) cm in the colour camera; its depth is "
+           "drawn into the colour camera's %dx%d pixels", depth.width, depth.height, depth.fx,
+           depth_info_sub_.getTopic().c_str(), t_cm.x(), t_cm.y(), t_cm.z(), colour.width, colour.height);
+  return "s3m_node, with " + depth_info_sub_.getTopic() + " and TF " + colour_frame + " <- " + frame;
 }
 
 void S3mNode::on_outcome(const pipeline::FrameOutcome& o, const semantics::LabelMap& labels) {

@@ -24,6 +24,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "s3m/io/depth_to_colour.hpp"
 #include "s3m/pipeline/pipeline.hpp"
 
 namespace s3m::ros1 {
@@ -40,6 +41,9 @@ struct NodeParams {
   int map_every_n_frames = 10;     // publish map/markers and map/cloud every n processed frames
   double camera_bf = 40.0;         // virtual stereo bf [px m] when CameraInfo's P[3] does not carry it
   bool camera_from_config = false;  // the preset's dataset.camera instead of the driver's CameraInfo
+  // Depth not registered to colour (realsense2_camera without align_depth): drawn into the colour
+  // camera with depth/camera_info and the TF colour frame <- depth frame (io::DepthToColour).
+  bool align_depth = false;
   std::string output_dir;          // ~save_map and save_on_exit write here ("" = nowhere)
   bool save_on_exit = true;
   // A saved run to continue in (a folder `s3m run --out`, ~save_map or save_on_exit wrote:
@@ -64,8 +68,14 @@ class S3mNode {
   using ImageCPtr = sensor_msgs::ImageConstPtr;
   void on_frame(const ImageCPtr& rgb, const ImageCPtr& depth, const sensor_msgs::CameraInfoConstPtr& info,
                 const ImageCPtr& labels);
-  // Builds the pipeline on the first frame (its camera info; `first` decides the depth registration).
-  void start(const sensor_msgs::CameraInfo& info, const std::string& camera_frame, const RgbdFrame& first);
+  // Builds the pipeline on the first frame (its camera info; `first` decides the depth registration;
+  // depth_frame: the depth image's frame_id, for ~align_depth).
+  void start(const sensor_msgs::CameraInfo& info, const std::string& camera_frame, const std::string& depth_frame,
+             const RgbdFrame& first);
+  void on_depth_info(const sensor_msgs::CameraInfoConstPtr& info) { depth_info_ = info; }
+  // ~align_depth: the depth camera and its pose from depth/camera_info and TF; returns who registered it.
+  std::string start_alignment(const std::string& colour_frame, const std::string& depth_frame,
+                              const PinholeCamera& colour);
   void on_outcome(const pipeline::FrameOutcome& o, const semantics::LabelMap& labels);
   void publish_poses(const SE3& T_w_c, const ros::Time& stamp);
   void publish_map(const ros::Time& stamp);
@@ -80,7 +90,9 @@ class S3mNode {
   std::shared_ptr<void> sync_;  // the message_filters synchronizer (its type depends on the params)
   ros::Publisher cam_odom_, cam_pose_, robot_odom_, robot_pose_, markers_, cloud_, seg_, labels_;
   ros::Publisher query_result_, query_markers_;
-  ros::Subscriber query_sub_;
+  ros::Subscriber query_sub_, depth_info_sub_;
+  sensor_msgs::CameraInfoConstPtr depth_info_;               // ~align_depth: the latest depth/camera_info
+  std::shared_ptr<const io::DepthToColour> to_colour_;       // ~align_depth, from the first frame on
   ros::ServiceServer save_srv_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_{tf_buffer_};
