@@ -76,6 +76,23 @@ inline pipeline::RunOptions options(const std::string& out_name, bool determinis
   return o;
 }
 
+// A copy of the fixture's sequence in scratch_dir()/name whose files are links to the sequence's
+// (the cached sequence is never written through them), except the files for which skip(relative
+// path) is true: those the caller writes.
+template <typename Skip>
+fs::path linked_copy(const std::string& name, Skip skip) {
+  const fs::path dir = scratch_dir() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path src = fs::absolute(sequence_dir());
+  for (const auto& e : fs::recursive_directory_iterator(src)) {
+    const fs::path rel = fs::relative(e.path(), src);
+    if (e.is_directory()) fs::create_directories(dir / rel);
+    else if (!skip(rel)) fs::create_symlink(e.path(), dir / rel);
+  }
+  return dir;
+}
+
 inline std::string read_bytes(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   std::stringstream ss;

@@ -176,15 +176,7 @@ std::string rgb_file(const fs::path& dir, int i) {
 // A copy of the sequence whose files are links, except the colour images of the frames given,
 // replaced by the bytes given (a recording with a few bad files).
 std::string sequence_with_bad_frames(const std::string& name, const std::map<int, std::string>& bad) {
-  const fs::path dir = scratch_dir() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const fs::path src = fs::absolute(sequence_dir());
-  for (const auto& e : fs::recursive_directory_iterator(src)) {
-    const fs::path to = dir / fs::relative(e.path(), src);
-    if (e.is_directory()) fs::create_directories(to);
-    else fs::create_symlink(e.path(), to);
-  }
+  const fs::path dir = linked_copy(name, [](const fs::path&) { return false; });
   for (const auto& [i, bytes] : bad) {
     const fs::path rgb = dir / rgb_file(dir, i);
     EXPECT_TRUE(fs::is_symlink(rgb)) << rgb;

@@ -29,23 +29,16 @@ const SE3 kT_c_d = make_se3(Vec3(-0.015, 0.0003, 0.0002), Quat(Eigen::AngleAxisd
 // The fixture's flight with every depth image replaced by what the depth camera sees, and
 // camera.yaml saying so; colour and lists are links to the flight's files.
 std::string raw_depth_folder() {
-  const fs::path dir = scratch_dir() / "raw_depth";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const fs::path src = fs::absolute(sequence_dir());
-  for (const auto& e : fs::recursive_directory_iterator(src)) {
-    const fs::path to = dir / fs::relative(e.path(), src);
-    if (e.is_directory()) fs::create_directories(to);
-    else if (to.parent_path().filename() != "depth") fs::create_symlink(e.path(), to);
-  }
-  const io::TumDataset flight = io::TumDataset::open(src.string());
+  const fs::path dir = linked_copy("raw_depth", [](const fs::path& rel) {
+    return rel.parent_path() == "depth" || rel == "camera.yaml";
+  });
+  const io::TumDataset flight = io::TumDataset::open(sequence_dir());
   PinholeCamera depth = d4xx_depth_camera();
   depth.depth_factor = flight.camera().depth_factor;
   const io::DepthToColour to_depth_camera(flight.camera(), depth, kT_c_d.inverse());
   for (std::size_t i = 0; i < flight.size(); ++i)
     io::write_depth_png((dir / flight.entries()[i].depth).string(), to_depth_camera(flight.load(i).depth_m),
                         depth.depth_factor);
-  fs::remove(dir / "camera.yaml");
   io::write_camera_yaml((dir / "camera.yaml").string(), flight.camera(), io::DepthCamera{depth, kT_c_d});
   return dir.string();
 }
