@@ -260,7 +260,8 @@ def viewer_section(report_dir):
     if not os.path.exists(os.path.join(viewer, "three.min.js")):
         parts.append("<p class='note'>The 3-D view needs three.js: <code>apt-get install libjs-three</code>, then run again.</p>")
     parts += ["<script src='viewer/three.min.js'></script>", "<script src='viewer/OrbitControls.js'></script>",
-              "<script src='viewer/map_data.js'></script>", "<script src='viewer/viewer.js'></script>",
+              "<script src='viewer/map_data.js'></script>", "<script src='viewer/viewer_voxels.js'></script>", "<script src='viewer/viewer.js'></script>",
+              "<script src='viewer/viewer_pick.js'></script>",
               "<script>S3MViewer.start(document.getElementById('s3m-viewer'), window.S3M_VIEWER_DATA);</script>"]
     return parts
 

@@ -131,7 +131,7 @@ TEST(ViewerFolder, WritesTheDataScriptAndSaysWhenThreeJsIsMissing) {
   ::unsetenv("S3M_THREE_DIR");
   EXPECT_FALSE(f.have_three);
   EXPECT_NE(f.note.find("libjs-three"), std::string::npos);
-  for (const char* name : {"index.html", "viewer.js", "viewer.css", "map_data.js"}) EXPECT_TRUE(fs::exists(dir / "v" / name)) << name;
+  for (const char* name : {"index.html", "viewer_voxels.js", "viewer.js", "viewer_pick.js", "viewer.css", "map_data.js"}) EXPECT_TRUE(fs::exists(dir / "v" / name)) << name;
   EXPECT_FALSE(fs::exists(dir / "v" / "three.min.js"));
   const std::string js = slurp(dir / "v" / "map_data.js");
   const std::string prefix = "window.S3M_VIEWER_DATA = ";

@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // The viewer's own files in tools/viewer/ (index.html loads them by these names).
-constexpr const char* kOwnFiles[] = {"index.html", "viewer.js", "viewer.css"};
+constexpr const char* kOwnFiles[] = {"index.html", "viewer_voxels.js", "viewer.js", "viewer_pick.js", "viewer.css"};
 // three.js files inside libjs-three's folder, and their names in the viewer folder.
 constexpr const char* kThreeFiles[][2] = {{"three.min.js", "three.min.js"},
                                           {"examples/js/controls/OrbitControls.js", "OrbitControls.js"}};

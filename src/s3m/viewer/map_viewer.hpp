@@ -4,7 +4,8 @@
 //   index.html       the viewer alone (`s3m view`); report.html embeds the same scripts
 //   map_data.js      the scene (viewer_data.hpp) as `window.S3M_VIEWER_DATA = {...};` (a script,
 //                    not fetched JSON: Chromium refuses fetch() of file:// URLs)
-//   viewer.js/.css   the viewer's own code, copied from the repository's tools/viewer/
+//   viewer_voxels.js, viewer.js, viewer_pick.js, viewer.css: the viewer's own code, copied from the
+//                    repository's tools/viewer/
 //   three.min.js, OrbitControls.js   three.js r111 copied from Debian's libjs-three (and its
 //                    licence notice, three.js-LICENSE.txt)
 // When three.js is not installed the data and our files are still written, and the page says that
