@@ -9,6 +9,8 @@
 #include <map>
 #include <regex>
 #include <sstream>
+#include <unordered_set>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -27,6 +29,31 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 const fs::path kOut = S3M_BROWSER_TEST_OUT;  // kept after the test: report, DOM, screenshot
+
+// Faces of the voxels not of class `hidden` that have no such voxel beside them: the area the
+// viewer's quads must cover, counted here from the map, independently of the page.
+std::size_t exposed_faces(const mapping::SemanticOcTree& map, const std::vector<mapping::OccupiedVoxel>& voxels,
+                          int hidden) {
+  const auto pack = [](int x, int y, int z) {
+    return static_cast<std::uint64_t>(x) | static_cast<std::uint64_t>(y) << 16 | static_cast<std::uint64_t>(z) << 32;
+  };
+  std::vector<octomap::OcTreeKey> keys;
+  std::unordered_set<std::uint64_t> shown;
+  for (const auto& v : voxels) {
+    if (v.label == hidden) continue;
+    keys.push_back(map.coordToKey(octomap::point3d(v.centre_w.x(), v.centre_w.y(), v.centre_w.z())));
+    shown.insert(pack(keys.back()[0], keys.back()[1], keys.back()[2]));
+  }
+  std::size_t faces = 0;
+  for (const auto& k : keys)
+    for (int a = 0; a < 3; ++a)
+      for (int s : {-1, 1}) {
+        int n[3] = {k[0], k[1], k[2]};
+        n[a] += s;
+        faces += !shown.count(pack(n[0], n[1], n[2]));
+      }
+  return faces;
+}
 
 std::string read_text(const fs::path& p) {
   std::ifstream f(p, std::ios::binary);
@@ -85,15 +112,18 @@ TEST_F(ViewerInBrowser, DrawsEveryVoxelHidesAClassExactlyAndPicksTheClickedVoxel
   const std::size_t voxels = metrics["map"]["voxels"].get<std::size_t>();
   const auto map = mapping::load_semantic_map((run_dir() / "map.ot").string());
   std::map<int, std::size_t> per_class;
-  for (const auto& v : mapping::occupied_voxels(*map)) ++per_class[v.label];
+  const auto occupied = mapping::occupied_voxels(*map);
+  for (const auto& v : occupied) ++per_class[v.label];
 
   const json r = self_test();
   ASSERT_TRUE(r.is_object()) << "the page wrote no self-test result (see " << (kOut / "report_dom.html") << ")";
   ASSERT_TRUE(r.value("loaded", false));
   EXPECT_EQ(r["voxels"].get<std::size_t>(), voxels);
   EXPECT_EQ(r["drawn"].get<std::size_t>(), voxels);
-  // WebGL drew exactly the faces the viewer put into its buffers.
-  EXPECT_GT(r["faces_drawn"].get<std::size_t>(), voxels / 2);
+  // The quads cover exactly the exposed voxel faces (runs of one colour merged into one quad, so
+  // fewer quads than faces), and WebGL drew exactly the quads the viewer put into its buffers.
+  EXPECT_EQ(r["faces_exposed"].get<std::size_t>(), exposed_faces(*map, occupied, -1));
+  EXPECT_LT(r["faces_in_buffers"].get<std::size_t>(), r["faces_exposed"].get<std::size_t>() / 2);
   EXPECT_EQ(r["faces_drawn"], r["faces_in_buffers"]);
 
   // Hiding the largest class through its legend entry removes exactly its voxels.
@@ -102,6 +132,7 @@ TEST_F(ViewerInBrowser, DrawsEveryVoxelHidesAClassExactlyAndPicksTheClickedVoxel
   EXPECT_EQ(hide["class_voxels"].get<std::size_t>(), per_class[hidden]);
   EXPECT_EQ(hide["drawn_after_hide"].get<std::size_t>(), voxels - per_class[hidden]);
   EXPECT_EQ(hide["faces_drawn"], hide["faces_in_buffers"]);
+  EXPECT_EQ(hide["faces_exposed"].get<std::size_t>(), exposed_faces(*map, occupied, hidden));
   EXPECT_EQ(hide["drawn_after_show"].get<std::size_t>(), voxels);
 
   // A click at the projected centre of the voxel nearest to the camera reports that voxel, and its

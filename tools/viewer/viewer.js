@@ -239,10 +239,16 @@
     this.gridDim = [0, 1, 2].map(function (a) { return Math.max(hi[a] - lo[a] + 3, 1); });
     const cells = this.gridDim[0] * this.gridDim[1] * this.gridDim[2];
     this.grid = v.n && cells <= 128e6 ? new Uint8Array(cells) : null;  // null: every face is drawn
+    // Voxel index + 1 per cell (0: none), to merge neighbouring faces; 4 bytes a cell, so only for
+    // grids up to 16e6 cells (a 200k-voxel room is ~2e6); larger maps draw one quad per face.
+    this.voxelAt = this.grid && cells <= 16e6 ? new Int32Array(cells) : null;
     this.cell = new Int32Array(Math.max(v.n, 1));
     if (!this.grid) return;
     const d = this.gridDim, o = this.gridLo;
-    for (let i = 0; i < v.n; ++i) this.cell[i] = (v.kx[i] - o[0]) + d[0] * ((v.ky[i] - o[1]) + d[1] * (v.kz[i] - o[2]));
+    for (let i = 0; i < v.n; ++i) {
+      this.cell[i] = (v.kx[i] - o[0]) + d[0] * ((v.ky[i] - o[1]) + d[1] * (v.kz[i] - o[2]));
+      if (this.voxelAt) this.voxelAt[this.cell[i]] = i + 1;
+    }
   };
 
   // Vertex buffers for at least n faces (2 triangles, 6 vertices each, not indexed: WebGL checks
@@ -275,44 +281,72 @@
     return cl ? cl.rgb : [255, 0, 255];
   };
 
+  // Colour identity of voxel i for merging: its class (class colours) or its packed colour.
+  Viewer.prototype.colourKey = function (i) {
+    const v = this.v;
+    return this.colorMode === "rgb" ? (v.rgb[3 * i] << 16) | (v.rgb[3 * i + 1] << 8) | v.rgb[3 * i + 2] : v.label[i * v.k];
+  };
+
+  // Calls quad(i, f, len) for every run of exposed faces: the faces f of voxels i, i + 1, ... along
+  // the face's first tangent axis (key axis (f / 2 + 1) % 3) that are visible, exposed (no visible
+  // neighbour in direction f) and of one colour. A room's faces are mostly walls, floor and ceiling,
+  // so runs are long: SwiftShader (Chromium without a GPU) then draws 5-10x fewer triangles. Without
+  // voxelAt (very large grids) or without a grid every run is one face.
+  Viewer.prototype.forEachRun = function (quad) {
+    const v = this.v, grid = this.grid, cell = this.cell, vis = this.visible, at = this.voxelAt, key = this.keys;
+    const d = this.gridDim, stride = grid ? [1, d[0], d[0] * d[1]] : null;
+    const exposed = function (i, f) { return !grid || !grid[cell[i] + (f & 1 ? -stride[f >> 1] : stride[f >> 1])]; };
+    // j continues i's run of face f: visible, exposed, same colour.
+    const joins = function (j, i, f) { return j >= 0 && vis[j] && key[j] === key[i] && exposed(j, f); };
+    for (let i = 0; i < v.n; ++i) {
+      if (!vis[i]) continue;
+      for (let f = 0; f < 6; ++f) {
+        if (!exposed(i, f)) continue;
+        let len = 1;
+        if (at) {
+          const sb = stride[((f >> 1) + 1) % 3];
+          if (joins(at[cell[i] - sb] - 1, i, f)) continue;  // not the first of its run
+          while (joins(at[cell[i] + len * sb] - 1, i, f)) ++len;
+        }
+        quad(i, f, len);
+      }
+    }
+  };
+
   // Applies the filters: which voxels are visible, which of their faces are exposed, and writes
-  // those faces into the six instanced meshes.
+  // those faces, merged into runs, into the face buffers.
   Viewer.prototype.updateVoxels = function () {
     const v = this.v, grid = this.grid, cell = this.cell, vis = this.visible;
     let n = 0;
     if (grid) grid.fill(0);
+    if (!this.keys || this.keys.length !== v.n) this.keys = new Int32Array(v.n);
     for (let i = 0; i < v.n; ++i) {
       vis[i] = this.isVisible(i) ? 1 : 0;
       if (vis[i]) { ++n; if (grid) grid[cell[i]] = 1; }
+      this.keys[i] = this.colourKey(i);
     }
-    const d = this.gridDim, step = grid ? [1, -1, d[0], -d[0], d[0] * d[1], -d[0] * d[1]] : null;
-    let faces = 0;
-    for (let i = 0; i < v.n; ++i) {
-      if (!vis[i]) continue;
-      for (let f = 0; f < 6; ++f) if (!grid || !grid[cell[i] + step[f]]) ++faces;
-    }
-    this.reserveFaces(faces);
-    const pos = this.facePos, col = this.faceCol, h = this.data.resolution_m / 2;
+    let quads = 0, faces = 0;
+    this.forEachRun(function (i, f, len) { ++quads; faces += len; });
+    this.reserveFaces(quads);
+    const pos = this.facePos, col = this.faceCol, h = this.data.resolution_m / 2, self = this;
     let q = 0;
-    for (let i = 0; i < v.n; ++i) {
-      if (!vis[i]) continue;
-      const rgb = this.voxelColor(i), x = v.pos[3 * i], y = v.pos[3 * i + 1], z = v.pos[3 * i + 2];
-      for (let f = 0; f < 6; ++f) {
-        if (grid && grid[cell[i] + step[f]]) continue;
-        const corners = FACES[f].corners, shade = this.shade[f];
-        for (let t = 0; t < 6; ++t) {
-          const c = 3 * TRIANGLES[t], o = 18 * q + 3 * t;
-          pos[o] = x + h * corners[c]; pos[o + 1] = y + h * corners[c + 1]; pos[o + 2] = z + h * corners[c + 2];
-          col[o] = rgb[0] * shade; col[o + 1] = rgb[1] * shade; col[o + 2] = rgb[2] * shade;
-        }
-        ++q;
+    this.forEachRun(function (i, f, len) {
+      const rgb = self.voxelColor(i), x = v.pos[3 * i], y = v.pos[3 * i + 1], z = v.pos[3 * i + 2];
+      const corners = FACES[f].corners, shade = self.shade[f], b = ((f >> 1) + 1) % 3, extra = (len - 1) * 2 * h;
+      for (let t = 0; t < 6; ++t) {
+        const c = 3 * TRIANGLES[t], o = 18 * q + 3 * t;
+        pos[o] = x + h * corners[c]; pos[o + 1] = y + h * corners[c + 1]; pos[o + 2] = z + h * corners[c + 2];
+        if (corners[c + b] > 0) pos[o + b] += extra;  // the run's far end
+        col[o] = rgb[0] * shade; col[o + 1] = rgb[1] * shade; col[o + 2] = rgb[2] * shade;
       }
-    }
-    this.faceGeometry.setDrawRange(0, 6 * faces);
+      ++q;
+    });
+    this.faceGeometry.setDrawRange(0, 6 * quads);
     const pa = this.faceGeometry.attributes.position, ca = this.faceGeometry.attributes.color;
-    pa.updateRange.count = ca.updateRange.count = 18 * faces;
+    pa.updateRange.count = ca.updateRange.count = 18 * quads;
     pa.needsUpdate = ca.needsUpdate = true;
-    this.facesInBuffers = faces;
+    this.facesInBuffers = quads;
+    this.facesExposed = faces;
     this.visibleCount = n;
     this.confLabel.textContent = "min. confidence " + this.minConfidence.toFixed(2) + " ";
     this.cutLabel.textContent = "ceiling cut " + this.ceiling.toFixed(2) + " m ";
@@ -331,11 +365,12 @@
     if (!this.renderer) return;
     if (!this.ready) return;  // one first frame, after the scene is complete
     this.renderer.render(this.scene, this.camera);
-    // Cube faces are the scene's only triangles (2 each): what WebGL was asked to draw.
+    // Face quads are the scene's only triangles (2 each): what WebGL was asked to draw.
     this.facesDrawn = this.renderer.info.render.triangles / 2;
     this.drawnCount = this.visibleCount;
     this.status.textContent = this.drawnCount.toLocaleString("en") + " of " + this.v.n.toLocaleString("en") +
-      " voxels shown (" + (this.data.resolution_m * 100).toFixed(1) + " cm), " + this.facesDrawn.toLocaleString("en") + " faces drawn";
+      " voxels shown (" + (this.data.resolution_m * 100).toFixed(1) + " cm), " + this.facesExposed.toLocaleString("en") +
+      " faces as " + this.facesDrawn.toLocaleString("en") + " quads";
   };
 
 

@@ -101,7 +101,7 @@
   // ---- self-test: real DOM events on the real UI, result as JSON in the page ------------------
   Viewer.prototype.selfTest = function () {
     const r = {loaded: true, voxels: this.v.n, drawn: this.drawnCount, faces_in_buffers: this.facesInBuffers,
-               faces_drawn: this.facesDrawn, load_ms: this.loadMs};
+               faces_drawn: this.facesDrawn, faces_exposed: this.facesExposed, load_ms: this.loadMs};
     const rect = this.renderer.domElement.getBoundingClientRect();
     r.canvas = {x: rect.left + window.scrollX, y: rect.top + window.scrollY, width: rect.width, height: rect.height};
     // Hide the most frequent class through its legend checkbox, count, show it again.
@@ -110,7 +110,7 @@
       const id = ids[0], box = this.legendInputs[id];
       box.click();
       r.hide = {class_id: id, class_voxels: this.counts[id], drawn_after_hide: this.drawnCount,
-                faces_in_buffers: this.facesInBuffers, faces_drawn: this.facesDrawn};
+                faces_in_buffers: this.facesInBuffers, faces_drawn: this.facesDrawn, faces_exposed: this.facesExposed};
       box.click();
       r.hide.drawn_after_show = this.drawnCount;
     }
