@@ -143,7 +143,8 @@
     sun.position.set(0.4, 1.0, 0.7);
     this.scene.add(sun);
     // Voxels: the cube faces not covered by a visible neighbour (a surface map's voxels show 1-3
-    // of their 6 faces), merged into one indexed mesh that is rebuilt when a filter changes.
+    // of their 6 faces), runs of one colour drawn as one quad (forEachRun), all in one mesh that
+    // is rebuilt when a filter changes.
     // Not three.js instancing: Chromium's software WebGL (SwiftShader, what a machine without a
     // GPU gets) drew 387k instanced quads in 5.1 s but the same quads as one mesh in 0.32 s
     // (docs/RESULTS.md). Shading is baked per face direction into the vertex colours.
