@@ -120,7 +120,10 @@ std::string image_topics(const Topics& t) {
 
 }  // namespace
 
-BagRecording recognise_recording(const Topics& t) {
+namespace {
+
+// Every colour/depth pair a recognised recorder wrote, one per camera.
+std::vector<BagRecording> recordings_in(const Topics& t) {
   std::vector<BagRecording> found;
   if (has(t, "/camera/rgb/image_color", kImage) && has(t, "/camera/depth/image", kImage)) {
     BagRecording r;
@@ -138,6 +141,13 @@ BagRecording recognise_recording(const Topics& t) {
                   "/depth_registered/hw_registered/image_rect_raw"},
                  "/rgb/camera_info", false, found);
   add_registered(t, "Azure Kinect ROS driver", {"/rgb/image_raw"}, {"/depth_to_rgb/image_raw"}, "/rgb/camera_info", true, found);
+  return found;
+}
+
+}  // namespace
+
+BagRecording recognise_recording(const Topics& t) {
+  const std::vector<BagRecording> found = recordings_in(t);
   if (found.size() == 1) return found.front();
   if (found.empty())
     throw Error("no colour/depth image pair s3m knows (TUM RGB-D, the RealSense SDK, realsense2_camera, "
@@ -147,6 +157,28 @@ BagRecording recognise_recording(const Topics& t) {
   for (const BagRecording& r : found) list += (list.empty() ? "" : "; ") + r.recorder + ": " + r.rgb + " + " + r.depth;
   throw Error("the bag holds " + std::to_string(found.size()) + " colour/depth pairs (" + list +
               "); choose one with --rgb-topic and --depth-topic");
+}
+
+std::optional<BagRecording> recording_with(const Topics& t, const std::string& rgb, const std::string& depth) {
+  // Only the chosen camera's image and CameraInfo topics (those under the namespace its colour and
+  // depth topics share) and every other topic (/tf_static, the SDK's options): another camera's
+  // incomplete topics are not this run's problem.
+  std::size_t common = 0;
+  while (common < rgb.size() && common < depth.size() && rgb[common] == depth[common]) ++common;
+  const std::string ns = rgb.substr(0, rgb.rfind('/', common) + 1);
+  Topics mine;
+  for (const auto& [topic, type] : t)
+    if (topic.rfind(ns, 0) == 0 || (type != kImage && type != kInfo)) mine[topic] = type;
+  std::vector<BagRecording> found;
+  try {
+    found = recordings_in(mine);
+  } catch (const Error&) {
+    if (ns == "/") return std::nullopt;  // topics of no one camera: another camera's gaps are not theirs
+    throw;
+  }
+  for (const BagRecording& r : found)
+    if (r.rgb == rgb && r.depth == depth) return r;
+  return std::nullopt;
 }
 
 }  // namespace s3m::ros1

@@ -13,6 +13,7 @@
 //  - the Azure Kinect ROS driver: NS/rgb/image_raw with NS/depth_to_rgb/image_raw (registered).
 // No ROS header here: the recogniser works on a topic -> message type table.
 #include <map>
+#include <optional>
 #include <string>
 
 namespace s3m::ros1 {
@@ -39,5 +40,14 @@ struct BagRecording {
 // s3m::Error when no recorder above matches (listing the bag's image topics and what s3m looks
 // for) or when several cameras do (naming them; --rgb-topic/--depth-topic choose one).
 BagRecording recognise_recording(const std::map<std::string, std::string>& topic_types);
+
+// The recording whose colour and depth topics are `rgb` and `depth` (topics given on the command
+// line, e.g. one camera of a rig that recorded two): what its recorder wrote beside them (a raw
+// depth stream's CameraInfo and extrinsics, the depth unit, who registered it). nullopt when no
+// recorder above wrote that pair. Only that camera's topics are looked at (those under the
+// namespace both share); throws s3m::Error as recognise_recording does when they are incomplete
+// (not for topics that share no namespace: nullopt).
+std::optional<BagRecording> recording_with(const std::map<std::string, std::string>& topic_types,
+                                           const std::string& rgb, const std::string& depth);
 
 }  // namespace s3m::ros1

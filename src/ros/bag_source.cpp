@@ -92,9 +92,22 @@ BagRecording choose_topics(const rosbag::Bag& bag, const BagTopics& given, const
     }
   } else {
     const BagTopics tum;
+    const std::string rgb = given.rgb.empty() ? tum.rgb : given.rgb, depth = given.depth.empty() ? tum.depth : given.depth;
+    std::optional<BagRecording> known;
+    try {
+      known = recording_with(types, rgb, depth);
+    } catch (const Error& e) {
+      throw Error(path + ": " + e.what());
+    }
+    if (known) {  // one camera of several: its recorder's other topics as without topic options
+      r = *known;
+      r.recorder += ", topics given";
+      if (!given.camera_info.empty() && given.camera_info != "none") r.rgb_info = given.camera_info;
+      return r;
+    }
     r.recorder = "topics given";
-    r.rgb = given.rgb.empty() ? tum.rgb : given.rgb;
-    r.depth = given.depth.empty() ? tum.depth : given.depth;
+    r.rgb = rgb;
+    r.depth = depth;
     // The colour topic's sibling camera_info (image_raw -> camera_info), as drivers name them.
     const std::string sibling = r.rgb.substr(0, r.rgb.rfind('/') + 1) + "camera_info";
     const auto it = types.find(sibling);

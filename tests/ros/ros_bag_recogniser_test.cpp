@@ -105,6 +105,27 @@ TEST(RosBagRecordings, NothingKnownOrTwoCamerasIsSaidWithTheTopics) {
   EXPECT_NE(two.find("/front/color/image_raw"), std::string::npos) << two;
 }
 
+// A rig of two RealSense cameras recorded without align_depth, one of them without its depth
+// CameraInfo: recognition alone cannot choose (and stops at the incomplete one); topics given for
+// the complete camera get its raw depth's CameraInfo, as without topic options, and the other
+// camera's missing topic does not matter.
+TEST(RosBagRecordings, TopicsGivenForOneCameraOfARigKeepItsRecordersTopics) {
+  const Topics rig = {{"/front/color/image_raw", kImage},    {"/front/color/camera_info", kInfo},
+                      {"/front/depth/image_rect_raw", kImage}, {"/front/depth/camera_info", kInfo},
+                      {"/down/color/image_raw", kImage},     {"/down/color/camera_info", kInfo},
+                      {"/down/depth/image_rect_raw", kImage},  {"/tf_static", "tf2_msgs/TFMessage"}};
+  EXPECT_NE(error_of(rig).find("without /down/depth/camera_info"), std::string::npos) << error_of(rig);
+  const auto front = ros1::recording_with(rig, "/front/color/image_raw", "/front/depth/image_rect_raw");
+  ASSERT_TRUE(front);
+  EXPECT_EQ(front->depth_info, "/front/depth/camera_info");
+  EXPECT_EQ(front->rgb_info, "/front/color/camera_info");
+  EXPECT_FALSE(front->registered());
+  EXPECT_EQ(front->recorder, "realsense2_camera (ROS), depth not aligned");
+  EXPECT_THROW(ros1::recording_with(rig, "/down/color/image_raw", "/down/depth/image_rect_raw"), Error);
+  EXPECT_FALSE(ros1::recording_with(rig, "/front/color/image_raw", "/down/depth/image_rect_raw"));
+  EXPECT_FALSE(ros1::recording_with(rig, "/cam/left", "/cam/depth"));
+}
+
 TEST(RosConversions, KinectBayerColourIsDebayered) {
   // A 2x2 GRBG tile: G R / B G. cv_bridge's debayering gives every pixel all three channels.
   sensor_msgs::Image msg;

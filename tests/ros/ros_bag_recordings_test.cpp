@@ -115,36 +115,46 @@ fs::path realsense_sdk_bag(const Flight& f) {
   return bag;
 }
 
-fs::path realsense_ros_raw_bag(const Flight& f) {
-  const fs::path bag = f.dir / "realsense_ros_raw.bag";
+// namespaces: one realsense2_camera per namespace, each recording the same flight (a rig); the
+// cameras after the first are decoys whose /tf_static places their depth camera wrongly (T_c_d
+// reversed), so a reader that took another camera's extrinsics fails the depth check.
+fs::path realsense_ros_raw_bag(const Flight& f, const std::vector<std::string>& namespaces = {"/camera"}) {
+  const fs::path bag = f.dir / ("realsense_ros_raw_" + std::to_string(namespaces.size()) + ".bag");
   rosbag::Bag b(bag.string(), rosbag::bagmode::Write);
   const ros::Time t0(1.0);
-  const std::string colour_frame = "camera_color_optical_frame", depth_frame = "camera_depth_optical_frame";
   // The driver's static frames: both optical frames hang off camera_link.
   const SE3 T_link_c = make_se3(Vec3(0, 0.015, 0), Quat(0.5, -0.5, 0.5, -0.5));
   tf2_msgs::TFMessage statics;
-  for (const auto& [child, T] : {std::pair{colour_frame, T_link_c}, std::pair{depth_frame, SE3(T_link_c * f.T_c_d)}}) {
-    geometry_msgs::TransformStamped ts;
-    ts.header.stamp = t0, ts.header.frame_id = "camera_link", ts.child_frame_id = child;
-    ts.transform = ros1::to_transform(T);
-    statics.transforms.push_back(ts);
+  for (std::size_t i = 0; i < namespaces.size(); ++i) {
+    const std::string name = namespaces[i].substr(1), colour_frame = name + "_color_optical_frame",
+                      depth_frame = name + "_depth_optical_frame";
+    const SE3 T_c_d = i == 0 ? f.T_c_d : SE3(f.T_c_d.inverse());
+    for (const auto& [child, T] : {std::pair{colour_frame, T_link_c}, std::pair{depth_frame, SE3(T_link_c * T_c_d)}}) {
+      geometry_msgs::TransformStamped ts;
+      ts.header.stamp = t0, ts.header.frame_id = name + "_link", ts.child_frame_id = child;
+      ts.transform = ros1::to_transform(T);
+      statics.transforms.push_back(ts);
+    }
+    b.write(namespaces[i] + "/color/camera_info", t0, info(f.colour, "plumb_bob", colour_frame));
+    b.write(namespaces[i] + "/depth/camera_info", t0, info(f.depth, "plumb_bob", depth_frame));
   }
   b.write("/tf_static", t0, statics);
-  b.write("/camera/color/camera_info", t0, info(f.colour, "plumb_bob", colour_frame));
-  b.write("/camera/depth/camera_info", t0, info(f.depth, "plumb_bob", depth_frame));
   write_frames(f, [&](const ros::Time& t, sensor_msgs::Image rgb, const cv::Mat& depth_m) {
     sensor_msgs::Image d = mono16_depth(depth_m, 0.001, "16UC1");
     rgb.header.stamp = d.header.stamp = t;
-    b.write("/camera/color/image_raw", t, rgb);
-    b.write("/camera/depth/image_rect_raw", t, d);
+    for (const std::string& ns : namespaces) {
+      b.write(ns + "/color/image_raw", t, rgb);
+      b.write(ns + "/depth/image_rect_raw", t, d);
+    }
   });
   return bag;
 }
 
 // Depth read from the bag (aligned to colour here) against the flight's own colour-registered depth.
-void expect_depth_like_the_flight(const fs::path& bag, double quantum_m) {
+void expect_depth_like_the_flight(const fs::path& bag, double quantum_m,
+                                  const ros1::BagTopics& topics = ros1::BagTopics{"", "", "", "", ""}) {
   const Flight& f = flight();
-  const auto source = ros1::open_bag_source(bag.string(), ros1::BagTopics{"", "", "", "", ""}, pipeline::DatasetConfig{});
+  const auto source = ros1::open_bag_source(bag.string(), topics, pipeline::DatasetConfig{});
   const io::TumDataset ds = io::TumDataset::open(f.seq.string());
   ASSERT_EQ(source->size(), ds.size());
   EXPECT_DOUBLE_EQ(source->camera().fx, f.colour.fx);
@@ -167,6 +177,20 @@ TEST(RosBagRecordings, RealSenseSdkBagIsAlignedToColourWithItsUnit) {
 
 TEST(RosBagRecordings, RealsenseRosRawDepthIsPlacedByTfStatic) {
   expect_depth_like_the_flight(realsense_ros_raw_bag(flight()), 0.001);
+}
+
+TEST(RosBagRecordings, OneCameraOfARigChosenByTopicsIsAlignedWithItsOwnExtrinsics) {
+  // Two cameras: without topic options the reader cannot choose; with /front's topics it aligns
+  // /front's raw depth with /front's CameraInfo and /tf_static frames (/down's are wrong on purpose).
+  const fs::path bag = realsense_ros_raw_bag(flight(), {"/front", "/down"});
+  try {
+    ros1::open_bag_source(bag.string(), ros1::BagTopics{"", "", "", "", ""}, pipeline::DatasetConfig{});
+    ADD_FAILURE() << "a bag of two cameras was read without topics";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("2 colour/depth pairs"), std::string::npos) << e.what();
+  }
+  expect_depth_like_the_flight(bag, 0.001,
+                               ros1::BagTopics{"/front/color/image_raw", "/front/depth/image_rect_raw", "", "", ""});
 }
 
 TEST(RosBagRecordings, TheDevicesCalibrationWinsOverAPresetsCameraUnlessToldOtherwise) {
