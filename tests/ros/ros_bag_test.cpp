@@ -155,10 +155,24 @@ TEST(RosBag, MissingTopicIsNamed) {
   EXPECT_NE(no_colour.find("its sensor_msgs/Image topics (messages): " + depth + " (1), " + colour + " (3)"),
             std::string::npos)
       << no_colour;
+  // Those topics named: they are the RealSense SDK's, whose raw depth needs its CameraInfo.
   ros1::BagTopics named;
   named.rgb = colour;
   named.depth = depth;
-  const std::string no_info = error(named);  // the colour and depth topics now exist; camera info does not
+  const std::string no_depth_info = error(named);
+  EXPECT_NE(no_depth_info.find("RealSense SDK bag: no /device_0/sensor_0/Depth_0/info/camera_info (the depth "
+                               "camera's intrinsics"),
+            std::string::npos)
+      << no_depth_info;
+  // Topics no recorder wrote, named, without the camera-info topic given: that topic is named.
+  {
+    rosbag::Bag b(bag.string(), rosbag::bagmode::Write);
+    b.write("/cam/rgb", ros::Time(1.0), ros1::bgr_to_msg(cv::Mat(2, 2, CV_8UC3, cv::Scalar::all(0))));
+    b.write("/cam/depth", ros::Time(1.0), ros1::depth_to_msg(cv::Mat(2, 2, CV_32FC1, cv::Scalar::all(1.0f)), "16UC1"));
+  }
+  named.rgb = "/cam/rgb";
+  named.depth = "/cam/depth";
+  const std::string no_info = error(named);
   EXPECT_NE(no_info.find("camera-info topic /camera/rgb/camera_info"), std::string::npos) << no_info;
   EXPECT_NE(no_info.find("the bag has no sensor_msgs/CameraInfo topic"), std::string::npos) << no_info;
   fs::remove_all(dir);
