@@ -174,6 +174,19 @@ DepthCamera read_depth_camera(const YAML::Node& node, const std::string& path, c
   return d;
 }
 
+// "width ... k3" lines of a camera as read_intrinsics reads them, each line prefixed by `indent`.
+std::string intrinsics_yaml(const PinholeCamera& c, const std::string& indent) {
+  std::string out;
+  const auto line = [&](const char* key, const std::string& value) { out += indent + key + ": " + value + "\n"; };
+  line("width", std::to_string(c.width));
+  line("height", std::to_string(c.height));
+  const std::pair<const char*, double> numbers[] = {{"fx", c.fx},      {"fy", c.fy},      {"cx", c.cx},
+                                                    {"cy", c.cy},      {"k1", c.dist[0]}, {"k2", c.dist[1]},
+                                                    {"p1", c.dist[2]}, {"p2", c.dist[3]}, {"k3", c.dist[4]}};
+  for (const auto& [key, value] : numbers) line(key, fmt::format("{:.17g}", value));
+  return out;
+}
+
 bool looks_like_orbslam(const std::string& path) {
   std::ifstream in(path);
   std::string line;
@@ -209,26 +222,18 @@ PinholeCamera read_camera_yaml(const std::string& path) { return read_camera_fil
 
 void write_camera_yaml(const std::string& path, const PinholeCamera& c, const std::optional<DepthCamera>& depth) {
   c.validate();
-  std::string text = fmt::format(
-      "# Pinhole intrinsics written by s3m. Depth in metres = png value / depth_factor.\n"
-      "camera_model: pinhole\nwidth: {}\nheight: {}\nfx: {:.17g}\nfy: {:.17g}\n"
-      "cx: {:.17g}\ncy: {:.17g}\nk1: {:.17g}\nk2: {:.17g}\np1: {:.17g}\np2: {:.17g}\n"
-      "k3: {:.17g}\ndepth_factor: {:.17g}\nbf: {:.17g}\n",
-      c.width, c.height, c.fx, c.fy, c.cx, c.cy, c.dist[0], c.dist[1], c.dist[2], c.dist[3], c.dist[4], c.depth_factor,
-      c.bf);
+  std::string text = "# Pinhole intrinsics written by s3m. Depth in metres = png value / depth_factor.\n"
+                     "camera_model: pinhole\n" +
+                     intrinsics_yaml(c, "") + fmt::format("depth_factor: {:.17g}\nbf: {:.17g}\n", c.depth_factor, c.bf);
   if (depth) {
-    const PinholeCamera& d = depth->camera;
-    d.validate();
+    depth->camera.validate();
     const Quat q(depth->T_c_d.rotation());
     const Vec3 t = depth->T_c_d.translation();
-    text += fmt::format(
-        "# Depth images are this camera's, drawn into the colour camera's pixels by s3m.\n"
-        "depth_camera:\n  width: {}\n  height: {}\n  fx: {:.17g}\n  fy: {:.17g}\n  cx: {:.17g}\n  cy: {:.17g}\n"
-        "  k1: {:.17g}\n  k2: {:.17g}\n  p1: {:.17g}\n  p2: {:.17g}\n  k3: {:.17g}\n"
-        "  T_c_d:  # depth-camera points -> colour camera [m]\n"
-        "    translation: [{:.17g}, {:.17g}, {:.17g}]\n    quaternion: [{:.17g}, {:.17g}, {:.17g}, {:.17g}]\n",
-        d.width, d.height, d.fx, d.fy, d.cx, d.cy, d.dist[0], d.dist[1], d.dist[2], d.dist[3], d.dist[4], t.x(), t.y(),
-        t.z(), q.x(), q.y(), q.z(), q.w());
+    text += "# Depth images are this camera's, drawn into the colour camera's pixels by s3m.\ndepth_camera:\n" +
+            intrinsics_yaml(depth->camera, "  ") +
+            fmt::format("  T_c_d:  # depth-camera points -> colour camera [m]\n"
+                        "    translation: [{:.17g}, {:.17g}, {:.17g}]\n    quaternion: [{:.17g}, {:.17g}, {:.17g}, {:.17g}]\n",
+                        t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
   }
   write_text_atomic(path, text);
 }
