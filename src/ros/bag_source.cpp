@@ -281,9 +281,7 @@ class BagFrameSource final : public pipeline::FrameSource {
       T_c_d = static_transform(colour_frame, info->header.frame_id);
     }
     to_colour_ = std::make_shared<io::DepthToColour>(depth_camera, camera_, T_c_d);
-    spdlog::info("{}: depth camera {}x{} fx {:.1f}, {:.1f} cm from the colour camera; its depth is drawn into the "
-                 "colour camera's {}x{} pixels", path_, depth_camera.width, depth_camera.height, depth_camera.fx,
-                 T_c_d.translation().norm() * 100, camera_.width, camera_.height);
+    spdlog::info("{}: {}", path_, to_colour_->describe());
   }
 
   // T_c_d from the bag's /tf_static (a driver's static camera frames), colour frame <- depth frame.

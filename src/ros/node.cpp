@@ -239,10 +239,7 @@ std::string S3mNode::start_alignment(const std::string& colour_frame, const std:
   }
   const PinholeCamera depth = camera_from_info(*depth_info_, PinholeCamera{}.bf);
   to_colour_ = std::make_shared<const io::DepthToColour>(depth, colour, T_c_d);
-  const Vec3 t_cm = T_c_d.translation() * 100;
-  ROS_INFO("s3m_node: depth camera %dx%d fx %.1f (%s) at (%.2f, %.2f, %.2f) cm in the colour camera; its depth is "
-           "drawn into the colour camera's %dx%d pixels", depth.width, depth.height, depth.fx,
-           depth_info_sub_.getTopic().c_str(), t_cm.x(), t_cm.y(), t_cm.z(), colour.width, colour.height);
+  ROS_INFO("s3m_node: %s (%s)", to_colour_->describe().c_str(), depth_info_sub_.getTopic().c_str());
   return "s3m_node, with " + depth_info_sub_.getTopic() + " and TF " + colour_frame + " <- " + frame;
 }
 

@@ -248,7 +248,8 @@ TEST(RosBagRecordings, RealSenseSdkBagRunsWithoutTopicOptions) {
       << rostest::read_file(f.dir / "bag.log");
   const std::string log = rostest::read_file(f.dir / "bag.log");
   EXPECT_NE(log.find("RealSense SDK (realsense-viewer, rs-record)"), std::string::npos) << log;
-  EXPECT_NE(log.find("depth camera 848x480 fx 425.0, 1.5 cm from the colour camera"), std::string::npos) << log;
+  EXPECT_NE(log.find("depth camera 848x480 fx 425.0 at (-1.50, 0.03, 0.02) cm in the colour camera; its depth is "
+                     "drawn into the colour camera's 640x480 pixels"), std::string::npos) << log;
   EXPECT_NE(log.find("camera from the recording's CameraInfo (/device_0/sensor_1/Color_0/info/camera_info), not the "
                      "config's dataset.camera"),
             std::string::npos)

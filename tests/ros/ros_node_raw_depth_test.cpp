@@ -146,8 +146,8 @@ TEST(RosNodeRawDepth, AlignDepthTracksRawRealsenseDepthAndWithoutItTheNodeSaysWh
   EXPECT_LT(ev.ate.stats_m.rmse, 0.01);  // measured 0.171 cm (0.175 with the TF reversed, which the log check below catches)
   const std::string aligned_log = log("s3m_aligned");
   for (const std::string& part :
-       {std::string("depth camera 848x480 fx 425.0 (/rs/depth/camera_info) at (-1.50, 0.03, 0.02) cm in the colour "
-                    "camera"),  // T_c_d's translation: the TF looked up in the right direction
+       {std::string("depth camera 848x480 fx 425.0 at (-1.50, 0.03, 0.02) cm in the colour camera; its depth is "
+                    "drawn into the colour camera's 640x480 pixels (/rs/depth/camera_info)"),  // T_c_d's translation: the TF looked up in the right direction
         "depth registered (aligned to colour by s3m_node, with /rs/depth/camera_info and TF " + kColourFrame + " <- " +
             kDepthFrame + ")"})
     EXPECT_NE(aligned_log.find(part), std::string::npos) << "missing '" << part << "' in\n" << aligned_log;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <opencv2/calib3d.hpp>
 
 #include "s3m/core/error.hpp"
@@ -69,6 +70,13 @@ bool DepthToColour::to_pixel(const Vec3& p_c, cv::Point2d& px) const {
   }
   px = {colour_.fx * x + colour_.cx, colour_.fy * y + colour_.cy};
   return true;
+}
+
+std::string DepthToColour::describe() const {
+  const Vec3 t_cm = T_c_d_.translation() * 100;
+  return fmt::format("depth camera {}x{} fx {:.1f} at ({:.2f}, {:.2f}, {:.2f}) cm in the colour camera; its depth is "
+                     "drawn into the colour camera's {}x{} pixels",
+                     depth_.width, depth_.height, depth_.fx, t_cm.x(), t_cm.y(), t_cm.z(), colour_.width, colour_.height);
 }
 
 cv::Mat DepthToColour::operator()(const cv::Mat& depth_m) const {

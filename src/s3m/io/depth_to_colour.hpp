@@ -13,6 +13,7 @@
 // larger than the colour image (opencv_contrib#3761; a RealSense D4xx's 848x480 depth next to a
 // 640x480 colour stream is exactly that case) and leaves holes when the colour image is finer.
 // Units: metres; poses named as in s3m/core/se3.hpp.
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -36,6 +37,9 @@ class DepthToColour {
   const PinholeCamera& depth_camera() const { return depth_; }
   const PinholeCamera& colour_camera() const { return colour_; }
   const SE3& T_c_d() const { return T_c_d_; }
+  // For logs: "depth camera 848x480 fx 425.0 at (-1.50, 0.03, 0.02) cm in the colour camera; its
+  // depth is drawn into the colour camera's 640x480 pixels" (the offset is T_c_d's translation).
+  std::string describe() const;
 
  private:
   // false: outside the field of view the colour camera's distortion model is valid for.

@@ -272,10 +272,7 @@ void TumDataset::use_depth_camera(const DepthCamera& depth) {
                      "colour");
   to_colour_ = std::make_shared<const DepthToColour>(d, camera_, depth.T_c_d);
   registered_by_ = "s3m, with the depth_camera of " + camera_source_;
-  spdlog::info("{}: depth camera {}x{} fx {:.1f}, {:.1f} cm from the colour camera ({}); its depth is drawn into the "
-               "colour camera's {}x{} pixels",
-               dir_, d.width, d.height, d.fx, depth.T_c_d.translation().norm() * 100, camera_source_, camera_.width,
-               camera_.height);
+  spdlog::info("{}: {} ({})", dir_, to_colour_->describe(), camera_source_);
 }
 
 double TumDataset::timestamp(std::size_t i) const {
