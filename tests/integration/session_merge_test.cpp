@@ -262,40 +262,25 @@ MapComparison compare_maps(const std::string& merged_ot, const SE3& T_merged_gt,
 
 // Issue 23 asks for the merged map's mIoU >= the better single run's and coverage >= the union.
 // The merged map lives in A's world, so A's alignment to the ground truth scores it, online as
-// offline (and as the issue scores B's poses). Until issue 20's last change the online map was
-// scored with an alignment fitted to C's merged trajectory: that moved A's part of the map by C's
-// seam error (A's area scored 0.872 instead of 0.885).
-// mIoU: met (session 9, with the tracker's keyframe_decay_ratio and mapper.min_new_points 300):
-// online 0.876 vs C 0.867 on the union, 0.889 / 0.880 where A / C looked; offline 0.876.
-// Session 13 (issue 20's keypoint depth interpolated at the sub-pixel keypoint): C alone improves
-// (ATE 1.83 -> 1.32 cm, map 0.8701 -> 0.8729 where it looked) and so does C in A's world (2.55 ->
-// 1.43 cm), but the online merged map falls just short of C alone: 0.8649 vs 0.8660 on the union,
-// 0.8694 vs 0.8729 where C looked (offline: 0.8771 and 0.8822, met). Session 14 (keypoints near the
-// left border keep their depth): met online again, 0.8742 vs C 0.8684 on the union, 0.8875 / 0.8787
-// where A / C looked (A 0.8739, C 0.8754), so the online check is exact again (it allowed 0.005).
-// Coverage, counted with the metric's one-voxel tolerance: 42 799 online and 42 802 offline of the
-// union's 42 922 (99.7 %). Most of the shortfall is not area: of the union's voxels the merged map
-// misses, 397 of 430 (online) were hit by neither camera; a run's map "covered" them only through the
-// tolerance, next to a surface it saw, and the merged map, built from the same clouds at slightly
-// different poses, covers other such voxels instead (307 outside the union). Of the voxels a camera
-// hit (its depth back-projected with the true pose), the merged map covers all of the union's 38 638
-// but 33 online and 31 offline; 29 / 25 of those are held occupied by one run's map and free by the
-// other's own map (each under its own alignment: the other flight's rays pass through them, e.g. the
-// top edge of a shelf seen at a grazing angle), where a log-odds map of both sessions follows the
-// weight of the evidence; 4 / 6 are plain misses. docs/RESULTS.md, issue 23. With session 13's
-// keypoint depth: 42 696 online of the union's 42 966 (99.4 %); of the 38 645 camera-hit voxels
-// 40 online / 37 offline missed, 30 / 29 of them held free by the other run's map, 10 / 8 otherwise.
-// Session 20 (root keyframe held, viewpoint keyframes): mIoU on the union 0.8737 online / 0.8784
-// offline vs C 0.8710; of the 38 619 camera-hit union voxels 32 online / 34 offline missed, 26 / 28
-// held free by the other run's map, 6 / 6 otherwise. C in A's world 0.56 cm (C alone 0.53 cm).
+// offline (and as the issue scores B's poses). History in docs/RESULTS.md, issue 23.
+// Coverage: of the voxels a camera hit (its depth back-projected with the true pose) that A's or C's
+// own map covers, a log-odds map of both sessions missed 32 online / 34 offline of 38 619 (session
+// 20); 26 / 28 of them because the other flight's rays held them free in its own map too (e.g. the
+// top edge of a shelf C passed just above). With map.keep_session_surfaces (session 29) every
+// session's own occupied voxels stay: 3 online / 7 offline missed, where C's part of the merged map
+// sits a few millimetres off C's own map (the seam's error, C in A's world 0.56 / 1.58 cm vs C alone
+// 0.53 cm), not because a session's surface was erased. Counted with the metric's one-voxel
+// tolerance: 42 834 online / 42 846 offline of the union's 42 878 (the rest is the fringe a map
+// covers only through the tolerance, which the seam moves too); 42 769 / 42 773 before.
+// mIoU on the voxels either run observed: online 0.8740, offline 0.8786, vs C 0.8710.
 void expect_merged_map_at_least_as_good(const MapComparison& m, double miou_slack) {
   EXPECT_GE(m.union_merged, std::max(m.union_a, m.union_c) - miou_slack);
   EXPECT_GT(m.union_merged, std::min(m.union_a, m.union_c) + 0.1) << "the merged map knows both areas";
   EXPECT_GE(m.merged_on_a, m.a_on_a - miou_slack) << "merging must not spoil where A looked";
   EXPECT_GE(m.merged_on_c, m.c_on_c - miou_slack) << "nor where C looked";
-  EXPECT_GE(m.covered_merged, 0.99 * m.covered_union);
-  EXPECT_GE(m.hit_merged, 0.998 * m.hit_union) << "the merged map covers what the cameras saw";
-  EXPECT_LE(m.missed_other, 0.0005 * m.hit_union) << "and misses of it only what the other run's map holds free";
+  EXPECT_GE(m.covered_merged, 0.998 * m.covered_union);
+  // Without keep_session_surfaces 32-34 voxels (0.08 %) were missed: this bound is 0.03 % (11 voxels).
+  EXPECT_LE(m.hit_union - m.hit_merged, 0.0003 * m.hit_union) << "the merged map covers what the cameras saw";
   EXPECT_GT(m.covered_merged, std::max(m.covered_a, m.covered_c)) << "more than either run alone";
 }
 

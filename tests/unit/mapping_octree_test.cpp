@@ -230,3 +230,50 @@ TEST(MappingOctree, AtomicSaveLeavesNoTempFileAndReportsBadDirectory) {
   EXPECT_THROW(save_semantic_map(tree, dir + "/no/such/dir/m.ot"), Error);
   std::filesystem::remove_all(dir);
 }
+
+TEST(MappingOctree, RestoreOccupiedCopiesOnlyWhatTheOtherMapLacks) {
+  SemanticOcTree from(0.05), into(0.05);
+  const auto key = [&](double x) { return from.coordToKey(x, 0.0, 0.0); };
+  // x = 0: occupied in both (kept as `into` has it); 0.1: free in `into`; 0.2: unknown in `into`;
+  // 0.3: free in `from` (nothing to copy).
+  into.updateNode(key(0.0), 0.85f, true);
+  into.integrateObservation(key(0.0), L({{3, 0.9f}}), {1, 2, 3});
+  into.updateNode(key(0.1), -1.2f, true);
+  from.updateNode(key(0.0), 2.0f, true);
+  from.integrateObservation(key(0.0), L({{5, 0.8f}}), {9, 9, 9});
+  from.updateNode(key(0.1), 1.7f, true);
+  from.integrateObservation(key(0.1), L({{7, 0.6f}}), {10, 20, 30});
+  from.updateNode(key(0.2), 0.4f, true);
+  from.integrateObservation(key(0.2), L({{9, 0.5f}}), {40, 50, 60});
+  from.updateNode(key(0.3), -0.4f, true);
+  from.updateInnerOccupancy();
+  into.updateInnerOccupancy();
+
+  EXPECT_EQ(restore_occupied(from, into), 2u);
+  EXPECT_FLOAT_EQ(into.search(key(0.0))->getLogOdds(), 0.85f);
+  EXPECT_EQ(into.search(key(0.0))->labels().top(), 3);
+  const SemanticOcTreeNode* b = into.search(key(0.1));
+  EXPECT_FLOAT_EQ(b->getLogOdds(), 1.7f);
+  EXPECT_EQ(b->labels(), L({{7, 0.6f}}));
+  EXPECT_TRUE(b->color() == (Rgb{10, 20, 30}));
+  EXPECT_FLOAT_EQ(into.search(key(0.2))->getLogOdds(), 0.4f);
+  EXPECT_EQ(into.search(key(0.2))->labels().top(), 9);
+  EXPECT_EQ(into.search(key(0.3)), nullptr);
+  EXPECT_FLOAT_EQ(into.getRoot()->getLogOdds(), 1.7f) << "inner nodes updated: max of the children";
+}
+
+TEST(MappingOctree, RestoreOccupiedExpandsPrunedNodes) {
+  SemanticOcTree from(0.05), into(0.05);
+  // Eight identical occupied children collapse into one node of 0.1 m.
+  for (double x : {0.0, 0.05})
+    for (double y : {0.0, 0.05})
+      for (double z : {0.0, 0.05}) from.updateNode(from.coordToKey(x, y, z), 1.0f, true);
+  from.updateInnerOccupancy();
+  from.prune();
+  ASSERT_EQ(from.getNumLeafNodes(), 1u);
+  EXPECT_EQ(restore_occupied(from, into), 8u);
+  EXPECT_EQ(into.getNumLeafNodes(), 8u);
+  EXPECT_TRUE(into.isNodeOccupied(into.search(0.07, 0.07, 0.07)));
+  SemanticOcTree other(0.1);
+  EXPECT_THROW(restore_occupied(from, other), Error);
+}

@@ -39,7 +39,10 @@ slam:
 threads: {deterministic: true, queue_capacity: 8}
 flow: {integrate: all_frames, segment: integrated}
 dataset: {depth_registration: unregistered}
+map: {keep_session_surfaces: false}
 )"));
+  EXPECT_FALSE(c.map.keep_session_surfaces);
+  EXPECT_TRUE(PipelineConfig{}.map.keep_session_surfaces);
   EXPECT_DOUBLE_EQ(c.cloud.max_depth_m, 3.5);
   EXPECT_EQ(c.dataset.depth_registration, "unregistered");
   EXPECT_EQ(PipelineConfig{}.dataset.depth_registration, "auto");

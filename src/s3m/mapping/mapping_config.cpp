@@ -15,8 +15,9 @@ void MappingConfig::validate() const {
 MappingConfig load_mapping_config(const YAML::Node& node, const std::string& ctx) {
   MappingConfig c;
   if (!node) return c;
-  check_known_keys(node, {"resolution_m", "occupancy", "fusion", "insert"}, ctx);
+  check_known_keys(node, {"resolution_m", "keep_session_surfaces", "occupancy", "fusion", "insert"}, ctx);
   yaml_get(node, "resolution_m", c.resolution_m, ctx);
+  yaml_get(node, "keep_session_surfaces", c.keep_session_surfaces, ctx);
   if (const YAML::Node o = node["occupancy"]) {
     check_known_keys(o, {"prob_hit", "prob_miss", "clamp_min", "clamp_max", "occupancy_thres"}, ctx);
     yaml_get(o, "prob_hit", c.occupancy.prob_hit, ctx);

@@ -154,4 +154,20 @@ void SemanticOcTree::updateInnerRecurs(SemanticOcTreeNode* node, unsigned depth)
   node->updateOccupancyChildren();
 }
 
+std::size_t restore_occupied(SemanticOcTree& from, SemanticOcTree& into) {
+  require(from.getResolution() == into.getResolution(), "restore_occupied: the maps have different resolutions");
+  from.expand();
+  std::size_t n = 0;
+  for (auto it = from.begin_leafs(), end = from.end_leafs(); it != end; ++it) {
+    if (!from.isNodeOccupied(*it)) continue;
+    const octomap::OcTreeKey key = it.getKey();
+    if (const SemanticOcTreeNode* there = into.search(key); there != nullptr && into.isNodeOccupied(*there)) continue;
+    SemanticOcTreeNode* node = into.setNodeValue(key, it->getLogOdds(), /*lazy_eval=*/true);
+    node->copyData(*it);
+    ++n;
+  }
+  if (n > 0) into.updateInnerOccupancy();
+  return n;
+}
+
 }  // namespace s3m::mapping

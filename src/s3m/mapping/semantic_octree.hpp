@@ -128,4 +128,11 @@ class SemanticOcTree : public octomap::OccupancyOcTreeBase<SemanticOcTreeNode> {
   static StaticMemberInitializer semantic_octree_member_init_;
 };
 
+// Copies into `into` every finest voxel that `from` holds occupied and `into` does not (unknown or
+// free there): log-odds, labels and colour, as `from` has them. Both trees must have the same
+// resolution; `from`'s pruned nodes are expanded. Returns the number of voxels copied. This is how
+// a map built from several sessions keeps every session's surfaces (MappingConfig::
+// keep_session_surfaces): `from` is one session's own map, `into` the map fused from all of them.
+std::size_t restore_occupied(SemanticOcTree& from, SemanticOcTree& into);
+
 }  // namespace s3m::mapping

@@ -21,7 +21,20 @@ void KeyframeStore::note_keyframe(KeyframeId id, const SE3& T_w_kf, bool detache
 void KeyframeStore::add(KeyframeId keyframe, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud) {
   const auto it = keyframes_.find(keyframe);
   require(it != keyframes_.end(), "KeyframeStore::add: keyframe " + std::to_string(keyframe) + " was not noted");
-  add_kept({{keyframe, it->second.inverse() * T_w_c}, frame_index, std::move(cloud)});
+  add_kept({{keyframe, it->second.inverse() * T_w_c}, frame_index, std::move(cloud), session_});
+}
+
+int KeyframeStore::next_session() const {
+  int last = session_;
+  for (const KeptCloud& c : clouds_) last = std::max(last, c.session);
+  return last + 1;
+}
+
+std::set<int> KeyframeStore::sessions_in_world() const {
+  std::set<int> sessions;
+  for (const KeptCloud& c : clouds_)
+    if (in_world(c)) sessions.insert(c.session);
+  return sessions;
 }
 
 void KeyframeStore::add_kept(KeptCloud kept) {

@@ -25,6 +25,10 @@ struct KeptCloud {
   KeyframeAnchor anchor;  // keyframe the cloud moves with, and the camera pose relative to it
   int frame_index = 0;
   mapping::LabeledCloud cloud;  // camera frame (origin 0), exactly what was inserted
+  // Which recording session observed it: 0 for the clouds of a loaded map (a saved run, whatever
+  // it was merged from), then one number per session added on top (start_session()). Not saved:
+  // a run that is saved and loaded again is one session.
+  int session = 0;
 };
 
 class KeyframeStore {
@@ -37,8 +41,10 @@ class KeyframeStore {
   // sub-map outside the world (TrackOutput::detached), T_w_kf in that sub-map's frame; its clouds
   // are kept but left out of the map until update_poses() lists it.
   void note_keyframe(KeyframeId id, const SE3& T_w_kf, bool detached = false);
-  // Keeps a cloud observed at T_w_c, anchored to the noted keyframe `keyframe`; then drops
-  // redundant clouds while over budget (never the one just added).
+  // Clouds added from now on belong to a new session (a run continuing a loaded map).
+  void start_session() { session_ = next_session(); }
+  // Keeps a cloud of the current session observed at T_w_c, anchored to the noted keyframe
+  // `keyframe`; then drops redundant clouds while over budget (never the one just added).
   void add(KeyframeId keyframe, const SE3& T_w_c, int frame_index, mapping::LabeledCloud cloud);
   // Keeps a cloud exactly as another run's store held it (a loaded session); its keyframe must
   // have been noted. The budget applies as in add().
@@ -53,6 +59,8 @@ class KeyframeStore {
   bool in_world(KeyframeId id) const { return detached_.count(id) == 0; }
   bool in_world(const KeptCloud& c) const { return in_world(c.anchor.keyframe); }
 
+  // Sessions of the clouds in the world, ascending.
+  std::set<int> sessions_in_world() const;
   std::size_t size() const { return clouds_.size(); }
   std::size_t bytes() const { return bytes_; }
   std::size_t budget_bytes() const { return budget_bytes_; }
@@ -64,10 +72,12 @@ class KeyframeStore {
 
  private:
   void drop_most_redundant();
+  int next_session() const;
 
   std::map<KeyframeId, SE3> keyframes_;  // current T_w_kf of every keyframe noted
   std::set<KeyframeId> detached_;        // noted keyframes outside the world (not listed yet)
   std::vector<KeptCloud> clouds_;      // insertion order (the order a rebuild re-inserts them)
+  int session_ = 0;                    // session of the clouds add() keeps
   std::size_t budget_bytes_ = 0;
   std::size_t bytes_ = 0;
   std::size_t dropped_ = 0;

@@ -1,6 +1,7 @@
 #include "s3m/pipeline/map_integrator.hpp"
 
 #include <cmath>
+#include <set>
 
 #include "s3m/core/error.hpp"
 #include "s3m/mapping/export.hpp"
@@ -26,7 +27,19 @@ void MapIntegrator::rebuild(const KeyframeStore& store) {
   auto fresh = make_tree();
   for (const KeptCloud& c : store.clouds())
     if (store.in_world(c)) inserter_.insert(transformed(c.cloud, store.T_w_c(c)), *fresh);
+  const std::set<int> sessions = store.sessions_in_world();
+  session_voxels_kept_ = 0;
+  if (config_.keep_session_surfaces && sessions.size() > 1)
+    for (int s : sessions) session_voxels_kept_ += restore_occupied(*session_map(store, s), *fresh);
   tree_ = std::move(fresh);
+}
+
+// One session's own map: its clouds alone, in their order, at their current poses.
+std::unique_ptr<mapping::SemanticOcTree> MapIntegrator::session_map(const KeyframeStore& store, int session) {
+  auto tree = make_tree();
+  for (const KeptCloud& c : store.clouds())
+    if (c.session == session && store.in_world(c)) inserter_.insert(transformed(c.cloud, store.T_w_c(c)), *tree);
+  return tree;
 }
 
 std::size_t MapIntegrator::occupied_voxels() const {
@@ -46,6 +59,7 @@ nlohmann::json MapIntegrator::describe() const {
   return {{"voxels", occupied_voxels()},
           {"leaf_nodes", tree_->getNumLeafNodes()},
           {"resolution_m", config_.resolution_m},
+          {"session_voxels_kept", session_voxels_kept_},
           {"fusion_policy", mapping::to_string(config_.fusion.policy)},
           {"top_k", config_.fusion.k},
           {"alpha", config_.fusion.alpha}};

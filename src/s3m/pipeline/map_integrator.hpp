@@ -23,7 +23,8 @@ class MapIntegrator {
   // free space.
   void insert(const mapping::LabeledCloud& cloud_c, const SE3& T_w_c);
   // Replaces the map by one built from every kept cloud in the world at its current pose, in the
-  // original order.
+  // original order. With clouds of several sessions and map.keep_session_surfaces, every voxel a
+  // session's own clouds make occupied stays occupied (mapping::restore_occupied).
   void rebuild(const KeyframeStore& store);
   // map.ot (full semantics, atomic) and map.ply (occupied leaves: centre, colour, class, confidence).
   void save(const std::string& ot_path, const std::string& ply_path) const;
@@ -36,10 +37,12 @@ class MapIntegrator {
 
  private:
   std::unique_ptr<mapping::SemanticOcTree> make_tree() const;
+  std::unique_ptr<mapping::SemanticOcTree> session_map(const KeyframeStore& store, int session);
 
   MapConfig config_;
   mapping::Inserter inserter_;
   std::unique_ptr<mapping::SemanticOcTree> tree_;
+  std::size_t session_voxels_kept_ = 0;  // voxels the last rebuild kept for one session's surfaces
 };
 
 }  // namespace s3m::pipeline

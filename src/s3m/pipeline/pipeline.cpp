@@ -36,6 +36,7 @@ void Pipeline::load_session_clouds(const std::string& path) {
   KeyframeStore loaded(store_.budget_bytes());
   load_kept_clouds(path, loaded);  // the mapping step waits on its queue: no frame has been sent
   store_ = std::move(loaded);
+  store_.start_session();  // this run's clouds are a session of their own (MapConfig::keep_session_surfaces)
   if (map_ && store_.size() > 0) {
     map_->rebuild(store_);
     counters_.rebuilds++;

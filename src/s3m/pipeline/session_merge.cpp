@@ -60,6 +60,7 @@ KeyframeStore merged_store(const KeyframeStore& a, const KeyframeStore& b, Keyfr
   for (const KeptCloud& c : a.clouds()) s.add_kept(c);
   for (KeptCloud c : b.clouds()) {
     c.anchor.keyframe += b_offset;
+    c.session = 1;  // whatever sessions B merged earlier, it is one session here, as A is
     s.add_kept(std::move(c));
   }
   std::map<KeyframeId, SE3> poses;
