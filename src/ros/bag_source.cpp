@@ -206,6 +206,7 @@ class BagFrameSource final : public pipeline::FrameSource {
   std::string layout() const override { return layout_; }
   std::string camera_source() const override { return camera_source_; }
   std::string depth_registered_by() const override { return registered_by_; }
+  std::string depth_camera() const override { return to_colour_ ? to_colour_->describe() : ""; }
 
  private:
   struct Pair {

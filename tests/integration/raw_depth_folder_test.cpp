@@ -88,6 +88,8 @@ TEST(RawDepthFolder, DepthCameraSectionRunsAsWellAsRegisteredDepth) {
             std::string::npos)
       << log;
   EXPECT_NE(log.find("camera: 640x480"), std::string::npos) << log;
+  // The depth camera on a line of its own (log lines start with their time).
+  EXPECT_NE(log.find("\ndepth camera 848x480 fx "), std::string::npos) << log;
 }
 
 }  // namespace

@@ -276,7 +276,10 @@ TEST(RosBagRecordings, CheckSaysWhatARunWouldMakeOfTheBag) {
         std::string("ground truth: none"),
         // Aligned by the reader: the run skips the image-based check (which would measure the
         // alignment's own resampling, not a misregistration).
-        std::string("depth: registered (aligned to colour by s3m, with the recording's depth camera and extrinsics)")})
+        std::string("depth: registered (aligned to colour by s3m, with the recording's depth camera and extrinsics)"),
+        // The depth camera on a line of its own (log lines start with their time).
+        std::string("\ndepth camera 848x480 fx 425.0 at (-1.50, 0.03, 0.02) cm in the colour camera; its depth is "
+                    "drawn into the colour camera's 640x480 pixels\n")})
     EXPECT_NE(out.find(line), std::string::npos) << line << "\n" << out;
 }
 

@@ -55,6 +55,8 @@ class TumDataset {
   // Non-empty when the camera file has a depth_camera section: depth is then read at the depth
   // camera's size and drawn into the colour camera's pixels (io::DepthToColour) by load().
   const std::string& depth_registered_by() const { return registered_by_; }
+  // That depth camera and where it sits (DepthToColour::describe()); "" without a depth_camera section.
+  std::string depth_camera() const { return to_colour_ ? to_colour_->describe() : ""; }
 
   struct Entry {
     double t_rgb_s = 0, t_depth_s = 0;

@@ -70,6 +70,7 @@ DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig&
   c.sampled = sample.size() + c.unreadable.size();
   PipelineConfig resolved = config;
   c.depth_registration = resolve_depth_registration(resolved, sample, c.camera, source.depth_registered_by());
+  c.depth_camera = source.depth_camera();
   c.depth_scale = check_depth_scale(sample, c.camera.depth_factor);
   // 3. The segmenter a run would choose.
   const SegmenterChoice choice = choose_segmenter(parse_segmenter_spec(""), config, sim_sign);
@@ -101,6 +102,7 @@ std::string format_dataset_check(const DatasetCheck& c) {
   o << fmt::format("sample: frames 0, 20, ... ({} read)\n", c.sampled);
   for (const auto& u : c.unreadable) o << "warning: unreadable " << u << "\n";
   o << "depth: " << c.depth_registration << "\n";
+  if (!c.depth_camera.empty()) o << c.depth_camera << "\n";  // "depth camera 848x480 fx ... at (...) cm ..."
   if (c.depth_scale.warning.empty())
     o << fmt::format("depth scale: median {:.2f} m over {} frame(s), plausible\n", c.depth_scale.median_m, c.depth_scale.frames);
   else

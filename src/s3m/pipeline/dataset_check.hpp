@@ -26,6 +26,7 @@ struct DatasetCheck {
   std::size_t sampled = 0;               // frames read for the checks (sample_frames)
   std::vector<std::string> unreadable;   // their errors, when a sampled frame could not be read
   std::string depth_registration;        // resolve_depth_registration()'s words
+  std::string depth_camera;              // FrameSource::depth_camera(): raw depth drawn into colour
   DepthScaleCheck depth_scale;
   std::string segmenter;                 // what `s3m run` with this config would use, and why
 };

@@ -20,6 +20,7 @@ class TumFrameSource final : public FrameSource {
   std::string layout() const override { return dataset_.layout(); }
   std::string camera_source() const override { return dataset_.camera_source(); }
   std::string depth_registered_by() const override { return dataset_.depth_registered_by(); }
+  std::string depth_camera() const override { return dataset_.depth_camera(); }
 
  private:
   io::TumDataset dataset_;

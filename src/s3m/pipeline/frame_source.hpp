@@ -36,6 +36,9 @@ class FrameSource {
   // aligned stream, or the reader's own alignment): the image-based check is then not needed
   // (dataset.depth_registration auto). "" = not known.
   virtual std::string depth_registered_by() const { return ""; }
+  // When the source draws a depth camera's raw depth into the colour camera: that camera and where
+  // it sits (io::DepthToColour::describe()). "" = depth arrives registered.
+  virtual std::string depth_camera() const { return ""; }
 };
 
 // A TUM-layout directory (io::TumDataset) with the association window and camera of `config`.
