@@ -7,7 +7,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "s3m/core/error.hpp"
-#include "s3m/pipeline/depth_scale.hpp"
 #include "s3m/pipeline/unregistered_depth.hpp"
 #include "s3m/slam/slam_config.hpp"
 
@@ -54,11 +53,6 @@ class BoxesSource : public FrameSource {
   io::Trajectory gt_;
 };
 
-// As a run does: the sample frames 0, 20, ... (at most 6) and what the source says of its depth.
-std::string resolve(PipelineConfig& c, const FrameSource& src) {
-  return resolve_depth_registration(c, sample_frames(src), src.camera(), src.depth_registered_by());
-}
-
 void expect_unregistered_settings(const slam::SlamConfig& s) {
   EXPECT_DOUBLE_EQ(s.features.depth_discontinuity_ratio, 0.02);
   EXPECT_EQ(s.features.depth_window_px, 3);
@@ -77,7 +71,7 @@ void expect_defaults(const slam::SlamConfig& s) {
 TEST(UnregisteredDepth, AutoDetectsUnregisteredDepthAndSwitchesTheSlamSettings) {
   PipelineConfig c;
   BoxesSource src(1.10, 8);
-  const std::string why = resolve(c, src);
+  const std::string why = resolve_depth_registration(c, src);
   EXPECT_EQ(why.rfind("not registered", 0), 0u) << why;
   expect_unregistered_settings(c.slam);
   EXPECT_EQ(src.loads, 6);  // frames 0, 20, ..., 100
@@ -86,33 +80,36 @@ TEST(UnregisteredDepth, AutoDetectsUnregisteredDepthAndSwitchesTheSlamSettings) 
 TEST(UnregisteredDepth, AutoLeavesRegisteredDepthAlone) {
   PipelineConfig c;
   BoxesSource src(1.0, 0);
-  const std::string why = resolve(c, src);
+  const std::string why = resolve_depth_registration(c, src);
   EXPECT_EQ(why.rfind("registered", 0), 0u) << why;
   expect_defaults(c.slam);
 }
 
-TEST(UnregisteredDepth, ASetModeIsObeyedWhateverTheFramesSay) {
+TEST(UnregisteredDepth, ASetModeIsObeyedWithoutReadingFrames) {
   PipelineConfig c;
   BoxesSource unreg(1.10, 8);
   c.dataset.depth_registration = "registered";
-  resolve(c, unreg);
+  resolve_depth_registration(c, unreg);
   expect_defaults(c.slam);
+  EXPECT_EQ(unreg.loads, 0);
   BoxesSource reg(1.0, 0);
   c.dataset.depth_registration = "unregistered";
-  EXPECT_EQ(resolve(c, reg).rfind("not registered (dataset.depth_registration: unregistered)", 0), 0u);
+  EXPECT_EQ(resolve_depth_registration(c, reg).rfind("not registered (dataset.depth_registration: unregistered)", 0), 0u);
   expect_unregistered_settings(c.slam);
+  EXPECT_EQ(reg.loads, 0);
 }
 
-TEST(UnregisteredDepth, ASourceThatAlignedItsDepthIsBelievedWhateverTheFramesSay) {
+TEST(UnregisteredDepth, ASourceThatAlignedItsDepthIsBelievedWithoutReadingFrames) {
   // A bag reader that drew a raw depth stream into the colour camera knows the answer; the edge
   // check would only measure its resampling.
   PipelineConfig c;
   BoxesSource aligned(1.10, 8, "s3m, with the recording's depth camera and extrinsics");
-  EXPECT_EQ(resolve(c, aligned),
+  EXPECT_EQ(resolve_depth_registration(c, aligned),
             "registered (aligned to colour by s3m, with the recording's depth camera and extrinsics)");
   expect_defaults(c.slam);
+  EXPECT_EQ(aligned.loads, 0);
   c.dataset.depth_registration = "unregistered";  // a set mode still wins
-  EXPECT_EQ(resolve(c, aligned).rfind("not registered (dataset.depth_registration: unregistered)", 0), 0u);
+  EXPECT_EQ(resolve_depth_registration(c, aligned).rfind("not registered (dataset.depth_registration: unregistered)", 0), 0u);
 }
 
 TEST(UnregisteredDepth, APresetsOwnValuesStay) {

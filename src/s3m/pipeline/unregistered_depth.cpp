@@ -7,6 +7,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/features/depth_registration.hpp"
+#include "s3m/pipeline/depth_scale.hpp"
 
 namespace s3m::pipeline {
 
@@ -38,6 +39,12 @@ std::string resolve_depth_registration(PipelineConfig& config, const std::vector
   use_unregistered_depth_settings(config.slam);
   return "not registered (" + why + "): keypoint depth test 0.02 z over 7x7 px, virtual-right depth weight, "
          "dense keyframe links off, where the config leaves them at their defaults";
+}
+
+std::string resolve_depth_registration(PipelineConfig& config, const FrameSource& source) {
+  const bool check = config.dataset.depth_registration == "auto" && source.depth_registered_by().empty();
+  const std::vector<RgbdFrame> sample = check ? sample_frames(source) : std::vector<RgbdFrame>{};
+  return resolve_depth_registration(config, sample, source.camera(), source.depth_registered_by());
 }
 
 }  // namespace s3m::pipeline

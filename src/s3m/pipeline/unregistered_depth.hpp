@@ -22,4 +22,8 @@ void use_unregistered_depth_settings(slam::SlamConfig& slam);
 std::string resolve_depth_registration(PipelineConfig& config, const std::vector<RgbdFrame>& sample,
                                        const PinholeCamera& camera, const std::string& registered_by = "");
 
+// The same with frames 0, 20, 40, ... (at most 6, within the first 120) of `source`; reads no
+// frame unless the mode is "auto".
+std::string resolve_depth_registration(PipelineConfig& config, const FrameSource& source);
+
 }  // namespace s3m::pipeline
