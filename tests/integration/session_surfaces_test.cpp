@@ -15,23 +15,16 @@
 namespace s3m::it {
 namespace {
 
-// Finest voxels occupied in `a` that are not occupied in `b` (pruned leaves count per voxel).
-std::size_t occupied_missing(const mapping::SemanticOcTree& a, const mapping::SemanticOcTree& b, std::size_t& total) {
-  const unsigned max_depth = a.getTreeDepth();
+// Finest voxels occupied in `a` that are not occupied in `b` (`a` expanded: one leaf per voxel).
+std::size_t occupied_missing(mapping::SemanticOcTree& a, const mapping::SemanticOcTree& b, std::size_t& total) {
+  a.expand();
   std::size_t missing = 0;
   total = 0;
   for (auto it = a.begin_leafs(), end = a.end_leafs(); it != end; ++it) {
     if (!a.isNodeOccupied(*it)) continue;
-    const int span = 1 << (max_depth - it.getDepth());
-    const octomap::OcTreeKey lo = a.coordToKey(it.getCoordinate() - octomap::point3d(1, 1, 1) * float(it.getSize() / 2 - a.getResolution() / 2));
-    for (int x = 0; x < span; ++x)
-      for (int y = 0; y < span; ++y)
-        for (int z = 0; z < span; ++z) {
-          const octomap::OcTreeKey k(lo[0] + x, lo[1] + y, lo[2] + z);
-          const auto* n = b.search(k);
-          ++total;
-          missing += n == nullptr || !b.isNodeOccupied(*n);
-        }
+    const auto* n = b.search(it.getKey());
+    ++total;
+    missing += n == nullptr || !b.isNodeOccupied(*n);
   }
   return missing;
 }

@@ -20,17 +20,20 @@ mapping::LabeledCloud wall(double z, double lo, double hi, double step, ClassId 
   return c;
 }
 
-// Session 0 (a loaded map) saw a 3x3-voxel wall at 2.025 m (voxel centres) once (one hit: +0.85 log-odds). The
-// continuing session looks through that place three times at a wider wall at 3.025 m: three misses
-// (3 x -0.41) on each of those nine voxels outweigh the hit.
-KeyframeStore two_sessions() {
+// Session 0 (a loaded map) saw a 3x3-voxel wall at 2.025 m (voxel centres) once (one hit: +0.85
+// log-odds). Three later frames look through that place at a wider wall at 3.025 m: three misses
+// (3 x -0.41) on each of those nine voxels outweigh the hit. new_session: those frames are a run
+// continuing the loaded map; else all four clouds are one session.
+KeyframeStore wall_then_looked_through(bool new_session) {
   KeyframeStore s;
   s.note_keyframe(0, SE3::Identity());
   s.add(0, SE3::Identity(), 0, wall(2.025, -0.025, 0.075, 0.05, 4));
-  s.start_session();
+  if (new_session) s.start_session();
   for (int f = 1; f <= 3; ++f) s.add(0, SE3::Identity(), f, wall(3.025, -0.3, 0.3, 0.02, 6));
   return s;
 }
+
+KeyframeStore two_sessions() { return wall_then_looked_through(true); }
 
 MapConfig config(bool keep_session_surfaces) {
   MapConfig c;
@@ -90,12 +93,8 @@ TEST(MapIntegrator, WithoutTheRuleOrWithinOneSessionTheEvidenceDecides) {
   EXPECT_EQ(fused.describe()["session_voxels_kept"], 0);
 
   // The same clouds as one session (no start_session): plain log-odds, as in any single run.
-  KeyframeStore one;
-  one.note_keyframe(0, SE3::Identity());
-  one.add(0, SE3::Identity(), 0, wall(2.025, -0.025, 0.075, 0.05, 4));
-  for (int f = 1; f <= 3; ++f) one.add(0, SE3::Identity(), f, wall(3.025, -0.3, 0.3, 0.02, 6));
   MapIntegrator m(config(true));
-  m.rebuild(one);
+  m.rebuild(wall_then_looked_through(false));
   EXPECT_FALSE(m.tree().isNodeOccupied(voxel(m, 0.025, 0.025, 2.025)));
   EXPECT_EQ(m.describe()["session_voxels_kept"], 0);
 }

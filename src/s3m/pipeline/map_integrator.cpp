@@ -24,21 +24,21 @@ void MapIntegrator::insert(const mapping::LabeledCloud& cloud_c, const SE3& T_w_
 }
 
 void MapIntegrator::rebuild(const KeyframeStore& store) {
-  auto fresh = make_tree();
-  for (const KeptCloud& c : store.clouds())
-    if (store.in_world(c)) inserter_.insert(transformed(c.cloud, store.T_w_c(c)), *fresh);
+  auto fresh = map_of(store, kAllSessions);
   const std::set<int> sessions = store.sessions_in_world();
   session_voxels_kept_ = 0;
   if (config_.keep_session_surfaces && sessions.size() > 1)
-    for (int s : sessions) session_voxels_kept_ += restore_occupied(*session_map(store, s), *fresh);
+    for (int s : sessions) session_voxels_kept_ += restore_occupied(*map_of(store, s), *fresh);
   tree_ = std::move(fresh);
 }
 
-// One session's own map: its clouds alone, in their order, at their current poses.
-std::unique_ptr<mapping::SemanticOcTree> MapIntegrator::session_map(const KeyframeStore& store, int session) {
+// The map of the kept clouds in the world of one session (or all of them), in their order, at
+// their current poses.
+std::unique_ptr<mapping::SemanticOcTree> MapIntegrator::map_of(const KeyframeStore& store, int session) {
   auto tree = make_tree();
   for (const KeptCloud& c : store.clouds())
-    if (c.session == session && store.in_world(c)) inserter_.insert(transformed(c.cloud, store.T_w_c(c)), *tree);
+    if (store.in_world(c) && (session == kAllSessions || c.session == session))
+      inserter_.insert(transformed(c.cloud, store.T_w_c(c)), *tree);
   return tree;
 }
 

@@ -37,7 +37,8 @@ class MapIntegrator {
 
  private:
   std::unique_ptr<mapping::SemanticOcTree> make_tree() const;
-  std::unique_ptr<mapping::SemanticOcTree> session_map(const KeyframeStore& store, int session);
+  static constexpr int kAllSessions = -1;
+  std::unique_ptr<mapping::SemanticOcTree> map_of(const KeyframeStore& store, int session);
 
   MapConfig config_;
   mapping::Inserter inserter_;
