@@ -234,3 +234,39 @@ TEST(DepthOdometry, ObservableAlignmentCorrectsWhatOnePlaneShowsAndKeepsTheGuess
 
 }  // namespace
 }  // namespace s3m::slam
+
+namespace s3m::slam {
+namespace {
+
+// Session 30: a frame after a gap. OpenCV rejects an alignment that moves further than 0.15 m /
+// 15 deg from its start (its defaults, made for consecutive 30 Hz frames), so a step of a 1.5 Hz
+// recording could never be measured from no motion. step_scale (the gap in 30 Hz periods) widens
+// that bound, and first finds the basin with the wide depth gate.
+TEST(DepthOdometry, AStepAfterAGapIsMeasuredOnlyWithTheGapsScale) {
+  const PinholeCamera cam = test::room_camera();
+  // 0.67 s apart, as the TUM fr3 cabinet keyframes: 20 cm forward, 3 cm aside, turning 6 deg.
+  const int a = 40, b = 60;
+  const SE3 T_w_a = test::uav_pose(a, 300);
+  const SE3 T_w_b = T_w_a * make_se3(so3_exp(Vec3(0.0, 6.0 * M_PI / 180, 0.0)), Vec3(0.03, 0.0, 0.2));
+  const RgbdFrame fa = test::render_room(test::Room{}, cam, T_w_a, a, a / 30.0, 0.002);
+  const RgbdFrame fb = test::render_room(test::Room{}, cam, T_w_b, b, b / 30.0, 0.002);
+  const SE3 truth = T_w_b.inverse() * T_w_a;
+  ASSERT_GT(truth.translation().norm(), 0.15);
+  const DepthOdometry odometry(cam, DepthOdometryConfig{});
+  EXPECT_FALSE(odometry.align(fa, fb, SE3::Identity()).has_value()) << "beyond OpenCV's own bound";
+  const auto T = odometry.align(fa, fb, SE3::Identity(), b - a);
+  ASSERT_TRUE(T.has_value());
+  const SE3 err = *T * truth.inverse();
+  std::printf("step of %.1f deg / %.0f mm from no motion: %.3f deg / %.1f mm off\n", angle_deg(truth),
+              1000 * truth.translation().norm(), angle_deg(err), 1000 * err.translation().norm());
+  EXPECT_LT(angle_deg(err), 0.2);
+  EXPECT_LT(err.translation().norm(), 0.005);
+  // The reverse alignment, the tracker's second estimate when it has no velocity, agrees.
+  const auto back = odometry.align(fb, fa, SE3::Identity(), b - a);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_TRUE(poses_agree(*T, back->inverse(), TrackerConfig{}.odometry_deg, TrackerConfig{}.odometry_m));
+  EXPECT_THROW(odometry.align(fa, fb, SE3::Identity(), 0.5), Error) << "a scale below one period";
+}
+
+}  // namespace
+}  // namespace s3m::slam

@@ -29,6 +29,15 @@ struct DepthOdometryConfig {
   // seen head-on gives about 1 for its distance, 0.07-0.11 for its two tilts, 0 for the rest; the
   // living-room loop's plain wall with the sofa's back gives 0.016 and 0.0003 for two more.
   double min_observed_ratio = 0.01;
+  // How far one align() may move the pose from its start before OpenCV calls it failed: its own
+  // defaults, made for consecutive 30 Hz frames. align() multiplies them by its step_scale, so that
+  // a frame after a gap (dropped frames, a 2 Hz recording) can move by as much as the gap allows.
+  double max_step_m = 0.15;
+  double max_step_deg = 15.0;
+  // After such a gap (step_scale > 1) the alignment runs twice: first with correspondences up to
+  // this far apart in depth, to reach the right basin from a start that far off, then with
+  // max_depth_diff_m from there [m].
+  double gap_max_depth_diff_m = 0.3;
   void validate() const;
 };
 
@@ -46,9 +55,11 @@ class DepthOdometry {
   DepthOdometry(const PinholeCamera& camera, const DepthOdometryConfig& config);
 
   // The motion between two frames, T_cur_prev (maps the previous camera's points into the current
-  // camera), searched from T_cur_prev_guess; nullopt when the alignment does not converge. Images
-  // are undistorted first when the camera has distortion.
-  std::optional<SE3> align(const RgbdFrame& prev, const RgbdFrame& cur, const SE3& T_cur_prev_guess) const;
+  // camera), searched from T_cur_prev_guess; nullopt when the alignment does not converge or moves
+  // further from the guess than step_scale x (max_step_m, max_step_deg). Images are undistorted
+  // first when the camera has distortion.
+  std::optional<SE3> align(const RgbdFrame& prev, const RgbdFrame& cur, const SE3& T_cur_prev_guess,
+                           double step_scale = 1.0) const;
 
   // A frame made ready for align(): undistorted, at the odometry's resolution, in OpenCV's frame
   // whose pyramids, normals and masks the first alignment computes and keeps. A keyframe linked to
@@ -56,7 +67,8 @@ class DepthOdometry {
   // alignment's time; identical results). Shared, not thread-safe: one thread at a time.
   using PreparedFrame = cv::Ptr<cv::rgbd::OdometryFrame>;
   PreparedFrame prepare(const RgbdFrame& frame) const;
-  std::optional<SE3> align(const PreparedFrame& prev, const PreparedFrame& cur, const SE3& T_cur_prev_guess) const;
+  std::optional<SE3> align(const PreparedFrame& prev, const PreparedFrame& cur, const SE3& T_cur_prev_guess,
+                           double step_scale = 1.0) const;
 
   // Point-to-plane ICP (depth only) that moves the guess only along the directions the view
   // constrains: the solution remapping of Zhang, Kaess and Singh, "On degeneracy of
@@ -72,6 +84,7 @@ class DepthOdometry {
   // odometry's resolution, undistorted.
   cv::Mat prepare_depth(const RgbdFrame& frame) const;
   cv::Mat prepare_grey(const RgbdFrame& frame) const;
+  std::optional<SE3> compute(const PreparedFrame& prev, const PreparedFrame& cur, const SE3& T_cur_prev_guess) const;
 
   PinholeCamera camera_;
   DepthOdometryConfig config_;

@@ -51,7 +51,8 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
                        "close_untracked_min", "max_pending_keyframes", "min_init_depth_points", "anchor_keyframes",
                        "coast_frames", "bridge_deg", "bridge_m", "bridge_min_inliers", "odometry_frames",
                        "odometry_deg", "odometry_m", "odometry_downsample", "odometry_max_depth_diff_m",
-                       "odometry_min_observed_ratio"}, ctx);
+                       "odometry_min_observed_ratio", "odometry_max_step_m", "odometry_max_step_deg",
+                       "odometry_gap_max_depth_diff_m"}, ctx);
   yaml_get(n, "pose_rounds", c.pose.rounds, ctx);
   yaml_get(n, "pose_iterations", c.pose.iterations, ctx);
   yaml_get(n, "close_depth_m", c.close_depth_m, ctx);
@@ -82,6 +83,9 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
   yaml_get(n, "odometry_downsample", c.odometry.downsample, ctx);
   yaml_get(n, "odometry_max_depth_diff_m", c.odometry.max_depth_diff_m, ctx);
   yaml_get(n, "odometry_min_observed_ratio", c.odometry.min_observed_ratio, ctx);
+  yaml_get(n, "odometry_max_step_m", c.odometry.max_step_m, ctx);
+  yaml_get(n, "odometry_max_step_deg", c.odometry.max_step_deg, ctx);
+  yaml_get(n, "odometry_gap_max_depth_diff_m", c.odometry.gap_max_depth_diff_m, ctx);
 }
 
 void read_ba(const YAML::Node& n, BaConfig& c, const std::string& ctx) {

@@ -82,6 +82,7 @@ void Tracker::set_snapshot(std::shared_ptr<const LocalMapSnapshot> snapshot) {
       if (k.id == ref_kf_) {
         const SE3 correction = k.T_w_c * T_w_ref_.inverse();
         last_.T_c_w = last_.T_c_w * correction.inverse();
+        T_c_w_last_frame_ = T_c_w_last_frame_ * correction.inverse();
         for (std::size_t i = 0; i < last_.p_w.size(); ++i)
           if (last_.matched[i]) last_.p_w[i] = correction * last_.p_w[i];
         T_w_ref_ = k.T_w_c;
@@ -100,6 +101,7 @@ void Tracker::set_pose(const SE3& T_w_c) {
   std::fill(last_.matched.begin(), last_.matched.end(), 0);
   velocity_.reset();
   coast_velocity_.reset();
+  last_frame_ = RgbdFrame{};  // no odometry from images of before the new pose
   state_ = TrackState::kLost;  // the next frame tracks against the local map from this pose
   resume_from_pose_ = true;
 }
@@ -124,6 +126,7 @@ bool Tracker::follow_merges(const LocalMapSnapshot& snapshot) {
   }
   if (s == submap_) return true;
   last_.T_c_w = last_.T_c_w * T.inverse();
+  T_c_w_last_frame_ = T_c_w_last_frame_ * T.inverse();
   for (std::size_t i = 0; i < last_.p_w.size(); ++i)
     if (last_.matched[i]) last_.p_w[i] = T * last_.p_w[i];
   T_w_ref_ = T * T_w_ref_;
@@ -170,11 +173,12 @@ std::shared_ptr<const features::FrameFeatures> Tracker::extract(const RgbdFrame&
 TrackerOutput Tracker::retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
                                int pending_keyframes) {
   TrackerOutput out = track(frame, std::move(features), pending_keyframes);
-  if (!out.deferred) keep_images(frame);
+  if (!out.deferred && out.state != TrackState::kLost) keep_images(frame, last_.T_c_w);
   return out;
 }
 
-void Tracker::keep_images(const RgbdFrame& frame) {
+void Tracker::keep_images(const RgbdFrame& frame, const SE3& T_c_w) {
+  T_c_w_last_frame_ = T_c_w;
   last_frame_.index = frame.index;
   last_frame_.t_s = frame.t_s;
   last_frame_.rgb = frame.rgb;  // shared, not copied (process()'s contract)
@@ -212,8 +216,9 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
     return out;
   }
   if (!ok) {
+    const bool from_rest = state_ == TrackState::kOk && !velocity_;
     if (state_ == TrackState::kOk) coast_velocity_ = velocity_, coasted_ = 0;
-    track_lost(cur, frame, out);
+    track_lost(cur, frame, from_rest, out);
     return out;
   }
   state_ = TrackState::kOk;

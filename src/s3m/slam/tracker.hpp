@@ -78,7 +78,11 @@ struct TrackerConfig {
   // (DepthOdometry.TwoStartsAgreeOnAWellConditionedPairOnly), while a well-conditioned one agrees
   // with the other start to 0.05 deg. Such a view is then measured along the directions it fixes
   // and kept at the velocity along the rest (DepthOdometry::align_observable; at least 3 of 6,
-  // half its points on the last frame's surfaces, within the same bounds of the velocity). 0 = off.
+  // half its points on the last frame's surfaces, within the same bounds of the velocity). The
+  // frame right after a map's first, with no velocity yet, is measured from no motion and confirmed
+  // by the reverse alignment. Measurements start from the last frame with a pose that is not a
+  // guess and may move as far as the time since then allows (DepthOdometryConfig::max_step_m per
+  // 30 Hz period): a sparse recording 0.67 s apart is measured end to end. 0 = off.
   int odometry_frames = 30;
   double odometry_deg = 0.5;   // agreement of the measured motion with a second estimate, rotation [deg]
   double odometry_m = 0.015;   // ... translation [m]
@@ -177,10 +181,16 @@ class Tracker {
   std::vector<std::pair<KeyframeAnchor, double>> weighted_anchors(const Frame& cur, const SE3& T_w_c) const;
   // Tracking against the map failed: dead reckoning (depth odometry, else the velocity), the bridge,
   // else LOST (tracker_lost.cpp).
-  void track_lost(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
-  std::optional<SE3> dead_reckon(const RgbdFrame& frame, bool& measured);  // T_c_w of this frame
+  // from_rest: the last frame was tracked but there is no velocity yet (the frame after a map's
+  // first): depth odometry measures the motion from no motion, with no prediction to fall back on.
+  void track_lost(Frame& cur, const RgbdFrame& frame, bool from_rest, TrackerOutput& out);
+  std::optional<SE3> dead_reckon(const RgbdFrame& frame, bool from_rest, bool& measured);  // T_c_w of this frame
   // The motion T_cur_last depth odometry measures and a second estimate confirms, else nullopt.
-  std::optional<SE3> measure_motion(const RgbdFrame& frame) const;
+  // predicted: the velocity's motion over the same frames.
+  std::optional<SE3> measure_motion(const RgbdFrame& frame, const SE3& predicted) const;
+  std::optional<SE3> measure_motion_from_rest(const RgbdFrame& frame) const;
+  // How far one alignment may move, in 30 Hz frame periods since the last frame (at least 1).
+  double odometry_step_scale(const RgbdFrame& frame) const;
   // Lost: track from the dead-reckoned pose guess when the local map agrees with it.
   bool bridge(Frame& cur, const RgbdFrame& frame, const SE3& guess, TrackerOutput& out);
   // Lost, measured by depth odometry, nothing to bridge to: a keyframe at that pose.
@@ -209,7 +219,7 @@ class Tracker {
   void prepare_last_frame(Frame cur, double depth_limit_m);
   void note_visible(PointId id, int visible, int found);
   bool follow_merges(const LocalMapSnapshot& snapshot);  // false: a sub-map this one never joined
-  void keep_images(const RgbdFrame& frame);              // last_frame_ = frame's images
+  void keep_images(const RgbdFrame& frame, const SE3& T_c_w);  // last_frame_ = frame's images, posed
 
   PinholeCamera camera_;
   features::FeatureConfig feature_config_;
@@ -217,7 +227,11 @@ class Tracker {
   int pending_new_points_;
   features::OrbExtractor extractor_;
   DepthOdometry odometry_;
-  RgbdFrame last_frame_;  // the previous frame's images (shallow), for depth odometry
+  // The images (shallow) of the last frame with a pose not guessed, for depth odometry, and that
+  // pose: a LOST frame's pose is only the velocity's guess, so its images are not kept and the
+  // next frame is measured from the frame before it (docs/RESULTS.md, session 30).
+  RgbdFrame last_frame_;
+  SE3 T_c_w_last_frame_ = SE3::Identity();
   std::shared_ptr<const LocalMapSnapshot> snapshot_;
   TrackState state_ = TrackState::kNotInitialized;
   Frame last_;
