@@ -68,10 +68,12 @@ std::optional<SE3> Tracker::measure_motion(const RgbdFrame& frame, const SE3& pr
   //    minimum; a degenerate one (one plane in view) slides along its valley or fails. A hand-held
   //    camera's motion changes by more than the bounds in one frame in 1 of 6 frames of the
   //    kitchen, where both starts agree to 0.05 deg (docs/RESULTS.md, session 11).
+  //    Both frames are prepared once for both starts (the same result as fresh images).
   const double scale = odometry_step_scale(frame);
-  if (const std::optional<SE3> motion = odometry_.align(last_frame_, frame, predicted, scale)) {
+  const DepthOdometry::PreparedFrame last = odometry_.prepare(last_frame_), cur = odometry_.prepare(frame);
+  if (const std::optional<SE3> motion = odometry_.align(last, cur, predicted, scale)) {
     if (agrees(*motion, predicted)) return motion;
-    const std::optional<SE3> restarted = odometry_.align(last_frame_, frame, SE3::Identity(), scale);
+    const std::optional<SE3> restarted = odometry_.align(last, cur, SE3::Identity(), scale);
     if (restarted && agrees(*motion, *restarted)) return motion;
   }
   // 2. A degenerate view: what it constrains measured, the rest kept from the velocity. At least
@@ -91,9 +93,10 @@ std::optional<SE3> Tracker::measure_motion_from_rest(const RgbdFrame& frame) con
   // forward alignment from rest is within 1 deg / 1 cm of the ground truth on most pairs
   // (docs/RESULTS.md, session 30).
   const double scale = odometry_step_scale(frame);
-  const std::optional<SE3> motion = odometry_.align(last_frame_, frame, SE3::Identity(), scale);
+  const DepthOdometry::PreparedFrame last = odometry_.prepare(last_frame_), cur = odometry_.prepare(frame);
+  const std::optional<SE3> motion = odometry_.align(last, cur, SE3::Identity(), scale);
   if (!motion) return std::nullopt;
-  const std::optional<SE3> reverse = odometry_.align(frame, last_frame_, SE3::Identity(), scale);
+  const std::optional<SE3> reverse = odometry_.align(cur, last, SE3::Identity(), scale);
   if (!reverse || !poses_agree(*motion, reverse->inverse(), config_.odometry_deg, config_.odometry_m))
     return std::nullopt;
   return motion;
