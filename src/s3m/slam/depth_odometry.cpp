@@ -1,5 +1,6 @@
 #include "s3m/slam/depth_odometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -108,6 +109,13 @@ std::optional<SE3> DepthOdometry::compute(const PreparedFrame& prev, const Prepa
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) M(r, c) = Rt.at<double>(r, c);
   return orthonormalized(SE3(M));
+}
+
+bool odometry_steps_agree(const SE3& step, const SE3& other, double max_deg, double max_m, double fraction) {
+  constexpr double kMaxWidening = 2.0;
+  const double step_deg = rotation_angle_rad(step.linear()) * 180.0 / M_PI;
+  return poses_agree(step, other, std::clamp(fraction * step_deg, max_deg, kMaxWidening * max_deg),
+                     std::clamp(fraction * step.translation().norm(), max_m, kMaxWidening * max_m));
 }
 
 }  // namespace s3m::slam

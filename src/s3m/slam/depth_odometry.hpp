@@ -96,4 +96,13 @@ class DepthOdometry {
   cv::Mat map_x_, map_y_;    // undistortion maps at full resolution (empty: no distortion)
 };
 
+// Two estimates of one step (T_cur_last) agree: within max_deg / max_m, or within `fraction` of the
+// step's rotation and translation where that is more, but never more than twice max_deg / max_m.
+// Estimates of a step across a gap (a sparse recording, dropped frames) differ by a few percent
+// of it: forward and reverse alignment 0.6 deg / 1.2 cm apart on a 12 deg / 30 cm step 1.34 s long
+// (TUM fr3 cabinet). Twice the bounds at most: on the simulator an alignment that slid into the
+// same wrong basin from both sides, 90 deg from the truth, agreed to 0.26 deg / 4.9 cm
+// (docs/RESULTS.md, session 31). 30 Hz steps (< 2 deg / 4 cm) keep max_deg / max_m.
+bool odometry_steps_agree(const SE3& step, const SE3& other, double max_deg, double max_m, double fraction);
+
 }  // namespace s3m::slam

@@ -36,8 +36,8 @@ void TrackerConfig::validate() const {
   require(anchor_keyframes >= 1, "tracker.anchor_keyframes must be >= 1");
   require(coast_frames >= 0 && bridge_deg >= 0 && bridge_m >= 0 && bridge_min_inliers >= min_pose_inliers,
           "tracker: coast_frames, bridge_deg and bridge_m must be >= 0, bridge_min_inliers >= min_pose_inliers");
-  require(odometry_frames >= 0 && odometry_deg >= 0 && odometry_m >= 0,
-          "tracker: odometry_frames, odometry_deg and odometry_m must be >= 0");
+  require(odometry_frames >= 0 && odometry_deg >= 0 && odometry_m >= 0 && odometry_agree_fraction >= 0,
+          "tracker: odometry_frames, odometry_deg, odometry_m and odometry_agree_fraction must be >= 0");
   odometry.validate();
 }
 

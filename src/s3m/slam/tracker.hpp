@@ -82,10 +82,16 @@ struct TrackerConfig {
   // frame right after a map's first, with no velocity yet, is measured from no motion and confirmed
   // by the reverse alignment. Measurements start from the last frame with a pose that is not a
   // guess and may move as far as the time since then allows (DepthOdometryConfig::max_step_m per
-  // 30 Hz period): a sparse recording 0.67 s apart is measured end to end. 0 = off.
+  // 30 Hz period): a sparse recording 0.67 s apart is measured end to end. After such a gap the
+  // velocity is no better a start than no motion: when its alignment fails, the one from no motion
+  // is kept if the reverse alignment confirms it (1.34 s apart: 1 frame in 29 LOST). 0 = off.
   int odometry_frames = 30;
   double odometry_deg = 0.5;   // agreement of the measured motion with a second estimate, rotation [deg]
   double odometry_m = 0.015;   // ... translation [m]
+  // ... or, for two alignments of one step, this fraction of the step's rotation and translation
+  // where that is more, up to twice the bounds (odometry_steps_agree): estimates of a step across
+  // a gap (a sparse recording, dropped frames) differ by a few percent of it. 0 = the bounds alone.
+  double odometry_agree_fraction = 0.1;
   DepthOdometryConfig odometry;  // depth range from the feature config; downsample settable
   void validate() const;
 };
@@ -189,6 +195,11 @@ class Tracker {
   // predicted: the velocity's motion over the same frames.
   std::optional<SE3> measure_motion(const RgbdFrame& frame, const SE3& predicted) const;
   std::optional<SE3> measure_motion_from_rest(const RgbdFrame& frame) const;
+  // The reverse alignment (this frame onto the last, from no motion) confirms motion (T_cur_last).
+  bool reverse_agrees(const DepthOdometry::PreparedFrame& last, const DepthOdometry::PreparedFrame& cur,
+                      const SE3& motion, double scale) const;
+  // Two alignments of one step agree (odometry_steps_agree with odometry_deg, _m, _agree_fraction).
+  bool odometry_agree(const SE3& motion, const SE3& other) const;
   // How far one alignment may move, in 30 Hz frame periods since the last frame (at least 1).
   double odometry_step_scale(const RgbdFrame& frame) const;
   // Lost: track from the dead-reckoned pose guess when the local map agrees with it.
