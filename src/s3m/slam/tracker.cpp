@@ -20,27 +20,6 @@ DepthOdometryConfig odometry_config(const TrackerConfig& tracker, const features
 }
 }  // namespace
 
-void TrackerConfig::validate() const {
-  pose.validate();
-  require(close_depth_m > 0, "tracker.close_depth_m must be > 0");
-  require(motion_radius_px > 0 && local_radius_factor > 0, "tracker: search radii must be > 0");
-  require(min_pose_inliers >= 3 && min_local_inliers >= min_pose_inliers,
-          "tracker: need 3 <= min_pose_inliers <= min_local_inliers");
-  require(wide_match_ratio <= 1.0, "tracker.wide_match_ratio must be <= 1 (<= 0.7: off)");
-  require(max_frames_between_keyframes >= 1 && min_frames_between_keyframes >= 0,
-          "tracker: keyframe frame gaps must be >= 1 / >= 0");
-  require(keyframe_ref_ratio > 0 && keyframe_ref_ratio <= 1, "tracker.keyframe_ref_ratio must be in (0, 1]");
-  require(keyframe_decay_ratio >= 0 && keyframe_decay_ratio < 1, "tracker.keyframe_decay_ratio must be in [0, 1)");
-  require(keyframe_max_deg >= 0 && keyframe_max_m >= 0, "tracker.keyframe_max_deg / keyframe_max_m must be >= 0");
-  require(max_pending_keyframes >= 1 && min_init_depth_points >= 3, "tracker: bad pending/init limits");
-  require(anchor_keyframes >= 1, "tracker.anchor_keyframes must be >= 1");
-  require(coast_frames >= 0 && bridge_deg >= 0 && bridge_m >= 0 && bridge_min_inliers >= min_pose_inliers,
-          "tracker: coast_frames, bridge_deg and bridge_m must be >= 0, bridge_min_inliers >= min_pose_inliers");
-  require(odometry_frames >= 0 && odometry_deg >= 0 && odometry_m >= 0 && odometry_agree_fraction >= 0,
-          "tracker: odometry_frames, odometry_deg, odometry_m and odometry_agree_fraction must be >= 0");
-  odometry.validate();
-}
-
 int Tracker::Frame::n_matched() const { return static_cast<int>(std::count(matched.begin(), matched.end(), 1)); }
 
 int Tracker::Frame::n_map_matched() const {
