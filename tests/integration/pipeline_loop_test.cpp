@@ -95,9 +95,11 @@ TEST(PipelineLoopClosing, LostFramesAreMarkedNotMappedAndTrackingIsRelocalised) 
 }
 
 // With depth odometry (the default) the same black frames are posed by their depth: ODOMETRY,
-// in the trajectory, and still not in the map (their colour is what failed). Measured: 10
-// ODOMETRY, frame 260 RELOCALISED (the odometry from a black frame to a colour one fails its
-// agreement check), ATE 1.06 cm over all 290 frames.
+// in the trajectory, and still not in the map (their colour is what failed). Measured: 10 black
+// frames ODOMETRY, and frame 260, the first in colour again after the skipped frames, ODOMETRY as
+// well: its forward and reverse alignment from the black frame disagree and the one that explains
+// both depth images better is kept (session 31; before, it failed the agreement check and was
+// RELOCALISED, ATE 1.06 cm). ATE 0.39 cm over all 290 frames.
 TEST(PipelineLoopClosing, BlackFramesWithDepthArePosedByDepthOdometryButNotMapped) {
   const pipeline::RunResult r = run_loop("loop_outage_odometry", Variant::kOutage, 4);
   const auto& m = r.metrics;
@@ -105,7 +107,8 @@ TEST(PipelineLoopClosing, BlackFramesWithDepthArePosedByDepthOdometryButNotMappe
   std::printf("outage with depth odometry: ATE %.4f m, tracking %s\n", m["trajectory"]["ate_rmse_m"].get<double>(),
               t.dump().c_str());
   const int delivered = kLoopFrames - kSkipped;
-  EXPECT_EQ(t["states"].value("ODOMETRY", 0), 10) << t.dump();
+  EXPECT_EQ(t["states"].value("ODOMETRY", 0), 11) << t.dump();
+  EXPECT_EQ(t["states"].value("RELOCALISED", 0), 0) << t.dump();
   EXPECT_EQ(t["states"].value("LOST", 0), 0) << t.dump();
   EXPECT_EQ(m["tracked"].get<int>(), delivered - 10);
   EXPECT_EQ(m["integrated"].get<int>(), delivered - 10);

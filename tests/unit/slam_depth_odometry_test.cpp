@@ -295,5 +295,30 @@ TEST(DepthOdometry, StepsAgreeWithinAFractionOfTheStepUpToTwiceTheBounds) {
   EXPECT_FALSE(odometry_steps_agree(small, moved(small, 0.016), max_deg, max_m, fraction));
 }
 
+// Session 31: after a 2 s gap forward and reverse alignment may disagree because one slid into a
+// wrong basin; the depth the two views share tells them apart (TUM fr3 cabinet: right steps 0.82-0.97,
+// wrong ones 0.53-0.56).
+TEST(DepthOdometry, DepthAgreementIsHighForTheTrueStepOnlyAndExactOnItself) {
+  const PinholeCamera cam = test::room_camera();
+  const int a = 40, b = 60;
+  const SE3 T_w_a = test::uav_pose(a, 300);
+  const SE3 T_w_b = T_w_a * make_se3(so3_exp(Vec3(0.0, 6.0 * M_PI / 180, 0.0)), Vec3(0.03, 0.0, 0.2));
+  const RgbdFrame fa = test::render_room(test::Room{}, cam, T_w_a, a, a / 30.0, 0.0);
+  const RgbdFrame fb = test::render_room(test::Room{}, cam, T_w_b, b, b / 30.0, 0.0);
+  // A frame onto itself: every pixel lands on itself, exactly.
+  EXPECT_DOUBLE_EQ(depth_agreement(cam, fa.depth_m, fa.depth_m, SE3::Identity()), 1.0);
+  const SE3 truth = T_w_b.inverse() * T_w_a;
+  const double right = depth_agreement(cam, fa.depth_m, fb.depth_m, truth);
+  const SE3 turned = make_se3(so3_exp(Vec3(0.0, 20.0 * M_PI / 180, 0.0)), Vec3::Zero()) * truth;
+  const double wrong = depth_agreement(cam, fa.depth_m, fb.depth_m, turned);
+  std::printf("depth agreement: true step %.3f, turned 20 deg %.3f\n", right, wrong);
+  EXPECT_GT(right, 0.95);
+  EXPECT_LT(wrong, 0.6);
+  // Nothing lands on a measured depth: 0.
+  const cv::Mat none = cv::Mat::zeros(fb.depth_m.size(), CV_32FC1);
+  EXPECT_EQ(depth_agreement(cam, fa.depth_m, none, truth), 0.0);
+  EXPECT_THROW(depth_agreement(cam, fa.depth_m, cv::Mat::zeros(fb.depth_m.size(), CV_16UC1), truth), Error);
+}
+
 }  // namespace
 }  // namespace s3m::slam

@@ -118,4 +118,26 @@ bool odometry_steps_agree(const SE3& step, const SE3& other, double max_deg, dou
                      std::clamp(fraction * step.translation().norm(), max_m, kMaxWidening * max_m));
 }
 
+double depth_agreement(const PinholeCamera& camera, const cv::Mat& depth_last, const cv::Mat& depth_cur,
+                       const SE3& T_cur_last) {
+  require(depth_last.type() == CV_32FC1 && depth_cur.type() == CV_32FC1, "depth_agreement: depth images must be CV_32FC1");
+  constexpr int kStride = 4;
+  int landed = 0, agreeing = 0;
+  for (int v = 0; v < depth_last.rows; v += kStride)
+    for (int u = 0; u < depth_last.cols; u += kStride) {
+      const float z = depth_last.at<float>(v, u);
+      if (!(z > 0.0f)) continue;  // NaN too
+      const Vec3 p = T_cur_last * camera.backproject(u, v, z);
+      if (p.z() <= 0.0) continue;
+      const Eigen::Vector2d q = camera.project(p);
+      const long qu = std::lround(q.x()), qv = std::lround(q.y());
+      if (qu < 0 || qv < 0 || qu >= depth_cur.cols || qv >= depth_cur.rows) continue;
+      const float z_cur = depth_cur.at<float>(static_cast<int>(qv), static_cast<int>(qu));
+      if (!(z_cur > 0.0f)) continue;
+      ++landed;
+      agreeing += std::abs(z_cur - p.z()) <= std::max(0.03, 0.03 * p.z());
+    }
+  return landed ? static_cast<double>(agreeing) / landed : 0.0;
+}
+
 }  // namespace s3m::slam

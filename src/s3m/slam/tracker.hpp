@@ -84,7 +84,8 @@ struct TrackerConfig {
   // guess and may move as far as the time since then allows (DepthOdometryConfig::max_step_m per
   // 30 Hz period): a sparse recording 0.67 s apart is measured end to end. After such a gap the
   // velocity is no better a start than no motion: when its alignment fails, the one from no motion
-  // is kept if the reverse alignment confirms it (1.34 s apart: 1 frame in 29 LOST). 0 = off.
+  // is kept if the reverse alignment confirms it, or, when the two disagree, the one that explains
+  // both depth images clearly better (depth_agreement; TUM fr3 cabinet 1.34 / 2 s apart: 0 LOST). 0 = off.
   int odometry_frames = 30;
   double odometry_deg = 0.5;   // agreement of the measured motion with a second estimate, rotation [deg]
   double odometry_m = 0.015;   // ... translation [m]
@@ -195,9 +196,10 @@ class Tracker {
   // predicted: the velocity's motion over the same frames.
   std::optional<SE3> measure_motion(const RgbdFrame& frame, const SE3& predicted) const;
   std::optional<SE3> measure_motion_from_rest(const RgbdFrame& frame) const;
-  // The reverse alignment (this frame onto the last, from no motion) confirms motion (T_cur_last).
-  bool reverse_agrees(const DepthOdometry::PreparedFrame& last, const DepthOdometry::PreparedFrame& cur,
-                      const SE3& motion, double scale) const;
+  // motion (T_cur_last) if the reverse alignment (this frame onto the last, from no motion) agrees;
+  // after a gap between two posed frames, the better of the two by depth_agreement when they do not.
+  std::optional<SE3> confirm_by_reverse(const RgbdFrame& frame, const DepthOdometry::PreparedFrame& last,
+                                        const DepthOdometry::PreparedFrame& cur, const SE3& motion, double scale) const;
   // Two alignments of one step agree (odometry_steps_agree with odometry_deg, _m, _agree_fraction).
   bool odometry_agree(const SE3& motion, const SE3& other) const;
   // How far one alignment may move, in 30 Hz frame periods since the last frame (at least 1).
