@@ -242,19 +242,31 @@ namespace {
 // 15 deg from its start (its defaults, made for consecutive 30 Hz frames), so a step of a 1.5 Hz
 // recording could never be measured from no motion. step_scale (the gap in 30 Hz periods) widens
 // that bound, and first finds the basin with the wide depth gate.
-TEST(DepthOdometry, AStepAfterAGapIsMeasuredOnlyWithTheGapsScale) {
+// Two rendered frames 0.67 s apart, as the TUM fr3 cabinet keyframes: 20 cm forward, 3 cm aside,
+// turning 6 deg. truth: T_b_a.
+struct GapPair {
+  RgbdFrame a, b;
+  SE3 truth;
+  int periods = 20;  // 30 Hz periods between them
+};
+GapPair gap_pair(double depth_noise_m) {
   const PinholeCamera cam = test::room_camera();
-  // 0.67 s apart, as the TUM fr3 cabinet keyframes: 20 cm forward, 3 cm aside, turning 6 deg.
   const int a = 40, b = 60;
   const SE3 T_w_a = test::uav_pose(a, 300);
   const SE3 T_w_b = T_w_a * make_se3(so3_exp(Vec3(0.0, 6.0 * M_PI / 180, 0.0)), Vec3(0.03, 0.0, 0.2));
-  const RgbdFrame fa = test::render_room(test::Room{}, cam, T_w_a, a, a / 30.0, 0.002);
-  const RgbdFrame fb = test::render_room(test::Room{}, cam, T_w_b, b, b / 30.0, 0.002);
-  const SE3 truth = T_w_b.inverse() * T_w_a;
+  return {test::render_room(test::Room{}, cam, T_w_a, a, a / 30.0, depth_noise_m),
+          test::render_room(test::Room{}, cam, T_w_b, b, b / 30.0, depth_noise_m), T_w_b.inverse() * T_w_a};
+}
+
+TEST(DepthOdometry, AStepAfterAGapIsMeasuredOnlyWithTheGapsScale) {
+  const PinholeCamera cam = test::room_camera();
+  const GapPair pair = gap_pair(0.002);
+  const RgbdFrame &fa = pair.a, &fb = pair.b;
+  const SE3 truth = pair.truth;
   ASSERT_GT(truth.translation().norm(), 0.15);
   const DepthOdometry odometry(cam, DepthOdometryConfig{});
   EXPECT_FALSE(odometry.align(fa, fb, SE3::Identity()).has_value()) << "beyond OpenCV's own bound";
-  const auto T = odometry.align(fa, fb, SE3::Identity(), b - a);
+  const auto T = odometry.align(fa, fb, SE3::Identity(), pair.periods);
   ASSERT_TRUE(T.has_value());
   const SE3 err = *T * truth.inverse();
   std::printf("step of %.1f deg / %.0f mm from no motion: %.3f deg / %.1f mm off\n", angle_deg(truth),
@@ -262,7 +274,7 @@ TEST(DepthOdometry, AStepAfterAGapIsMeasuredOnlyWithTheGapsScale) {
   EXPECT_LT(angle_deg(err), 0.2);
   EXPECT_LT(err.translation().norm(), 0.005);
   // The reverse alignment, the tracker's second estimate when it has no velocity, agrees.
-  const auto back = odometry.align(fb, fa, SE3::Identity(), b - a);
+  const auto back = odometry.align(fb, fa, SE3::Identity(), pair.periods);
   ASSERT_TRUE(back.has_value());
   EXPECT_TRUE(poses_agree(*T, back->inverse(), TrackerConfig{}.odometry_deg, TrackerConfig{}.odometry_m));
   EXPECT_THROW(odometry.align(fa, fb, SE3::Identity(), 0.5), Error) << "a scale below one period";
@@ -300,14 +312,11 @@ TEST(DepthOdometry, StepsAgreeWithinAFractionOfTheStepUpToTwiceTheBounds) {
 // wrong ones 0.53-0.56).
 TEST(DepthOdometry, DepthAgreementIsHighForTheTrueStepOnlyAndExactOnItself) {
   const PinholeCamera cam = test::room_camera();
-  const int a = 40, b = 60;
-  const SE3 T_w_a = test::uav_pose(a, 300);
-  const SE3 T_w_b = T_w_a * make_se3(so3_exp(Vec3(0.0, 6.0 * M_PI / 180, 0.0)), Vec3(0.03, 0.0, 0.2));
-  const RgbdFrame fa = test::render_room(test::Room{}, cam, T_w_a, a, a / 30.0, 0.0);
-  const RgbdFrame fb = test::render_room(test::Room{}, cam, T_w_b, b, b / 30.0, 0.0);
+  const GapPair pair = gap_pair(0.0);
+  const RgbdFrame &fa = pair.a, &fb = pair.b;
   // A frame onto itself: every pixel lands on itself, exactly.
   EXPECT_DOUBLE_EQ(depth_agreement(cam, fa.depth_m, fa.depth_m, SE3::Identity()), 1.0);
-  const SE3 truth = T_w_b.inverse() * T_w_a;
+  const SE3 truth = pair.truth;
   const double right = depth_agreement(cam, fa.depth_m, fb.depth_m, truth);
   const SE3 turned = make_se3(so3_exp(Vec3(0.0, 20.0 * M_PI / 180, 0.0)), Vec3::Zero()) * truth;
   const double wrong = depth_agreement(cam, fa.depth_m, fb.depth_m, turned);
