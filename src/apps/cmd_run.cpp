@@ -34,10 +34,15 @@ void print_summary(const pipeline::RunResult& r, const std::string& out) {
               << " RELOCALISED, ";
     if (const int n = t["states"].value("ODOMETRY", 0); n > 0) std::cout << n << " ODOMETRY (posed by depth odometry), ";
     std::cout << m.value("corrections", 0) << " loop corrections applied to the map\n";
-    if (t.contains("submaps") && t["submaps"].value("started", 0) > 0)
-      std::cout << "sub-maps: " << t["submaps"]["started"] << " started after relocalisation failed ("
-                << t["states"].value("SUBMAP", 0) << " frames tracked in them), " << t["submaps"]["merges"]
-                << " merged, " << t["submaps"]["keyframes_outside_world"] << " keyframes never met the map\n";
+    if (t.contains("submaps") && t["submaps"].value("started", 0) > 0) {
+      const auto& sub = t["submaps"];
+      std::cout << "sub-maps: " << sub["started"] << " started after relocalisation failed ("
+                << t["states"].value("SUBMAP", 0) << " frames tracked in them), " << sub["merges"] << " merged, "
+                << sub["keyframes_outside_world"] << " keyframes never met the map\n";
+      if (sub.value("world_moved", false))
+        std::cout << "world: the sub-map with the most tracked frames (loop_closing.merge.world); left out of the "
+                  << "trajectory and the map: " << sub.value("frames_outside_world", 0) << " tracked frame(s) of the others\n";
+    }
   }
   if (m.contains("trajectory") && m["trajectory"].contains("ate_rmse_m"))
     std::cout << "ATE RMSE: " << m["trajectory"]["ate_rmse_m"].get<double>() << " m\n";

@@ -2,6 +2,7 @@
 // kept clouds so the map matches the corrected trajectory. Checked against a map built with the
 // corrected poses from the start, and against what a pipeline that ignored the correction gets.
 #include <map>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -92,6 +93,78 @@ TEST(PipelineCorrection, MapIsReintegratedWithCorrectedKeyframePoses) {
   EXPECT_GT(agreement(corrected, reference), 0.995);
   // Without re-integration the first half of the map stays at the old poses.
   EXPECT_LT(agreement(reference, ignored), 0.9);
+}
+
+// Ground-truth poses split in two maps at frame `split`, as SLAM's sub-maps: the frames before it
+// are the first map; from it on a sub-map in a frame of its own (T_sub * truth), every frame a
+// keyframe. detach: the sub-map is outside the world while frames come, and becomes the world at
+// finish() (slam::System::choose_world); without, its frames are in the world from the start (the
+// reference: a run that only ever saw the sub-map).
+class SplitWorldPoses final : public pipeline::PoseSource {
+ public:
+  SplitWorldPoses(const io::Trajectory& gt, int split, const SE3& T_sub, bool detach)
+      : gt_(gt), split_(split), T_sub_(T_sub), detach_(detach) {}
+
+  pipeline::TrackOutput track(const RgbdFrame& frame) override {
+    pipeline::TrackOutput out;
+    const bool sub = frame.index >= split_;
+    out.T_w_c = sub ? T_sub_ * gt_.at(std::size_t(frame.index)).T_w_x : gt_.at(std::size_t(frame.index)).T_w_x;
+    out.ok = out.keyframe = true;
+    out.state = "OK";
+    out.detached = sub && detach_;
+    out.anchor = {frame.index, SE3::Identity()};
+    (sub ? sub_ : first_).emplace(frame.index, out.T_w_c);
+    return out;
+  }
+  std::vector<pipeline::KeyframePoses> finish() override {
+    moved_ = detach_ && !sub_.empty();
+    return {};
+  }
+  io::Trajectory camera_trajectory() const override { return {}; }
+  io::Trajectory keyframe_trajectory() const override { return {}; }
+  pipeline::KeyframePoses keyframe_poses() const override { return moved_ || !detach_ ? sub_ : first_; }
+  std::optional<pipeline::KeyframePoses> moved_world() const override {
+    return moved_ ? std::optional(sub_) : std::nullopt;
+  }
+  std::string name() const override { return "split ground truth"; }
+
+ private:
+  io::Trajectory gt_;
+  int split_;
+  SE3 T_sub_;
+  bool detach_, moved_ = false;
+  pipeline::KeyframePoses first_, sub_;
+};
+
+// Frames [from, to) of the sequence.
+std::map<VoxelKey, ClassId> run_split(const io::TumDataset& data, int split, int from, int to, bool detach,
+                                      bool reintegrate) {
+  pipeline::PipelineConfig cfg = sim_preset();
+  cfg.threads.deterministic = true;
+  cfg.flow.final_reintegration = reintegrate;
+  const SE3 T_sub = make_se3(Vec3(6.0, -4.0, 1.0), Quat(Eigen::AngleAxisd(0.7, Vec3::UnitZ())));
+  pipeline::Pipeline p(cfg, data.camera(), std::make_unique<SplitWorldPoses>(data.groundtruth(), split, T_sub, detach),
+                       std::make_unique<semantics::OracleSegmenter>(cfg.segmenter.oracle, cfg.segmenter.top_k),
+                       std::make_unique<pipeline::MapIntegrator>(cfg.map));
+  for (int i = from; i < to; ++i) p.process(data.load(std::size_t(i)));
+  p.finish();
+  return occupied(p.map()->tree());
+}
+
+TEST(PipelineCorrection, WhenAnotherSubMapBecomesTheWorldTheMapIsItsAlone) {
+  const io::TumDataset data = io::TumDataset::open(sequence_dir());
+  const int split = kFrames / 3;
+  const auto first_only = run_split(data, kFrames, 0, split, true, true);    // the first map's frames
+  const auto sub_only = run_split(data, split, split, kFrames, false, true);  // the sub-map's, in its frame
+  ASSERT_GT(sub_only.size(), 1000u);
+  ASSERT_GT(first_only.size(), 1000u);
+  for (const bool reintegrate : {true, false}) {
+    const auto moved = run_split(data, split, 0, kFrames, true, reintegrate);  // all; the world moves at the end
+    // The sub-map's frames, at its poses, and nothing of the first map (6 m away).
+    EXPECT_GT(agreement(sub_only, moved), 0.995) << "final_reintegration " << reintegrate;
+    EXPECT_GT(agreement(moved, sub_only), 0.995) << "final_reintegration " << reintegrate;
+    EXPECT_LT(agreement(first_only, moved), 0.01) << "final_reintegration " << reintegrate;
+  }
 }
 
 }  // namespace

@@ -125,6 +125,28 @@ TEST(KeyframeStore, DetachedKeyframesJoinTheWorldWhenACorrectionListsThem) {
   EXPECT_TRUE(near(s.T_w_c(s.clouds()[1]), at(3.5, 1)));
 }
 
+TEST(KeyframeStore, AnotherSubMapBecomingTheWorldSwapsWhichCloudsAreIn) {
+  // Keyframe 0 is the first map's; 2 and 3 are a sub-map's (poses in its own frame).
+  KeyframeStore s;
+  s.note_keyframe(0, at(0));
+  s.note_keyframe(2, at(0), /*detached=*/true);
+  s.note_keyframe(3, at(1), /*detached=*/true);
+  s.add(0, at(0), 0, {});
+  s.add(2, at(0.5), 4, {});  // rides on keyframe 2, 0.5 m ahead of it
+  // SLAM made the sub-map the world; 5 is one of its keyframes culled before it was noted here.
+  s.set_world({{2, at(3, 1)}, {3, at(4, 1)}, {5, at(6)}});
+  EXPECT_FALSE(s.in_world(0));
+  EXPECT_FALSE(s.in_world(s.clouds()[0]));
+  EXPECT_TRUE(s.in_world(s.clouds()[1]));
+  EXPECT_TRUE(s.in_world(3));
+  EXPECT_TRUE(s.in_world(5));
+  EXPECT_TRUE(near(s.T_w_c(s.clouds()[1]), at(3.5, 1)));
+  EXPECT_TRUE(near(s.keyframes().at(0), at(0)));  // kept as it was, outside
+  // A later correction of the world alone does not bring the old map back.
+  s.update_poses({{2, at(3, 1)}, {3, at(4, 1)}});
+  EXPECT_FALSE(s.in_world(0));
+}
+
 TEST(KeyframeStore, RefusesAnUnknownAnchor) {
   KeyframeStore s;
   EXPECT_THROW(s.add(7, at(0), 0, {}), Error);

@@ -9,11 +9,13 @@
 #include <filesystem>
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 #include <unistd.h>
 
 #include "s3m/core/error.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
 #include "s3m/slam/map_merge.hpp"
+#include "s3m/slam/slam_config.hpp"
 #include "s3m/slam/system.hpp"
 #include "slam_synthetic_room.hpp"
 
@@ -191,6 +193,86 @@ TEST(SlamMerge, SubMapThatNeverMeetsTheWorldIsNeitherReportedNorSaved) {
   slam.save_map(saved.string());
   EXPECT_EQ(load_slam_map(saved.string(), room_camera(), vocabulary()).map.n_keyframes(), a_keyframes);
   fs::remove(saved);
+}
+
+// A session whose camera looked at the other side of the room for its first frame, then flies the
+// first quarter of the lap (A's frames 1..): the first map is that one frame.
+struct ElsewhereFirst {
+  std::vector<TrackResult> results;
+  std::vector<FramePose> traj, keyframes;
+  int new_submaps = 0, merges = 0, outside_world = 0, frames_outside_world = 0;
+  bool world_moved = false;
+};
+
+constexpr int kElsewhereFrames = 60;
+
+ElsewhereFirst run_elsewhere_first(const SlamConfig& cfg, const std::string& save_to = "") {
+  System slam(room_camera(), cfg, vocabulary());
+  ElsewhereFirst e;
+  e.results.push_back(slam.track(b_frames()[0]));
+  for (int i = 1; i < kElsewhereFrames; ++i) e.results.push_back(slam.track(a_frame(i)));
+  slam.finish();
+  e.traj = slam.camera_trajectory();
+  e.keyframes = slam.keyframe_trajectory();
+  e.new_submaps = slam.n_new_submaps();
+  e.merges = slam.n_merges();
+  e.outside_world = slam.n_keyframes_outside_world();
+  e.frames_outside_world = slam.n_frames_outside_world();
+  e.world_moved = slam.world_moved();
+  if (!save_to.empty()) slam.save_map(save_to);
+  return e;
+}
+
+TEST(SlamMerge, ASessionThatStartedLookingElsewhereEndsInTheMapOfItsOtherFrames) {
+  const SlamConfig cfg;
+  const fs::path saved = temp_file("elsewhere");
+  const ElsewhereFirst e = run_elsewhere_first(cfg, saved.string());
+  // The first map was tracked no further than its first frame: merge.start_frames frames fail to
+  // relocalise (not lost_frames), the last of them starts the sub-map that tracks the rest.
+  const int start = cfg.loop_closing.loop.merge.start_frames;
+  ASSERT_LT(start, cfg.loop_closing.loop.merge.lost_frames);
+  EXPECT_EQ(e.results[0].state, TrackState::kOk);
+  for (int i = 1; i < start; ++i) EXPECT_EQ(e.results[std::size_t(i)].state, TrackState::kLost) << "frame " << i;
+  EXPECT_TRUE(e.results[std::size_t(start)].keyframe);
+  EXPECT_EQ(e.results[std::size_t(start)].submap, 1);
+  EXPECT_EQ(e.new_submaps, 1);
+  EXPECT_EQ(e.merges, 0) << "the two never see the same walls";
+  // At the end the map with the most frames is the world: the trajectory has every frame from the
+  // sub-map's start, in its frame (its first camera), and leaves out frame 0 and its keyframe.
+  EXPECT_TRUE(e.world_moved);
+  EXPECT_EQ(e.outside_world, 1);
+  EXPECT_EQ(e.frames_outside_world, 1);
+  ASSERT_EQ(e.traj.size(), std::size_t(kElsewhereFrames - start));
+  EXPECT_EQ(e.traj.front().frame_index, start);
+  double worst = 0;
+  for (const auto& p : e.traj) {
+    const SE3 truth = lap_pose(start).inverse() * lap_pose(p.frame_index);
+    worst = std::max(worst, (p.T_w_x.translation() - truth.translation()).norm());
+  }
+  std::printf("elsewhere first: world moved to the sub-map from frame %d, %zu frames, worst position error %.4f m\n",
+              start, e.traj.size(), worst);
+  EXPECT_LT(worst, 0.02);
+  ASSERT_FALSE(e.keyframes.empty());
+  EXPECT_EQ(e.keyframes.front().frame_index, start);
+  // The saved map is that world.
+  EXPECT_EQ(load_slam_map(saved.string(), room_camera(), vocabulary()).map.n_keyframes(), int(e.keyframes.size()));
+  fs::remove(saved);
+}
+
+TEST(SlamMerge, TheFirstMapStaysTheWorldWhenAskedTo) {
+  SlamConfig cfg;
+  read_loop_closing(YAML::Load("merge: {world: first}"), cfg.loop_closing, "test");
+  ASSERT_EQ(cfg.loop_closing.loop.merge.world, "first");
+  const ElsewhereFirst e = run_elsewhere_first(cfg);
+  EXPECT_EQ(e.new_submaps, 1);
+  EXPECT_FALSE(e.world_moved);
+  // Frame 0, then the LOST frames 1-4 (System's trajectory lists them with their state).
+  ASSERT_EQ(e.traj.size(), std::size_t(cfg.loop_closing.loop.merge.start_frames));
+  EXPECT_EQ(e.traj.front().frame_index, 0);
+  for (std::size_t i = 1; i < e.traj.size(); ++i) EXPECT_EQ(e.traj[i].state, TrackState::kLost);
+  EXPECT_EQ(e.frames_outside_world, kElsewhereFrames - cfg.loop_closing.loop.merge.start_frames);
+  cfg.loop_closing.loop.merge.world = "biggest";
+  EXPECT_THROW(cfg.validate(), Error);
 }
 
 TEST(SlamMerge, SavedSessionsMergeOffline) {

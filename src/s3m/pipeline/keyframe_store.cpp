@@ -114,4 +114,11 @@ double KeyframeStore::update_poses(const std::map<KeyframeId, SE3>& T_w_kf) {
   return max_shift_m;
 }
 
+void KeyframeStore::set_world(const std::map<KeyframeId, SE3>& T_w_kf) {
+  for (const auto& [id, T] : T_w_kf) keyframes_.insert_or_assign(id, T);
+  detached_.clear();
+  for (const auto& [id, T] : keyframes_)
+    if (!T_w_kf.count(id)) detached_.insert(id);
+}
+
 }  // namespace s3m::pipeline

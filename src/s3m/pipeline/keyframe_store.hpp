@@ -55,6 +55,10 @@ class KeyframeStore {
   // spatially closest to in time. Listed detached keyframes join the world. Returns the largest
   // anchor translation change [m] (infinity when a keyframe holding clouds joined the world).
   double update_poses(const std::map<KeyframeId, SE3>& T_w_kf);
+  // The world is now exactly the listed keyframes (SLAM made another sub-map the world at the end):
+  // they take these poses and join it; every other noted keyframe leaves it (its clouds are kept,
+  // not mapped).
+  void set_world(const std::map<KeyframeId, SE3>& T_w_kf);
   // Whether a cloud (its keyframe) is in the world: what a rebuild inserts and a session saves.
   bool in_world(KeyframeId id) const { return detached_.count(id) == 0; }
   bool in_world(const KeptCloud& c) const { return in_world(c.anchor.keyframe); }

@@ -192,7 +192,8 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   m["tracking"] = tracking_json(p.frames());
   const PoseSource::Submaps sub = p.poses().submaps();
   m["tracking"]["submaps"] = {{"started", sub.started}, {"merges", sub.merges},
-                              {"keyframes_outside_world", sub.keyframes_outside_world}};
+                              {"keyframes_outside_world", sub.keyframes_outside_world},
+                              {"frames_outside_world", sub.frames_outside_world}, {"world_moved", sub.world_moved}};
   m["timings_ms"] = timings_json(p.timings());
   const TrajectoryScore traj = evaluate_trajectory(p, source, config, paths);
   m["trajectory"] = traj.json;

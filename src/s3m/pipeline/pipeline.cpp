@@ -179,7 +179,10 @@ void Pipeline::finish() {
     if (error_) std::rethrow_exception(error_);
   }
   apply_pending_corrections();
-  if (map_ && config_.flow.final_reintegration && store_.size() > 0) {
+  // The world moved to another sub-map: what was mapped so far is in the old one's frame.
+  const std::optional<KeyframePoses> world = poses_->moved_world();
+  if (world) store_.set_world(*world);
+  if (map_ && (config_.flow.final_reintegration || world) && store_.size() > 0) {
     Stopwatch sw;
     store_.update_poses(poses_->keyframe_poses());
     map_->rebuild(store_);

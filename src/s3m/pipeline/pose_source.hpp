@@ -4,6 +4,7 @@
 // the pipeline's process() does not care which.
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,10 +59,16 @@ class PoseSource {
   virtual bool save_map(const std::string& /*path*/) const { return false; }
   // SLAM sub-maps (slam/map_merge.hpp), after finish(): started when relocalisation kept failing,
   // merges made, and keyframes still outside the world (neither reported nor saved).
+  // world_moved: the world became another sub-map at the end (the one with the most tracked
+  // frames); frames_outside_world: tracked frames left out of the trajectory.
   struct Submaps {
-    int started = 0, merges = 0, keyframes_outside_world = 0;
+    int started = 0, merges = 0, keyframes_outside_world = 0, frames_outside_world = 0;
+    bool world_moved = false;
   };
   virtual Submaps submaps() const { return {}; }
+  // After finish(), when the world moved (Submaps::world_moved): every keyframe now in it, culled
+  // ones included, with its pose; every other keyframe has left it. Otherwise nothing.
+  virtual std::optional<KeyframePoses> moved_world() const { return std::nullopt; }
 };
 
 // Ground-truth poses (T_w_c from the dataset). Keyframes are chosen by motion, like a SLAM

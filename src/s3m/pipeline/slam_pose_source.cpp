@@ -84,7 +84,16 @@ class SlamPoses final : public PoseSource {
     return true;
   }
   Submaps submaps() const override {
-    return {system_.n_new_submaps(), system_.n_merges(), system_.n_keyframes_outside_world()};
+    return {system_.n_new_submaps(), system_.n_merges(), system_.n_keyframes_outside_world(),
+            system_.n_frames_outside_world(), system_.world_moved()};
+  }
+  std::optional<KeyframePoses> moved_world() const override {
+    if (!system_.world_moved()) return std::nullopt;
+    const slam::Map& map = system_.map();
+    KeyframePoses world = keyframe_poses();
+    for (const auto& [id, link] : map.culled())
+      if (map.submap_of(id) == 0) world.emplace(id, map.resolve_T_w_kf(id));
+    return world;
   }
   std::string name() const override {
     if (system_.localize_only()) return "s3m SLAM, localisation only in a loaded map";

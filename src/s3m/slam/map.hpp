@@ -98,6 +98,9 @@ class Map {
   // Merge: moves every keyframe and point of sub-map `from` by T_to_from (rigidly, into the frame
   // of sub-map `to`) and makes them members of `to`.
   void move_submap(int from, int to, const SE3& T_to_from);
+  // Exchanges the labels of two sub-maps (no pose changes: each keeps its own frame). Making
+  // another sub-map the world is relabelling it 0.
+  void swap_submaps(int a, int b);
   // Hangs kf's spanning tree below new_parent: the path from kf up to its root is reversed, so kf's
   // old root becomes an ordinary member of new_parent's tree.
   void join_tree(KeyframeId kf, KeyframeId new_parent);

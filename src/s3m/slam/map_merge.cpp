@@ -15,6 +15,8 @@ void MergeConfig::validate() const {
   require(start_frames >= 1 && lost_frames >= 1,
           "loop_closing.merge: start_frames and lost_frames must be >= 1 (got " + std::to_string(start_frames) + ", " +
               std::to_string(lost_frames) + ")");
+  require(world == "first" || world == "largest",
+          "loop_closing.merge.world: expected 'first' or 'largest', got '" + world + "'");
 }
 
 void SessionMergeConfig::validate() const {

@@ -38,6 +38,11 @@ void Map::move_submap(int from, int to, const SE3& T_to_from) {
     }
 }
 
+void Map::swap_submaps(int a, int b) {
+  for (auto& [id, kf] : keyframes_)  // culled keyframes follow their parents (submap_of)
+    if (kf.submap == a || kf.submap == b) kf.submap = kf.submap == a ? b : a;
+}
+
 void Map::join_tree(KeyframeId kf, KeyframeId new_parent) {
   require(keyframes_.count(kf) && keyframes_.count(new_parent) && kf != new_parent,
           "Map::join_tree: needs two different live keyframes");

@@ -219,10 +219,11 @@ void read_reloc(const YAML::Node& n, RelocConfig& c, const std::string& ctx) {
 
 void read_merge(const YAML::Node& n, MergeConfig& c, const std::string& ctx) {
   if (!n) return;
-  check_known_keys(n, {"enabled", "start_frames", "lost_frames", "global_ba"}, ctx);
+  check_known_keys(n, {"enabled", "start_frames", "lost_frames", "world", "global_ba"}, ctx);
   yaml_get(n, "enabled", c.enabled, ctx);
   yaml_get(n, "start_frames", c.start_frames, ctx);
   yaml_get(n, "lost_frames", c.lost_frames, ctx);
+  yaml_get(n, "world", c.world, ctx);
   yaml_get(n, "global_ba", c.global_ba, ctx);
 }
 

@@ -146,6 +146,7 @@ void System::load_map(const std::string& path, bool localize_only) {
   tracker_.continue_map(map_.last_keyframe_id() + 1);
   tracker_.set_localize_only(localize_only);
   localize_only_ = localize_only;
+  world_loaded_ = true;
 }
 
 void System::save_map(const std::string& path) const {
@@ -274,6 +275,7 @@ TrackResult System::track(const RgbdFrame& frame) {
   //    corrections received meanwhile.
   n_lost_ += r.state == TrackState::kLost;
   n_relocalised_ += r.state == TrackState::kRelocalised;
+  frames_in_submap_ += r.state != TrackState::kLost && r.anchor.keyframe != kNoKeyframe;
   if (r.anchor.keyframe != kNoKeyframe)
     records_.push_back({frame.index, frame.t_s, r.state, r.anchor, std::move(out.anchors)});  // empty unless tracked
   r.corrections = std::move(corrections_);
@@ -300,6 +302,7 @@ void System::finish() {
     ba.first_iterations = ba.second_iterations = ba.global_iterations;
     n_global_ba_outliers_ = global_bundle_adjustment(map_, camera_, ba, /*hold_large_steps=*/true, mapper_.links());
   }
+  choose_world();
 }
 
 // A frame tracked against points of several keyframes moves with all of them when BA moves them

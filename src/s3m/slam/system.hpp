@@ -141,6 +141,11 @@ class System {
   int n_new_submaps() const { return next_submap_ - 1; }
   int n_merges() const { return n_merges_; }
   int n_keyframes_outside_world() const { return map_.n_keyframes() - map_.n_keyframes_in(0); }
+  // After finish(): tracked frames left out of camera_trajectory() (in sub-maps outside the world),
+  // and whether the world became another sub-map at the end (loop_closing.merge.world "largest":
+  // the map of the first frames then is one of those left out).
+  int n_frames_outside_world() const;
+  bool world_moved() const { return world_moved_; }
 
  private:
   struct FrameRecord;
@@ -176,6 +181,8 @@ class System {
   // Sub-maps (system_submaps.cpp). Tracking side: relocalise a LOST frame, else count the failure
   // and start a new sub-map when there were enough.
   void recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r);
+  // At finish(): makes the sub-map with the most tracked frames the world (merge.world).
+  void choose_world();
   // Mapping side: a request of a sub-map merged meanwhile is moved into the sub-map it joined; a
   // correction is handed on for the world's keyframes only (none: a loop inside another sub-map).
   int follow_merges(int submap) const;
@@ -198,6 +205,9 @@ class System {
   int n_lost_ = 0, n_relocalised_ = 0;
   int n_failed_relocalisations_ = 0;  // consecutive LOST frames that did not relocalise
   int next_submap_ = 1;               // tracking side: the id a new sub-map gets
+  int frames_in_submap_ = 0;          // tracking side: frames tracked in the current sub-map
+  bool world_loaded_ = false;         // load_map(): the loaded map is the world for good
+  bool world_moved_ = false;          // choose_world() made another sub-map the world
   // Mapping side: merged sub-map -> (the sub-map it joined, T_into_from).
   std::map<int, std::pair<int, SE3>> merged_into_;
   int n_merges_ = 0;

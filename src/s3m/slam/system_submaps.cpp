@@ -3,6 +3,9 @@
 // follow them, and corrections are handed on in the world's terms (mapping side).
 #include "s3m/slam/system.hpp"
 
+#include <algorithm>
+#include <map>
+
 namespace s3m::slam {
 
 bool System::makes_submaps() const {
@@ -11,9 +14,11 @@ bool System::makes_submaps() const {
 }
 
 // Step 3 of track() for a LOST frame. A session continuing in a loaded map that has tracked
-// nothing yet gives up after merge.start_frames frames, a session that lost tracking after
-// merge.lost_frames; this frame then starts the new sub-map (as its first keyframe, when it has
-// enough depth; otherwise the next frame with enough does).
+// nothing yet, or whose map was tracked no further than its first frame (the camera was somewhere
+// else when the recording started, or the next frames came too far apart), gives up after
+// merge.start_frames frames; a session that lost tracking after merge.lost_frames. This frame then
+// starts the new sub-map (as its first keyframe, when it has enough depth; otherwise the next
+// frame with enough does).
 void System::recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r) {
   if (relocalise(*out.features, frame.index, r)) {
     n_failed_relocalisations_ = 0;
@@ -21,13 +26,37 @@ void System::recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r)
   }
   ++n_failed_relocalisations_;
   if (!makes_submaps()) return;
-  const bool at_start = r.anchor.keyframe == kNoKeyframe;
+  const bool at_start = r.anchor.keyframe == kNoKeyframe || frames_in_submap_ <= 1;
   const MergeConfig& m = config_.loop_closing.loop.merge;
   if (n_failed_relocalisations_ < (at_start ? m.start_frames : m.lost_frames)) return;
   n_failed_relocalisations_ = 0;
+  frames_in_submap_ = 0;
   tracker_.start_new_map(next_submap_++);
   out = tracker_.retrack(frame, out.features, 0);
   take_tracking(out, r);
+}
+
+// Sub-maps that never merged leave their frames out of the trajectory. Where the first map is the
+// small one (the camera looked elsewhere at the start, or tracking failed right after it), keeping
+// it as the world would leave out most of the run; the map with the most tracked frames becomes the
+// world instead (ties: the first). Labels only: every sub-map keeps its own frame.
+void System::choose_world() {
+  if (config_.loop_closing.loop.merge.world != "largest" || world_loaded_ || n_keyframes_outside_world() == 0) return;
+  std::map<int, int> frames;  // sub-map -> tracked frames
+  for (const auto& rec : records_)
+    if (rec.state != TrackState::kLost) ++frames[map_.submap_of(rec.anchor.keyframe)];
+  int best = 0, most = frames.count(0) ? frames.at(0) : 0;
+  for (const auto& [submap, n] : frames)
+    if (n > most) best = submap, most = n;
+  if (best == 0) return;
+  map_.swap_submaps(0, best);
+  world_moved_ = true;
+}
+
+int System::n_frames_outside_world() const {
+  return static_cast<int>(std::count_if(records_.begin(), records_.end(), [&](const FrameRecord& rec) {
+    return rec.state != TrackState::kLost && map_.submap_of(rec.anchor.keyframe) != 0;
+  }));
 }
 
 std::shared_ptr<const LocalMapSnapshot> System::snapshot(KeyframeId ref, int max_keyframes) const {
