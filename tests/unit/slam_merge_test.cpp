@@ -275,6 +275,38 @@ TEST(SlamMerge, TheFirstMapStaysTheWorldWhenAskedTo) {
   EXPECT_THROW(cfg.validate(), Error);
 }
 
+TEST(SlamMerge, ABlackoutLongerThanLostFramesStartsNoSubMap) {
+  // 40 frames of the first quarter, then more than merge.lost_frames frames with neither colour
+  // nor depth (a covered camera), then the camera back where it was at frame 20.
+  const SlamConfig cfg;
+  const int lost_frames = cfg.loop_closing.loop.merge.lost_frames, back = 40 + lost_frames + 10;
+  System slam(room_camera(), cfg, vocabulary());
+  std::vector<TrackResult> results;
+  for (int i = 0; i < back + 20; ++i) {
+    RgbdFrame f = a_frame(i < 40 ? i : i < back ? 39 : 20 + i - back);
+    f.index = i;
+    f.t_s = i / 30.0;
+    if (i >= 40 && i < back) f.rgb.setTo(0), f.depth_m.setTo(0);
+    results.push_back(slam.track(f));
+  }
+  slam.finish();
+  for (int i = 40; i < back; ++i) EXPECT_EQ(results[std::size_t(i)].state, TrackState::kLost) << "frame " << i;
+  // Back in the map at once (the tracker's reference keyframe or relocalisation finds it).
+  EXPECT_NE(results[std::size_t(back)].state, TrackState::kLost);
+  EXPECT_EQ(results[std::size_t(back)].submap, 0);
+  EXPECT_EQ(slam.n_new_submaps(), 0) << "black frames are no evidence that the camera is elsewhere";
+  double worst = 0;
+  int n_back = 0;
+  for (const auto& p : slam.camera_trajectory())
+    if (p.frame_index >= back) {
+      ++n_back;
+      const SE3 truth = lap_pose(0).inverse() * lap_pose(20 + p.frame_index - back);
+      worst = std::max(worst, (p.T_w_x.translation() - truth.translation()).norm());
+    }
+  EXPECT_EQ(n_back, 20);
+  EXPECT_LT(worst, 0.02);
+}
+
 TEST(SlamMerge, SavedSessionsMergeOffline) {
   const SavedSession b("b", [](int j) { return b_frames()[std::size_t(j)]; }, kBFrames);
   LoadedSlamMap a = load_slam_map(session_a(), room_camera(), vocabulary());

@@ -16,7 +16,8 @@ bool System::makes_submaps() const {
 // Step 3 of track() for a LOST frame. A session continuing in a loaded map that has tracked
 // nothing yet, or whose map was tracked no further than its first frame (the camera was somewhere
 // else when the recording started, or the next frames came too far apart), gives up after
-// merge.start_frames frames; a session that lost tracking after merge.lost_frames. This frame then
+// merge.start_frames failed relocalisations; a session that lost tracking after merge.lost_frames
+// (frames too poor to relocalise do not count). This frame then
 // starts the new sub-map (as its first keyframe, when it has enough depth; otherwise the next
 // frame with enough does).
 void System::recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r) {
@@ -24,6 +25,11 @@ void System::recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r)
     n_failed_relocalisations_ = 0;
     return;
   }
+  // A frame with fewer keypoints than a relocalisation needs inliers (covered, dark, blank) cannot
+  // tell where the camera is: no evidence that it left the map, so it does not bring a new sub-map
+  // nearer. Counted, a blackout of a second started one, and the first frame after it, which
+  // would have relocalised, became that sub-map's first keyframe instead.
+  if (out.features->size() < config_.loop_closing.reloc.min_final_inliers) return;
   ++n_failed_relocalisations_;
   if (!makes_submaps()) return;
   const bool at_start = r.anchor.keyframe == kNoKeyframe || frames_in_submap_ <= 1;
