@@ -213,6 +213,7 @@ class Tracker {
   void restart_from(Frame& cur, const RgbdFrame& frame, TrackState reported, const SE3& velocity, TrackerOutput& out);
   bool track_motion_model(Frame& cur, const SE3& velocity);  // velocity: T_c_w(cur) = velocity * T_c_w(last)
   bool track_reference_keyframe(Frame& cur);
+  bool track_reference_keyframe_wide(Frame& cur, const SE3& T_c_w_last);  // PnP RANSAC, no prior
   static constexpr double kRefRatio = 0.7;  // ratio test of the reference keyframe's first attempt
   // Brute-force matches of the reference keyframe's map points into cur, set only when there are
   // at least min_matches (returns whether there were).
