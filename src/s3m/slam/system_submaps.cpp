@@ -17,9 +17,8 @@ bool System::makes_submaps() const {
 // nothing yet, or whose map was tracked no further than its first frame (the camera was somewhere
 // else when the recording started, or the next frames came too far apart), gives up after
 // merge.start_frames failed relocalisations; a session that lost tracking after merge.lost_frames
-// (frames too poor to relocalise do not count). This frame then
-// starts the new sub-map (as its first keyframe, when it has enough depth; otherwise the next
-// frame with enough does).
+// (frames too poor to relocalise do not count). This frame then starts the new sub-map (as its
+// first keyframe, when it has enough depth; otherwise the next frame with enough does).
 void System::recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r) {
   if (relocalise(*out.features, frame.index, r)) {
     n_failed_relocalisations_ = 0;
