@@ -89,10 +89,8 @@ class SlamPoses final : public PoseSource {
   }
   std::optional<KeyframePoses> moved_world() const override {
     if (!system_.world_moved()) return std::nullopt;
-    const slam::Map& map = system_.map();
     KeyframePoses world = keyframe_poses();
-    for (const auto& [id, link] : map.culled())
-      if (map.submap_of(id) == 0) world.emplace(id, map.resolve_T_w_kf(id));
+    world.merge(system_.map().culled_poses_in(0));  // culled ones anchor clouds too
     return world;
   }
   std::string name() const override {

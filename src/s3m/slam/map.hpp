@@ -101,6 +101,9 @@ class Map {
   // Exchanges the labels of two sub-maps (no pose changes: each keeps its own frame). Making
   // another sub-map the world is relabelling it 0.
   void swap_submaps(int a, int b);
+  // Culled keyframes of a sub-map with their poses (resolve_T_w_kf): what a consumer of keyframe
+  // poses needs besides the live ones when a whole sub-map enters the world.
+  std::map<KeyframeId, SE3> culled_poses_in(int submap) const;
   // Hangs kf's spanning tree below new_parent: the path from kf up to its root is reversed, so kf's
   // old root becomes an ordinary member of new_parent's tree.
   void join_tree(KeyframeId kf, KeyframeId new_parent);

@@ -43,6 +43,13 @@ void Map::swap_submaps(int a, int b) {
     if (kf.submap == a || kf.submap == b) kf.submap = kf.submap == a ? b : a;
 }
 
+std::map<KeyframeId, SE3> Map::culled_poses_in(int submap) const {
+  std::map<KeyframeId, SE3> poses;
+  for (const auto& [id, link] : culled_)
+    if (submap_of(id) == submap) poses.emplace(id, resolve_T_w_kf(id));
+  return poses;
+}
+
 void Map::join_tree(KeyframeId kf, KeyframeId new_parent) {
   require(keyframes_.count(kf) && keyframes_.count(new_parent) && kf != new_parent,
           "Map::join_tree: needs two different live keyframes");

@@ -183,6 +183,7 @@ class System {
   void recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r);
   // At finish(): makes the sub-map with the most tracked frames the world (merge.world).
   void choose_world();
+  std::map<int, int> tracked_frames_per_submap() const;  // sub-map -> frames not LOST (after finish())
   // Mapping side: a request of a sub-map merged meanwhile is moved into the sub-map it joined; a
   // correction is handed on for the world's keyframes only (none: a loop inside another sub-map).
   int follow_merges(int submap) const;

@@ -3,7 +3,6 @@
 // follow them, and corrections are handed on in the world's terms (mapping side).
 #include "s3m/slam/system.hpp"
 
-#include <algorithm>
 #include <map>
 
 namespace s3m::slam {
@@ -47,9 +46,7 @@ void System::recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r)
 // world instead (ties: the first). Labels only: every sub-map keeps its own frame.
 void System::choose_world() {
   if (config_.loop_closing.loop.merge.world != "largest" || world_loaded_ || n_keyframes_outside_world() == 0) return;
-  std::map<int, int> frames;  // sub-map -> tracked frames
-  for (const auto& rec : records_)
-    if (rec.state != TrackState::kLost) ++frames[map_.submap_of(rec.anchor.keyframe)];
+  const std::map<int, int> frames = tracked_frames_per_submap();
   int best = 0, most = frames.count(0) ? frames.at(0) : 0;
   for (const auto& [submap, n] : frames)
     if (n > most) best = submap, most = n;
@@ -58,10 +55,17 @@ void System::choose_world() {
   world_moved_ = true;
 }
 
+std::map<int, int> System::tracked_frames_per_submap() const {
+  std::map<int, int> frames;
+  for (const auto& rec : records_)
+    if (rec.state != TrackState::kLost) ++frames[map_.submap_of(rec.anchor.keyframe)];
+  return frames;
+}
+
 int System::n_frames_outside_world() const {
-  return static_cast<int>(std::count_if(records_.begin(), records_.end(), [&](const FrameRecord& rec) {
-    return rec.state != TrackState::kLost && map_.submap_of(rec.anchor.keyframe) != 0;
-  }));
+  int n = 0;
+  for (const auto& [submap, frames] : tracked_frames_per_submap()) n += submap != 0 ? frames : 0;
+  return n;
 }
 
 std::shared_ptr<const LocalMapSnapshot> System::snapshot(KeyframeId ref, int max_keyframes) const {
@@ -97,9 +101,7 @@ std::optional<LoopCorrection> System::note_correction(std::optional<LoopCorrecti
   world_only(c->T_w_kf_after);
   // A merge into the world: culled keyframes of the joined sub-map get their pose too (the pipeline
   // anchored clouds to some of them while they were outside the world).
-  if (c->is_merge() && c->merged_into == 0)
-    for (const auto& [id, link] : map_.culled())
-      if (map_.submap_of(id) == 0) c->T_w_kf_after.emplace(id, map_.resolve_T_w_kf(id));
+  if (c->is_merge() && c->merged_into == 0) c->T_w_kf_after.merge(map_.culled_poses_in(0));
   return c;
 }
 
