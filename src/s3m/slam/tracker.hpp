@@ -196,6 +196,9 @@ class Tracker {
   // predicted: the velocity's motion over the same frames.
   std::optional<SE3> measure_motion(const RgbdFrame& frame, const SE3& predicted) const;
   std::optional<SE3> measure_motion_from_rest(const RgbdFrame& frame) const;
+  // The last frame's view and one turned by T_cur_last (the velocity's prediction) may share
+  // something: the turn is less than the camera's wider field of view.
+  bool views_may_overlap(const SE3& T_cur_last) const;
   // motion (T_cur_last) if the reverse alignment (this frame onto the last, from no motion) agrees;
   // after a gap between two posed frames, the better of the two by depth_agreement when they do not.
   std::optional<SE3> confirm_by_reverse(const RgbdFrame& frame, const DepthOdometry::PreparedFrame& last,
