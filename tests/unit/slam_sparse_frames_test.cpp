@@ -127,4 +127,3 @@ TEST(SlamSparseFrames, NoMotionIsMeasuredBetweenViewsTheVelocityTurnsApart) {
 
 }  // namespace
 }  // namespace s3m::slam
-
