@@ -45,22 +45,23 @@ bool Tracker::views_may_overlap(const SE3& T_cur_last) const {
 
 std::optional<SE3> Tracker::dead_reckon(const RgbdFrame& frame, bool from_rest, bool& measured) {
   measured = false;
+  const bool can_measure = coasted_ < config_.odometry_frames && !last_frame_.depth_m.empty();
   // Measured from the last frame with a pose that is not a guess (LOST frames in between keep the
-  // velocity's guess only), over however many frames lie between. Not when the velocity, carried
-  // over them, turns the camera further than it sees: two views that share nothing have no motion
-  // to measure, yet in a box-like room the alignment finds the view turned round as the same view
-  // and both starts confirm it (simulator flights at every 10th-20th frame: frames 3 s after the
-  // last posed one placed 180 deg off, ATE 52-107 cm; docs/RESULTS.md, session 33).
+  // velocity's guess only), over however many frames lie between.
   const int n = std::max(1, frame.index - last_frame_.index);
-  const bool can_measure = coasted_ < config_.odometry_frames && !last_frame_.depth_m.empty() &&
-                           (!coast_velocity_ || views_may_overlap(power(*coast_velocity_, n)));
   std::optional<SE3> motion;
   if (!coast_velocity_) {
     // No velocity to predict with: only a measurement from rest gives a pose.
     if (from_rest && can_measure) motion = measure_motion_from_rest(frame);
     if (!motion) return std::nullopt;
   } else if (can_measure) {
-    motion = measure_motion(frame, power(*coast_velocity_, n));
+    // Not when the velocity, carried over those frames, turns the camera further than it sees: two
+    // views that share nothing have no motion to measure, yet in a box-like room the alignment
+    // finds the view turned round as the same view and both starts confirm it (simulator flights
+    // at every 10th-20th frame: frames 3 s after the last posed one placed 180 deg off, ATE
+    // 52-107 cm; docs/RESULTS.md, session 33).
+    const SE3 predicted = power(*coast_velocity_, n);
+    if (views_may_overlap(predicted)) motion = measure_motion(frame, predicted);
   }
   if (motion) {
     measured = true;
