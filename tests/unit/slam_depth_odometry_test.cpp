@@ -329,5 +329,46 @@ TEST(DepthOdometry, DepthAgreementIsHighForTheTrueStepOnlyAndExactOnItself) {
   EXPECT_THROW(depth_agreement(cam, fa.depth_m, cv::Mat::zeros(fb.depth_m.size(), CV_16UC1), truth), Error);
 }
 
+// Session 34: in the middle of the box-like room a view and the one turned 180 deg about the
+// vertical see opposite walls at the same distances, so the depth of the one, not moved at all,
+// lands exactly on the other's; only the walls' textures tell them apart.
+TEST(DepthOdometry, ColourAgreementTellsAViewFromTheOppositeWallsWhereDepthCannot) {
+  const PinholeCamera cam = test::room_camera();
+  const SE3 level = test::uav_pose(0, 300);
+  const auto at_centre = [&](double yaw_deg) {
+    return make_se3(so3_exp(Vec3(0.0, 0.0, yaw_deg * M_PI / 180)) * level.linear(), Vec3(0.0, 0.0, 1.5));
+  };
+  const RgbdFrame a = test::render_room(test::Room{}, cam, at_centre(30), 0, 0.0);
+  const RgbdFrame b = test::render_room(test::Room{}, cam, at_centre(210), 1, 3.0);
+  const RgbdFrame c = test::render_room(test::Room{}, cam, at_centre(40), 2, 3.0);
+  const SE3 none = SE3::Identity();
+  EXPECT_GT(depth_agreement(cam, a.depth_m, b.depth_m, none), 0.99) << "the two views' depth is the same";
+  const std::optional<double> same = colour_agreement(cam, a, a, none);
+  ASSERT_TRUE(same.has_value());
+  EXPECT_NEAR(*same, 1.0, 1e-12) << "a frame onto itself: the same grey levels at the same pixels";
+  const std::optional<double> opposite = colour_agreement(cam, a, b, none);
+  ASSERT_TRUE(opposite.has_value());
+  const SE3 T_c_a = at_centre(40).inverse() * at_centre(30);
+  const std::optional<double> right = colour_agreement(cam, a, c, T_c_a);
+  ASSERT_TRUE(right.has_value());
+  std::printf("colour agreement: true 10 deg step %.3f, opposite walls as no motion %.3f\n", *right, *opposite);
+  EXPECT_GT(*right, 0.95);
+  EXPECT_LT(*opposite, 0.2);
+  // The grey levels inverted: perfectly anti-correlated. A black image has no contrast to judge.
+  RgbdFrame inverted = a;
+  inverted.rgb = cv::Mat(cv::Scalar::all(255) - a.rgb);  // a new image: a's is shared, not copied
+  EXPECT_NEAR(*colour_agreement(cam, a, inverted, none), -1.0, 1e-12);
+  RgbdFrame black = a;
+  black.rgb = cv::Mat::zeros(a.rgb.size(), a.rgb.type());
+  EXPECT_FALSE(colour_agreement(cam, a, black, none).has_value());
+  // Nothing seen by both (no depth in the current frame): nothing to judge.
+  RgbdFrame no_depth = c;
+  no_depth.depth_m = cv::Mat::zeros(c.depth_m.size(), CV_32FC1);
+  EXPECT_FALSE(colour_agreement(cam, a, no_depth, T_c_a).has_value());
+  RgbdFrame wrong_type = c;
+  wrong_type.depth_m = cv::Mat::zeros(c.depth_m.size(), CV_16UC1);
+  EXPECT_THROW(colour_agreement(cam, a, wrong_type, T_c_a), Error);
+}
+
 }  // namespace
 }  // namespace s3m::slam

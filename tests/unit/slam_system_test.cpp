@@ -235,7 +235,7 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
       "  tracker: {min_local_inliers: 25, odometry_frames: 12, odometry_deg: 0.25, odometry_m: 0.01,\n"
       "            odometry_downsample: 4, odometry_max_depth_diff_m: 0.05, anchor_keyframes: 2,\n"
       "            odometry_max_step_m: 0.2, odometry_max_step_deg: 20, odometry_gap_max_depth_diff_m: 0.25,\n"
-      "            odometry_agree_fraction: 0.05,\n"
+      "            odometry_agree_fraction: 0.05, odometry_min_colour_agreement: 0.3,\n"
       "            keyframe_max_deg: 12.5, keyframe_max_m: 0, wide_match_ratio: 0}\n"
       "  mapper: {final_global_ba: false, ba: {max_local_keyframes: 12, global_iterations: 7,\n"
       "           max_keyframe_step_deg: 2.5, max_keyframe_step_m: 0.08}}\n"
@@ -263,6 +263,9 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
   EXPECT_DOUBLE_EQ(c.tracker.odometry.gap_max_depth_diff_m, 0.25);
   EXPECT_DOUBLE_EQ(c.tracker.odometry_agree_fraction, 0.05);
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_agree_fraction: -0.1}"), "t.yaml"), ParseError);
+  EXPECT_DOUBLE_EQ(c.tracker.odometry_min_colour_agreement, 0.3);
+  EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_min_colour_agreement: 1.5}"), "t.yaml"), ParseError)
+      << "a correlation is at most 1";
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_gap_max_depth_diff_m: 0.01}"), "t.yaml"), ParseError)
       << "a gap's gate narrower than the usual one";
   EXPECT_DOUBLE_EQ(c.mapper.ba.max_keyframe_step_deg, 2.5);
@@ -320,6 +323,7 @@ TEST(SlamConfig, ShippedDefaultPresetMatchesCompiledDefaults) {
   EXPECT_EQ(c.tracker.odometry.max_step_m, d.tracker.odometry.max_step_m);
   EXPECT_EQ(c.tracker.odometry.max_step_deg, d.tracker.odometry.max_step_deg);
   EXPECT_EQ(c.tracker.odometry.gap_max_depth_diff_m, d.tracker.odometry.gap_max_depth_diff_m);
+  EXPECT_EQ(c.tracker.odometry_min_colour_agreement, d.tracker.odometry_min_colour_agreement);
   EXPECT_TRUE(c.T_c_r.isApprox(d.T_c_r));
   EXPECT_EQ(c.queue_capacity, d.queue_capacity);
   EXPECT_THROW(load_slam_config("/nonexistent/slam.yaml"), ParseError);

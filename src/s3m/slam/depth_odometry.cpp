@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -138,6 +139,52 @@ double depth_agreement(const PinholeCamera& camera, const cv::Mat& depth_last, c
       agreeing += std::abs(z_cur - p.z()) <= std::max(0.03, 0.03 * p.z());
     }
   return landed ? static_cast<double>(agreeing) / landed : 0.0;
+}
+
+namespace {
+// Bilinear grey level at (x, y) of a CV_8UC1 image, with 0 <= x < cols - 1, 0 <= y < rows - 1.
+double bilinear(const cv::Mat& grey, double x, double y) {
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const double ax = x - x0, ay = y - y0;
+  const auto at = [&](int r, int c) { return static_cast<double>(grey.at<std::uint8_t>(r, c)); };
+  return (1 - ay) * ((1 - ax) * at(y0, x0) + ax * at(y0, x0 + 1)) + ay * ((1 - ax) * at(y0 + 1, x0) + ax * at(y0 + 1, x0 + 1));
+}
+
+cv::Mat grey_of(const cv::Mat& image) {
+  if (image.channels() == 1) return image;
+  cv::Mat grey;
+  cv::cvtColor(image, grey, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+  return grey;
+}
+}  // namespace
+
+std::optional<double> colour_agreement(const PinholeCamera& camera, const RgbdFrame& last, const RgbdFrame& cur,
+                                       const SE3& T_cur_last) {
+  require(last.depth_m.type() == CV_32FC1 && cur.depth_m.type() == CV_32FC1,
+          "colour_agreement: depth images must be CV_32FC1");
+  require(last.rgb.depth() == CV_8U && cur.rgb.depth() == CV_8U, "colour_agreement: colour images must be 8-bit");
+  constexpr int kStride = 4, kMinPairs = 100;
+  const cv::Mat grey_last = grey_of(last.rgb), grey_cur = grey_of(cur.rgb);
+  double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+  int n = 0;
+  for (int v = 0; v < last.depth_m.rows; v += kStride)
+    for (int u = 0; u < last.depth_m.cols; u += kStride) {
+      const float z = last.depth_m.at<float>(v, u);
+      if (!(z > 0.0f)) continue;  // NaN too
+      const Vec3 p = T_cur_last * camera.backproject(u, v, z);
+      if (p.z() <= 0.0) continue;
+      const Eigen::Vector2d q = camera.project(p);
+      if (!(q.x() >= 0 && q.y() >= 0 && q.x() < grey_cur.cols - 1 && q.y() < grey_cur.rows - 1)) continue;
+      const float z_cur = cur.depth_m.at<float>(static_cast<int>(std::lround(q.y())), static_cast<int>(std::lround(q.x())));
+      if (!(z_cur > 0.0f) || std::abs(z_cur - p.z()) > std::max(0.03, 0.03 * p.z())) continue;
+      const double a = grey_last.at<std::uint8_t>(v, u), b = bilinear(grey_cur, q.x(), q.y());
+      sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
+      ++n;
+    }
+  if (n < kMinPairs) return std::nullopt;
+  const double var_a = saa - sa * sa / n, var_b = sbb - sb * sb / n;
+  if (var_a <= 1e-9 * n || var_b <= 1e-9 * n) return std::nullopt;
+  return (sab - sa * sb / n) / std::sqrt(var_a * var_b);
 }
 
 }  // namespace s3m::slam

@@ -50,7 +50,8 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
                        "min_frames_between_keyframes", "keyframe_ref_ratio", "keyframe_decay_ratio", "keyframe_max_deg", "keyframe_max_m", "close_tracked_min",
                        "close_untracked_min", "max_pending_keyframes", "min_init_depth_points", "anchor_keyframes",
                        "coast_frames", "bridge_deg", "bridge_m", "bridge_min_inliers", "odometry_frames",
-                       "odometry_deg", "odometry_m", "odometry_agree_fraction", "odometry_downsample", "odometry_max_depth_diff_m",
+                       "odometry_deg", "odometry_m", "odometry_agree_fraction",
+                       "odometry_min_colour_agreement", "odometry_downsample", "odometry_max_depth_diff_m",
                        "odometry_min_observed_ratio", "odometry_max_step_m", "odometry_max_step_deg",
                        "odometry_gap_max_depth_diff_m"}, ctx);
   yaml_get(n, "pose_rounds", c.pose.rounds, ctx);
@@ -81,6 +82,7 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
   yaml_get(n, "odometry_deg", c.odometry_deg, ctx);
   yaml_get(n, "odometry_m", c.odometry_m, ctx);
   yaml_get(n, "odometry_agree_fraction", c.odometry_agree_fraction, ctx);
+  yaml_get(n, "odometry_min_colour_agreement", c.odometry_min_colour_agreement, ctx);
   yaml_get(n, "odometry_downsample", c.odometry.downsample, ctx);
   yaml_get(n, "odometry_max_depth_diff_m", c.odometry.max_depth_diff_m, ctx);
   yaml_get(n, "odometry_min_observed_ratio", c.odometry.min_observed_ratio, ctx);
@@ -260,6 +262,8 @@ void TrackerConfig::validate() const {
           "tracker: coast_frames, bridge_deg and bridge_m must be >= 0, bridge_min_inliers >= min_pose_inliers");
   require(odometry_frames >= 0 && odometry_deg >= 0 && odometry_m >= 0 && odometry_agree_fraction >= 0,
           "tracker: odometry_frames, odometry_deg, odometry_m and odometry_agree_fraction must be >= 0");
+  require(odometry_min_colour_agreement >= -1 && odometry_min_colour_agreement <= 1,
+          "tracker.odometry_min_colour_agreement must be in [-1, 1] (-1 = off)");
   odometry.validate();
 }
 

@@ -43,6 +43,15 @@ bool Tracker::views_may_overlap(const SE3& T_cur_last) const {
   return rotation_angle_rad(T_cur_last.linear()) < fov_rad;
 }
 
+bool Tracker::colours_agree(const RgbdFrame& frame, const SE3& T_cur_last) const {
+  // Two frames 3 s apart, the camera turned round in the dark in a box-like room: the velocity
+  // predicted 36-50 deg, so the views might share something, and the alignment found the opposite
+  // wall's view as the same view from both starts (180 deg off). The two walls' textures differ.
+  if (config_.odometry_min_colour_agreement <= -1.0) return true;
+  const std::optional<double> ncc = colour_agreement(camera_, last_frame_, frame, T_cur_last);
+  return !ncc || *ncc >= config_.odometry_min_colour_agreement;
+}
+
 std::optional<SE3> Tracker::dead_reckon(const RgbdFrame& frame, bool from_rest, bool& measured) {
   measured = false;
   const bool can_measure = coasted_ < config_.odometry_frames && !last_frame_.depth_m.empty();
@@ -63,6 +72,7 @@ std::optional<SE3> Tracker::dead_reckon(const RgbdFrame& frame, bool from_rest, 
     const SE3 predicted = power(*coast_velocity_, n);
     if (views_may_overlap(predicted)) motion = measure_motion(frame, predicted);
   }
+  if (motion && !colours_agree(frame, *motion)) motion.reset();
   if (motion) {
     measured = true;
     coast_velocity_ = power(*motion, 1.0 / n);
