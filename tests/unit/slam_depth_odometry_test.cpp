@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include "s3m/core/error.hpp"
 #include "s3m/slam/depth_odometry.hpp"
@@ -368,6 +369,9 @@ TEST(DepthOdometry, ColourAgreementTellsAViewFromTheOppositeWallsWhereDepthCanno
   RgbdFrame wrong_type = c;
   wrong_type.depth_m = cv::Mat::zeros(c.depth_m.size(), CV_16UC1);
   EXPECT_THROW(colour_agreement(cam, a, wrong_type, T_c_a), Error);
+  RgbdFrame half_colour = c;
+  cv::resize(c.rgb, half_colour.rgb, cv::Size(), 0.5, 0.5);
+  EXPECT_THROW(colour_agreement(cam, a, half_colour, T_c_a), Error) << "colour and depth of different sizes";
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <opencv2/calib3d.hpp>
@@ -160,9 +161,11 @@ cv::Mat grey_of(const cv::Mat& image) {
 
 std::optional<double> colour_agreement(const PinholeCamera& camera, const RgbdFrame& last, const RgbdFrame& cur,
                                        const SE3& T_cur_last) {
-  require(last.depth_m.type() == CV_32FC1 && cur.depth_m.type() == CV_32FC1,
-          "colour_agreement: depth images must be CV_32FC1");
-  require(last.rgb.depth() == CV_8U && cur.rgb.depth() == CV_8U, "colour_agreement: colour images must be 8-bit");
+  for (const RgbdFrame* f : {&last, &cur})
+    require(!f->rgb.empty() && f->rgb.depth() == CV_8U && f->depth_m.type() == CV_32FC1 &&
+                f->rgb.size() == f->depth_m.size(),
+            "colour_agreement: frame " + std::to_string(f->index) +
+                " needs 8-bit colour and CV_32FC1 depth of one size");
   constexpr int kStride = 4, kMinPairs = 100;
   const cv::Mat grey_last = grey_of(last.rgb), grey_cur = grey_of(cur.rgb);
   double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
