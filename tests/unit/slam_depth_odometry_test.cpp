@@ -335,10 +335,7 @@ TEST(DepthOdometry, DepthAgreementIsHighForTheTrueStepOnlyAndExactOnItself) {
 // lands exactly on the other's; only the walls' textures tell them apart.
 TEST(DepthOdometry, ColourAgreementTellsAViewFromTheOppositeWallsWhereDepthCannot) {
   const PinholeCamera cam = test::room_camera();
-  const SE3 level = test::uav_pose(0, 300);
-  const auto at_centre = [&](double yaw_deg) {
-    return make_se3(so3_exp(Vec3(0.0, 0.0, yaw_deg * M_PI / 180)) * level.linear(), Vec3(0.0, 0.0, 1.5));
-  };
+  const auto at_centre = test::centre_pose;
   const RgbdFrame a = test::render_room(test::Room{}, cam, at_centre(30), 0, 0.0);
   const RgbdFrame b = test::render_room(test::Room{}, cam, at_centre(210), 1, 3.0);
   const RgbdFrame c = test::render_room(test::Room{}, cam, at_centre(40), 2, 3.0);

@@ -99,10 +99,7 @@ TEST(SlamSparseFrames, AfterAGapAVelocityThatNoLongerHoldsIsNotTheOnlyStart) {
 // In the middle of the room, turning 10 deg per step (2/3 s): measured. Then `dark` frames without
 // depth while the camera turns round, and the last frame looks at the opposite wall, 180 deg from
 // frame 3. The box-like room seen the other way round aligns as the same view, from both starts.
-SE3 turned(double deg) {
-  const SE3 level = test::uav_pose(0, 300);
-  return make_se3(so3_exp(Vec3(0.0, 0.0, deg * M_PI / 180)) * level.linear(), Vec3(0.0, 0.0, 1.5));
-}
+SE3 turned(double deg) { return test::centre_pose(deg); }
 
 std::vector<TrackResult> turn_round(int dark, const SlamConfig& config = odometry_only()) {
   const int last = 4 + dark;

@@ -46,4 +46,11 @@ inline SE3 uav_pose(int i, int n) {
   return make_se3(R, pos);
 }
 
+// A level camera at the room's centre, 1.5 m up, turned by yaw_deg about the vertical from
+// uav_pose(0, n)'s heading. The room is symmetric about its centre: the view turned 180 deg sees the
+// opposite walls at the same distances (same depth, other texture).
+inline SE3 centre_pose(double yaw_deg) {
+  return make_se3(so3_exp(Vec3(0.0, 0.0, yaw_deg * M_PI / 180)) * uav_pose(0, 300).linear(), Vec3(0.0, 0.0, 1.5));
+}
+
 }  // namespace s3m::test

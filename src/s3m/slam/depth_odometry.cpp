@@ -120,11 +120,15 @@ bool odometry_steps_agree(const SE3& step, const SE3& other, double max_deg, dou
                      std::clamp(fraction * step.translation().norm(), max_m, kMaxWidening * max_m));
 }
 
-double depth_agreement(const PinholeCamera& camera, const cv::Mat& depth_last, const cv::Mat& depth_cur,
-                       const SE3& T_cur_last) {
-  require(depth_last.type() == CV_32FC1 && depth_cur.type() == CV_32FC1, "depth_agreement: depth images must be CV_32FC1");
+namespace {
+// The sampling depth_agreement and colour_agreement share: for each of the last frame's depth
+// pixels (u, v) (every 4th row and column) that T_cur_last moves in front of the camera onto a
+// measured depth of the current frame (nearest pixel, both in `camera`'s pixels), calls
+// visit(u, v, q, agrees): q where it lands, agrees when that depth is within 3 cm or 3 % of its own.
+template <class Visit>
+void for_each_landing(const PinholeCamera& camera, const cv::Mat& depth_last, const cv::Mat& depth_cur,
+                      const SE3& T_cur_last, Visit&& visit) {
   constexpr int kStride = 4;
-  int landed = 0, agreeing = 0;
   for (int v = 0; v < depth_last.rows; v += kStride)
     for (int u = 0; u < depth_last.cols; u += kStride) {
       const float z = depth_last.at<float>(v, u);
@@ -136,13 +140,10 @@ double depth_agreement(const PinholeCamera& camera, const cv::Mat& depth_last, c
       if (qu < 0 || qv < 0 || qu >= depth_cur.cols || qv >= depth_cur.rows) continue;
       const float z_cur = depth_cur.at<float>(static_cast<int>(qv), static_cast<int>(qu));
       if (!(z_cur > 0.0f)) continue;
-      ++landed;
-      agreeing += std::abs(z_cur - p.z()) <= std::max(0.03, 0.03 * p.z());
+      visit(u, v, q, std::abs(z_cur - p.z()) <= std::max(0.03, 0.03 * p.z()));
     }
-  return landed ? static_cast<double>(agreeing) / landed : 0.0;
 }
 
-namespace {
 // Bilinear grey level at (x, y) of a CV_8UC1 image, with 0 <= x < cols - 1, 0 <= y < rows - 1.
 double bilinear(const cv::Mat& grey, double x, double y) {
   const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
@@ -159,6 +160,17 @@ cv::Mat grey_of(const cv::Mat& image) {
 }
 }  // namespace
 
+double depth_agreement(const PinholeCamera& camera, const cv::Mat& depth_last, const cv::Mat& depth_cur,
+                       const SE3& T_cur_last) {
+  require(depth_last.type() == CV_32FC1 && depth_cur.type() == CV_32FC1, "depth_agreement: depth images must be CV_32FC1");
+  int landed = 0, agreeing = 0;
+  for_each_landing(camera, depth_last, depth_cur, T_cur_last, [&](int, int, const Eigen::Vector2d&, bool agrees) {
+    ++landed;
+    agreeing += agrees;
+  });
+  return landed ? static_cast<double>(agreeing) / landed : 0.0;
+}
+
 std::optional<double> colour_agreement(const PinholeCamera& camera, const RgbdFrame& last, const RgbdFrame& cur,
                                        const SE3& T_cur_last) {
   for (const RgbdFrame* f : {&last, &cur})
@@ -166,24 +178,17 @@ std::optional<double> colour_agreement(const PinholeCamera& camera, const RgbdFr
                 f->rgb.size() == f->depth_m.size(),
             "colour_agreement: frame " + std::to_string(f->index) +
                 " needs 8-bit colour and CV_32FC1 depth of one size");
-  constexpr int kStride = 4, kMinPairs = 100;
+  constexpr int kMinPairs = 100;
   const cv::Mat grey_last = grey_of(last.rgb), grey_cur = grey_of(cur.rgb);
   double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
   int n = 0;
-  for (int v = 0; v < last.depth_m.rows; v += kStride)
-    for (int u = 0; u < last.depth_m.cols; u += kStride) {
-      const float z = last.depth_m.at<float>(v, u);
-      if (!(z > 0.0f)) continue;  // NaN too
-      const Vec3 p = T_cur_last * camera.backproject(u, v, z);
-      if (p.z() <= 0.0) continue;
-      const Eigen::Vector2d q = camera.project(p);
-      if (!(q.x() >= 0 && q.y() >= 0 && q.x() < grey_cur.cols - 1 && q.y() < grey_cur.rows - 1)) continue;
-      const float z_cur = cur.depth_m.at<float>(static_cast<int>(std::lround(q.y())), static_cast<int>(std::lround(q.x())));
-      if (!(z_cur > 0.0f) || std::abs(z_cur - p.z()) > std::max(0.03, 0.03 * p.z())) continue;
-      const double a = grey_last.at<std::uint8_t>(v, u), b = bilinear(grey_cur, q.x(), q.y());
-      sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
-      ++n;
-    }
+  for_each_landing(camera, last.depth_m, cur.depth_m, T_cur_last, [&](int u, int v, const Eigen::Vector2d& q, bool agrees) {
+    // Seen by both, and inside the border bilinear() needs.
+    if (!agrees || !(q.x() >= 0 && q.y() >= 0 && q.x() < grey_cur.cols - 1 && q.y() < grey_cur.rows - 1)) return;
+    const double a = grey_last.at<std::uint8_t>(v, u), b = bilinear(grey_cur, q.x(), q.y());
+    sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
+    ++n;
+  });
   if (n < kMinPairs) return std::nullopt;
   const double var_a = saa - sa * sa / n, var_b = sbb - sb * sb / n;
   if (var_a <= 1e-9 * n || var_b <= 1e-9 * n) return std::nullopt;
