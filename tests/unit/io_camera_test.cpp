@@ -54,6 +54,35 @@ TEST(IoCamera, OrbSlam3Settings) {
   EXPECT_NEAR(cam.bf, 0.07732 * 535.4, 1e-9);
 }
 
+TEST(IoCamera, SevenScenesKinectPresetIsTwoCameras) {
+  // 7-Scenes publishes one camera (585 px), its depth camera's; the preset adds the colour camera.
+  const CameraFile rig = load_camera_file("7scenes_kinect_v1");
+  EXPECT_DOUBLE_EQ(rig.camera.fx, 529.0);
+  EXPECT_DOUBLE_EQ(rig.camera.fy, 529.0);
+  EXPECT_DOUBLE_EQ(rig.camera.cx, 320.0);
+  EXPECT_DOUBLE_EQ(rig.camera.cy, 240.0);
+  EXPECT_EQ(rig.camera.width, 640);
+  EXPECT_EQ(rig.camera.height, 480);
+  EXPECT_DOUBLE_EQ(rig.camera.depth_factor, 1000.0);
+  ASSERT_TRUE(rig.depth);
+  const PinholeCamera nominal = *camera_preset("7scenes");
+  EXPECT_DOUBLE_EQ(rig.depth->camera.fx, nominal.fx);
+  EXPECT_DOUBLE_EQ(rig.depth->camera.fy, nominal.fy);
+  EXPECT_DOUBLE_EQ(rig.depth->camera.cx, nominal.cx);
+  EXPECT_DOUBLE_EQ(rig.depth->camera.cy, nominal.cy);
+  EXPECT_DOUBLE_EQ(rig.depth->camera.depth_factor, 1000.0);
+  // A point 2 m ahead of the depth camera: 2.5 cm to the colour camera's -x, at colour pixel
+  // u = 320 + 529 * (-0.025 / 2) = 313.3875; the depth camera sees it at its centre, 320.
+  const Vec3 p_c = rig.depth->T_c_d * Vec3(0, 0, 2);
+  EXPECT_NEAR(rig.camera.project(p_c).x(), 313.3875, 1e-9);
+  EXPECT_NEAR(rig.camera.project(p_c).y(), 240.0, 1e-12);
+  EXPECT_TRUE(rig.depth->T_c_d.linear().isIdentity());
+  EXPECT_FALSE(load_camera_file("7scenes").depth);  // the dataset's own one camera stays as it was
+  EXPECT_DOUBLE_EQ(load_camera("7scenes_kinect_v1").fx, 529.0);
+  EXPECT_FALSE(camera_file_preset("7scenes_kinect_v2"));
+  expect_error([] { load_camera("7scenes_kinect"); }, {"7scenes_kinect", "no such camera file or preset", "7scenes_kinect_v1"});
+}
+
 TEST(IoCamera, LoadCameraPresetsAndErrors) {
   EXPECT_DOUBLE_EQ(load_camera("tum_fr3").fx, 535.4);
   EXPECT_DOUBLE_EQ(load_camera("tum_fr2").depth_factor, 5000.0);

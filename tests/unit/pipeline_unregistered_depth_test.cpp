@@ -2,6 +2,7 @@
 // that a preset's own values and a registered sequence are left alone.
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -16,9 +17,12 @@ namespace {
 // Frames with boxes before a wall; the depth drawn through "c + s (colour - c) + shift".
 class BoxesSource : public FrameSource {
  public:
-  BoxesSource(double s, double dx, std::string registered_by = "")
-      : s_(s), dx_(dx), registered_by_(std::move(registered_by)) {
-    cam_.cx = 320, cam_.cy = 240;
+  BoxesSource(double s, double dx, std::string registered_by = "", PinholeCamera cam = boxes_camera())
+      : s_(s), dx_(dx), registered_by_(std::move(registered_by)), cam_(cam) {}
+  static PinholeCamera boxes_camera() {
+    PinholeCamera c;
+    c.cx = 320, c.cy = 240;
+    return c;
   }
   std::size_t size() const override { return 200; }
   RgbdFrame load(std::size_t index) const override {
@@ -121,6 +125,74 @@ TEST(UnregisteredDepth, APresetsOwnValuesStay) {
   EXPECT_DOUBLE_EQ(s.features.depth_discontinuity_ratio, 0.03);
   EXPECT_EQ(s.features.depth_noise.model, "virtual_right");  // still at the default: changed
   EXPECT_FALSE(s.mapper.dense_links.enabled);
+}
+
+TEST(UnregisteredDepth, SevenScenesIntrinsicsAreRecognisedExactly) {
+  PinholeCamera c = *camera_preset("7scenes");
+  EXPECT_TRUE(is_seven_scenes_depth_camera(c));
+  for (auto change : std::vector<void (*)(PinholeCamera&)>{
+           [](PinholeCamera& k) { k.fx = 584; }, [](PinholeCamera& k) { k.fy = 525; },
+           [](PinholeCamera& k) { k.cx = 319.5; }, [](PinholeCamera& k) { k.cy = 239.5; },
+           [](PinholeCamera& k) { k.width = 1280; }, [](PinholeCamera& k) { k.depth_factor = 5000; },
+           [](PinholeCamera& k) { k.dist[0] = 0.1; }}) {
+    PinholeCamera other = c;
+    change(other);
+    EXPECT_FALSE(is_seven_scenes_depth_camera(other));
+  }
+}
+
+TEST(UnregisteredDepth, SevenScenesDepthFoundUnregisteredIsDrawnInWithItsKinectRig) {
+  const PinholeCamera nominal = *camera_preset("7scenes");
+  // 1. A folder (the caller can open it again): the two cameras, the rig's settings.
+  PipelineConfig c;
+  BoxesSource kinect(1.106, 8, "", nominal);
+  const std::string why = resolve_depth_registration(c, kinect, true);
+  EXPECT_EQ(why.rfind("not registered", 0), 0u) << why;
+  EXPECT_NE(why.find("camera preset 7scenes_kinect_v1"), std::string::npos) << why;
+  EXPECT_EQ(c.dataset.camera, "7scenes_kinect_v1");
+  const slam::SlamConfig d;
+  EXPECT_DOUBLE_EQ(c.slam.features.depth_discontinuity_ratio, 0.02);
+  EXPECT_EQ(c.slam.features.depth_window_px, 3);
+  EXPECT_EQ(c.slam.features.depth_noise.model, d.features.depth_noise.model);  // registered depth's
+  EXPECT_EQ(c.slam.mapper.dense_links.enabled, d.mapper.dense_links.enabled);
+  // 2. A source that cannot be opened again (a bag, the live node): one camera, as before.
+  PipelineConfig bag;
+  EXPECT_EQ(resolve_depth_registration(bag, kinect).find("7scenes_kinect_v1"), std::string::npos);
+  EXPECT_EQ(bag.dataset.camera, "");
+  expect_unregistered_settings(bag.slam);
+  // 3. "unregistered" set by the user: one camera, no check.
+  PipelineConfig set;
+  set.dataset.depth_registration = "unregistered";
+  resolve_depth_registration(set, kinect, true);
+  EXPECT_EQ(set.dataset.camera, "");
+  expect_unregistered_settings(set.slam);
+  // 4. Other intrinsics: whose camera they are is unknown, so one camera.
+  PipelineConfig other;
+  BoxesSource not_7scenes(1.106, 8);
+  resolve_depth_registration(other, not_7scenes, true);
+  EXPECT_EQ(other.dataset.camera, "");
+  expect_unregistered_settings(other.slam);
+  // 5. 7-Scenes' intrinsics with registered depth: nothing changes.
+  PipelineConfig registered;
+  BoxesSource aligned(1.0, 0, "", nominal);
+  EXPECT_EQ(resolve_depth_registration(registered, aligned, true).rfind("registered", 0), 0u);
+  EXPECT_EQ(registered.dataset.camera, "");
+  expect_defaults(registered.slam);
+}
+
+TEST(UnregisteredDepth, TheRigSettingsAreThoseOfTheKitchenPreset) {
+  // `s3m run DIR` without a preset must track a 7-Scenes folder as config/kitchen_7scenes.yaml does.
+  const PipelineConfig kitchen =
+      load_pipeline_config(std::string(S3M_TEST_DATA_DIR) + "/../../config/kitchen_7scenes.yaml");
+  EXPECT_EQ(kitchen.dataset.camera, "7scenes_kinect_v1");
+  PipelineConfig applied;
+  applied.slam.threaded = kitchen.slam.threaded;
+  use_nominal_rig_depth_settings(applied.slam);
+  const slam::SlamConfig& k = kitchen.slam;
+  EXPECT_DOUBLE_EQ(applied.slam.features.depth_discontinuity_ratio, k.features.depth_discontinuity_ratio);
+  EXPECT_EQ(applied.slam.features.depth_window_px, k.features.depth_window_px);
+  EXPECT_EQ(applied.slam.features.depth_noise.model, k.features.depth_noise.model);
+  EXPECT_EQ(applied.slam.mapper.dense_links.enabled, k.mapper.dense_links.enabled);
 }
 
 TEST(UnregisteredDepth, SettingsAreThoseOfTheShippedPreset) {

@@ -262,11 +262,30 @@ PinholeCamera read_orbslam_settings(const std::string& path) {
 
 PinholeCamera load_camera(const std::string& path_or_preset) { return load_camera_file(path_or_preset).camera; }
 
+std::optional<CameraFile> camera_file_preset(const std::string& name) {
+  if (name != "7scenes_kinect_v1") {
+    if (auto camera = camera_preset(name)) return CameraFile{*camera, std::nullopt};
+    return std::nullopt;
+  }
+  // Depth: 7-Scenes' published intrinsics (585 px, mm) are the depth camera's: its ground truth is
+  // KinectFusion on these depth images, and the dataset says the colour camera was not calibrated.
+  CameraFile rig{*camera_preset("7scenes"), DepthCamera{*camera_preset("7scenes"), SE3::Identity()}};
+  // Colour: 585 / 1.106. Depth edges fall on colour edges at depth pixel = c + 1.106 (colour pixel
+  // - c) + shift (features::check_depth_registration: 1.105-1.107 on the redkitchen from four start
+  // frames), i.e. f_depth / f_colour = 1.106; a Kinect v1 colour camera is 517-535 px (TUM's
+  // fr1-fr3 calibrations). The fit is of the images alone, no trajectory or ground truth.
+  rig.camera.fx = rig.camera.fy = 529.0;
+  // Where: Kinect v1's infrared camera sits 2.5 cm from its colour camera; the fit's shift (+8 px
+  // at the scene's ~2 m: f_depth * b / z) puts it on the colour camera's -x side.
+  rig.depth->T_c_d.translation() = Vec3(-0.025, 0.0, 0.0);
+  return rig;
+}
+
 CameraFile load_camera_file(const std::string& path_or_preset) {
-  if (auto preset = camera_preset(path_or_preset)) return {*preset, std::nullopt};
+  if (auto preset = camera_file_preset(path_or_preset)) return *preset;
   if (!std::filesystem::exists(path_or_preset))
     throw ParseError(path_or_preset, 0, "no such camera file or preset",
-                     "a camera YAML file or one of the presets tum_fr1, tum_fr2, tum_fr3, 7scenes, replica");
+                     "a camera YAML file or one of the presets tum_fr1, tum_fr2, tum_fr3, 7scenes, 7scenes_kinect_v1, replica");
   require_input_file(path_or_preset, "a camera YAML file");  // before looks_like_orbslam() opens it
   if (looks_like_orbslam(path_or_preset)) return {read_orbslam_settings(path_or_preset), std::nullopt};
   return read_camera_file(path_or_preset);

@@ -43,9 +43,17 @@ PinholeCamera read_camera_yaml(const std::string& path);  // read_camera_file(pa
 void write_camera_yaml(const std::string& path, const PinholeCamera& camera,
                        const std::optional<DepthCamera>& depth = std::nullopt);
 PinholeCamera read_orbslam_settings(const std::string& path);
-// A preset name ("tum_fr1", "tum_fr2", "tum_fr3") or a YAML file in either format (detected by keys).
+// A preset name (core's camera_preset(), or "7scenes_kinect_v1") or a YAML file in either format
+// (detected by keys).
 PinholeCamera load_camera(const std::string& path_or_preset);
-// As load_camera, with the camera.yaml's depth camera (presets and ORB-SLAM files have none).
+// As load_camera, with the camera.yaml's depth camera (ORB-SLAM files have none).
 CameraFile load_camera_file(const std::string& path_or_preset);
+
+// The named camera presets: core's camera_preset() (one camera), and "7scenes_kinect_v1", the
+// Kinect v1 of Microsoft 7-Scenes as the two cameras it is. The dataset publishes one set of
+// intrinsics (585 px), its depth camera's; the colour camera is ~529 px, 2.5 cm to the depth
+// camera's right. With it the raw depth is drawn into the colour camera (io::DepthToColour) like any
+// recording with a depth_camera section. Where the numbers come from: camera_yaml.cpp.
+std::optional<CameraFile> camera_file_preset(const std::string& name);
 
 }  // namespace s3m::io

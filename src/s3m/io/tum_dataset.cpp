@@ -133,7 +133,7 @@ PinholeCamera read_calibration_txt(const std::string& path) {
 // The camera and where it came from (for TumDataset::camera_source()).
 std::pair<CameraFile, std::string> dataset_camera(const std::string& dir, const TumDatasetOptions& opt) {
   if (!opt.camera.empty())
-    return {load_camera_file(opt.camera), (camera_preset(opt.camera) ? "preset " : "") + opt.camera + " (dataset.camera)"};
+    return {load_camera_file(opt.camera), (camera_file_preset(opt.camera) ? "preset " : "") + opt.camera + " (dataset.camera)"};
   const fs::path yaml = fs::path(dir) / "camera.yaml";
   if (fs::exists(yaml)) return {load_camera_file(yaml.string()), yaml.string()};
   if (const fs::path calib = fs::path(dir) / "calibration.txt"; fs::exists(calib))
@@ -147,7 +147,7 @@ std::pair<CameraFile, std::string> dataset_camera(const std::string& dir, const 
   }
   throw ParseError(yaml.string(), 0, "file not found",
                    "a camera.yaml (or ETH3D's calibration.txt) in the sequence directory, or a camera file / preset "
-                   "(tum_fr1, tum_fr2, tum_fr3, 7scenes, replica)");
+                   "(tum_fr1, tum_fr2, tum_fr3, 7scenes, 7scenes_kinect_v1, replica)");
 }
 
 }  // namespace

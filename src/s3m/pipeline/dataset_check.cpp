@@ -50,12 +50,13 @@ void ground_truth(const FrameSource& source, double max_dt_s, DatasetCheck& c) {
 
 DatasetCheck check_dataset(const std::string& dir, const PipelineConfig& config) {
   const auto source = open_tum_source(dir, config.dataset);
-  DatasetCheck c = check_frame_source(*source, config, simulator_sign(dir, source->has_labels()));
+  DatasetCheck c = check_frame_source(*source, config, simulator_sign(dir, source->has_labels()), true);
   c.dir = dir;
   return c;
 }
 
-DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig& config, const std::string& sim_sign) {
+DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig& config, const std::string& sim_sign,
+                                bool may_use_rig) {
   DatasetCheck c;
   // 1. What was opened: layout, camera, timing, ground truth, labels.
   c.dir = source.name();
@@ -69,7 +70,7 @@ DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig&
   const std::vector<RgbdFrame> sample = sample_frames(source, &c.unreadable);
   c.sampled = sample.size() + c.unreadable.size();
   PipelineConfig resolved = config;
-  c.depth_registration = resolve_depth_registration(resolved, sample, c.camera, source.depth_registered_by());
+  c.depth_registration = resolve_depth_registration(resolved, sample, c.camera, source.depth_registered_by(), may_use_rig);
   c.depth_camera = source.depth_camera();
   c.depth_scale = check_depth_scale(sample, c.camera.depth_factor);
   // 3. The segmenter a run would choose.

@@ -35,8 +35,11 @@ struct DatasetCheck {
 // the segmenter line). Throws what `s3m run` would throw for a folder it cannot read.
 DatasetCheck check_dataset(const std::string& dir, const PipelineConfig& config);
 
-// The same for any frame source (`s3m check --rosbag`); sim_sign: simulator_sign() of the source.
-DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig& config, const std::string& sim_sign);
+// The same for any frame source (`s3m check --rosbag`); sim_sign: simulator_sign() of the source;
+// may_use_rig: whether `s3m run` could open these frames again as 7-Scenes' two cameras
+// (resolve_depth_registration; a folder can, a bag cannot).
+DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig& config, const std::string& sim_sign,
+                                bool may_use_rig = false);
 
 // The check for people: one line per item, warnings marked "warning:".
 std::string format_dataset_check(const DatasetCheck& c);

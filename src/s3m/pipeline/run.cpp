@@ -76,13 +76,18 @@ struct Components {
 Components build(const RunOptions& o) {
   Components c{o.config, o.open_source ? o.open_source(o.config) : open_tum_source(o.dataset_dir, o.config.dataset),
                nullptr, {}};
-  const PinholeCamera& cam = c.source->camera();
   c.info.dataset_dir = c.source->name();
   c.info.config_file = o.config.source;
   // Frames 0, 20, ... tell whether depth is registered to colour and whether its scale is plausible.
-  const std::vector<RgbdFrame> sample = sample_frames(*c.source);
-  c.info.depth_registration = resolve_depth_registration(c.config, sample, cam, c.source->depth_registered_by());
+  std::vector<RgbdFrame> sample = sample_frames(*c.source);
+  c.info.depth_registration = resolve_depth_registration(c.config, sample, c.source->camera(),
+                                                         c.source->depth_registered_by(), !o.open_source);
   spdlog::info("run: depth {}", c.info.depth_registration);
+  if (c.config.dataset.camera != o.config.dataset.camera) {  // 7-Scenes' Kinect, opened as its two cameras
+    c.source = open_tum_source(o.dataset_dir, c.config.dataset);
+    sample = sample_frames(*c.source);
+  }
+  const PinholeCamera& cam = c.source->camera();
   const DepthScaleCheck scale = check_depth_scale(sample, cam.depth_factor);
   c.info.depth_median_m = scale.median_m;
   c.info.depth_scale_warning = scale.warning;
