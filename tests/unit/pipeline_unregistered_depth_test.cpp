@@ -155,6 +155,7 @@ TEST(UnregisteredDepth, SevenScenesDepthFoundUnregisteredIsDrawnInWithItsKinectR
   EXPECT_EQ(c.slam.features.depth_window_px, 3);
   EXPECT_EQ(c.slam.features.depth_noise.model, d.features.depth_noise.model);  // registered depth's
   EXPECT_EQ(c.slam.mapper.dense_links.enabled, d.mapper.dense_links.enabled);
+  EXPECT_EQ(c.slam.mapper.dense_links.downsample, 2);
   // 2. A source that cannot be opened again (a bag, the live node): one camera, as before.
   PipelineConfig bag;
   EXPECT_EQ(resolve_depth_registration(bag, kinect).find("7scenes_kinect_v1"), std::string::npos);
@@ -193,6 +194,7 @@ TEST(UnregisteredDepth, TheRigSettingsAreThoseOfTheKitchenPreset) {
   EXPECT_EQ(applied.slam.features.depth_window_px, k.features.depth_window_px);
   EXPECT_EQ(applied.slam.features.depth_noise.model, k.features.depth_noise.model);
   EXPECT_EQ(applied.slam.mapper.dense_links.enabled, k.mapper.dense_links.enabled);
+  EXPECT_EQ(applied.slam.mapper.dense_links.downsample, k.mapper.dense_links.downsample);
 }
 
 TEST(UnregisteredDepth, SettingsAreThoseOfTheShippedPreset) {

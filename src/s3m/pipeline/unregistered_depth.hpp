@@ -21,8 +21,8 @@ bool is_seven_scenes_depth_camera(const PinholeCamera& camera);
 
 // For depth that s3m draws into the colour camera from a nominal rather than calibrated rig
 // (io::camera_file_preset("7scenes_kinect_v1")): the stricter keypoint depth test of the settings
-// above only; depth weight and dense links stay those of registered depth. Keys at their default
-// only.
+// above, dense keyframe links at half resolution; the depth weight and the links themselves stay
+// those of registered depth. Keys at their default only.
 void use_nominal_rig_depth_settings(slam::SlamConfig& slam);
 
 // Resolves config.dataset.depth_registration: "auto" takes `registered_by` (FrameSource::
