@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -170,7 +171,16 @@ class BagFrameSource final : public pipeline::FrameSource {
     camera_ = read_camera(rec, rgb_info, topics.camera_info, dataset.camera, camera_source_);
     read_depth_units(rec.depth_units);
     registered_by_ = rec.registered_by;
-    if (!rec.registered()) {
+    // A camera file with a depth_camera section (7-Scenes' preset 7scenes_kinect_v1) says the depth
+    // images are another camera's, whatever the topics' names suggest (a 7-Scenes folder written
+    // as a TUM bag by `s3m tum2bag` has TUM's registered-looking topics).
+    const std::optional<io::DepthCamera> config_depth =
+        camera_source_.rfind("dataset.camera ", 0) == 0 ? io::load_camera_file(dataset.camera).depth : std::nullopt;
+    if (config_depth) {
+      to_colour_ = std::make_shared<io::DepthToColour>(config_depth->camera, camera_, config_depth->T_c_d);
+      spdlog::info("{}: {}", path, to_colour_->describe());
+      registered_by_ = "s3m, with the depth_camera of dataset.camera " + dataset.camera;
+    } else if (!rec.registered()) {
       align_depth(rec, rgb_info ? rgb_info->header.frame_id : "");
       registered_by_ = "s3m, with the recording's depth camera and extrinsics";
     }

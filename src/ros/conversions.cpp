@@ -126,9 +126,13 @@ PinholeCamera live_camera(const sensor_msgs::CameraInfo& info, const std::string
       note += "; the config's dataset.camera " + config_camera + " is not used (~camera_from_config:=true uses it)";
     return c;
   }
-  const PinholeCamera c = io::load_camera(config_camera);
+  const io::CameraFile file = io::load_camera_file(config_camera);
+  const PinholeCamera& c = file.camera;
   note = fmt::format("camera from dataset.camera {} ({}x{}, fx {:.1f}), {}", config_camera, c.width, c.height, c.fx,
                      from_config ? "~camera_from_config" : "the CameraInfo has no intrinsics");
+  // Live depth is aligned from the depth topic's own CameraInfo and TF (~align_depth), not a file.
+  if (file.depth)
+    note += "; its depth_camera is not used here: ~align_depth:=true aligns a raw depth topic with its CameraInfo and TF";
   if (info_usable && !info_matches(info, c))
     note += fmt::format("; the CameraInfo says {}x{}, fx {:.1f}", info.width, info.height, info.K[0]);
   return c;

@@ -15,6 +15,8 @@
 #include "ros_params.hpp"
 #include "ros_test_util.hpp"
 #include "s3m/core/error.hpp"
+#include "s3m/io/camera_yaml.hpp"
+#include "s3m/io/tum_dataset.hpp"
 #include "s3m/sim/simulate.hpp"
 
 namespace s3m {
@@ -123,6 +125,38 @@ TEST(RosBag, RoundTripGivesTheSameTrajectoryAndMapAsTheDirectory) {
   EXPECT_GE(lines, 40u);
   // The bag's ground-truth topic feeds metrics.json like groundtruth.txt does.
   EXPECT_NE(rostest::read_file(dir / "from_bag" / "metrics.json").find("ate_rmse_m"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST(RosBag, AConfigCameraWithADepthCameraAlignsTheBagsDepth) {
+  // A 7-Scenes folder written as a bag has TUM's topics, which name depth registered to colour; the
+  // config's camera (7scenes_kinect_v1, or a file with a depth_camera section) says it is not.
+  const fs::path dir = fs::temp_directory_path() / ("s3m_ros_bag_rig_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path seq = sequence(dir), bag = dir / "seq.bag";
+  ASSERT_EQ(run(std::string(S3M_BINARY) + " tum2bag " + seq.string() + " --out " + bag.string(), dir / "tum2bag.log"), 0)
+      << rostest::read_file(dir / "tum2bag.log");
+  const PinholeCamera cam = io::TumDataset::open(seq.string()).camera();
+  const fs::path plain = dir / "plain.yaml", rig = dir / "rig.yaml";
+  io::write_camera_yaml(plain.string(), cam);
+  io::write_camera_yaml(rig.string(), cam, io::DepthCamera{cam, SE3::Identity()});  // the same camera, 0 cm apart
+  pipeline::DatasetConfig as_plain, as_rig;
+  as_plain.camera = plain.string(), as_rig.camera = rig.string();
+  ros1::BagTopics topics;
+  topics.camera_info = "";  // as `s3m run --rosbag` without --camera-info-topic: the config's camera
+  const auto from_plain = ros1::open_bag_source(bag.string(), topics, as_plain);
+  const auto from_rig = ros1::open_bag_source(bag.string(), topics, as_rig);
+  EXPECT_EQ(from_plain->depth_registered_by(), "") << from_plain->depth_registered_by();  // topics given: not known
+  EXPECT_EQ(from_rig->depth_registered_by(), "s3m, with the depth_camera of dataset.camera " + rig.string());
+  EXPECT_NE(from_rig->depth_camera().find("depth camera 640x480"), std::string::npos) << from_rig->depth_camera();
+  // A depth camera identical to the colour camera: each depth pixel's patch holds exactly its own
+  // colour pixel's centre, at its own depth, so the depth comes back bit for bit.
+  for (std::size_t i : {0u, 20u}) {
+    const cv::Mat a = from_plain->load(i).depth_m, b = from_rig->load(i).depth_m;
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(cv::countNonZero(a != b), 0) << "frame " << i;
+  }
   fs::remove_all(dir);
 }
 
