@@ -76,15 +76,15 @@ inline pipeline::RunOptions options(const std::string& out_name, bool determinis
   return o;
 }
 
-// A copy of the fixture's sequence in scratch_dir()/name whose files are links to the sequence's
-// (the cached sequence is never written through them), except the files for which skip(relative
-// path) is true: those the caller writes.
+// A copy of a sequence (default: the fixture's) in scratch_dir()/name whose files are links to the
+// sequence's (the cached sequence is never written through them), except the files for which
+// skip(relative path) is true: those the caller writes.
 template <typename Skip>
-fs::path linked_copy(const std::string& name, Skip skip) {
+fs::path linked_copy(const std::string& name, Skip skip, const std::string& sequence = sequence_dir()) {
   const fs::path dir = scratch_dir() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const fs::path src = fs::absolute(sequence_dir());
+  const fs::path src = fs::absolute(sequence);
   for (const auto& e : fs::recursive_directory_iterator(src)) {
     const fs::path rel = fs::relative(e.path(), src);
     if (e.is_directory()) fs::create_directories(dir / rel);

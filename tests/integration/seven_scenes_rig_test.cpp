@@ -34,16 +34,12 @@ const std::string& colour_flight_dir() {
 
 // The flight with its depth images redrawn in the depth camera and 7-Scenes' camera.yaml.
 std::string seven_scenes_folder() {
-  const fs::path src = fs::absolute(colour_flight_dir());
-  const fs::path dir = scratch_dir() / "seven_scenes_rig";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  for (const auto& e : fs::recursive_directory_iterator(src)) {
-    const fs::path rel = fs::relative(e.path(), src);
-    if (e.is_directory()) fs::create_directories(dir / rel);
-    else if (rel.parent_path() != "depth" && rel != "camera.yaml" && rel != "sim.yaml") fs::create_symlink(e.path(), dir / rel);
-  }
-  const io::TumDataset flight = io::TumDataset::open(src.string());
+  // Without sim.yaml: a folder of a camera, not of the simulator.
+  const fs::path dir = linked_copy(
+      "seven_scenes_rig",
+      [](const fs::path& rel) { return rel.parent_path() == "depth" || rel == "camera.yaml" || rel == "sim.yaml"; },
+      colour_flight_dir());
+  const io::TumDataset flight = io::TumDataset::open(colour_flight_dir());
   const io::CameraFile rig = io::load_camera_file("7scenes_kinect_v1");
   const io::DepthToColour to_depth_camera(flight.camera(), rig.depth->camera, rig.depth->T_c_d.inverse());
   for (std::size_t i = 0; i < flight.size(); ++i)

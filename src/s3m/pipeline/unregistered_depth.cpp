@@ -11,11 +11,22 @@
 
 namespace s3m::pipeline {
 
+namespace {
+
+// 0.02 z over 7x7 px instead of 0.05 z over 5x5: depth that is not the colour camera's own is
+// least reliable at depth discontinuities (keys at their default only).
+void use_strict_keypoint_depth_test(features::FeatureConfig& f) {
+  const features::FeatureConfig d;
+  if (f.depth_discontinuity_ratio == d.depth_discontinuity_ratio) f.depth_discontinuity_ratio = 0.02;
+  if (f.depth_window_px == d.depth_window_px) f.depth_window_px = 3;
+}
+
+}  // namespace
+
 void use_unregistered_depth_settings(slam::SlamConfig& slam) {
   const slam::SlamConfig d;
   auto& f = slam.features;
-  if (f.depth_discontinuity_ratio == d.features.depth_discontinuity_ratio) f.depth_discontinuity_ratio = 0.02;
-  if (f.depth_window_px == d.features.depth_window_px) f.depth_window_px = 3;
+  use_strict_keypoint_depth_test(f);
   if (f.depth_noise.model == d.features.depth_noise.model) f.depth_noise.model = "virtual_right";
   if (slam.mapper.dense_links.enabled == d.mapper.dense_links.enabled) slam.mapper.dense_links.enabled = false;
 }
@@ -29,9 +40,7 @@ bool is_seven_scenes_depth_camera(const PinholeCamera& camera) {
 
 void use_nominal_rig_depth_settings(slam::SlamConfig& slam) {
   const slam::SlamConfig d;
-  auto& f = slam.features;
-  if (f.depth_discontinuity_ratio == d.features.depth_discontinuity_ratio) f.depth_discontinuity_ratio = 0.02;
-  if (f.depth_window_px == d.features.depth_window_px) f.depth_window_px = 3;
+  use_strict_keypoint_depth_test(slam.features);
   // Dense links at half resolution: on this depth (Kinect noise, resampled through a nominal rig)
   // they agree with tracking as well as at full resolution (kitchen, four start frames: median
   // 0.12-0.14 deg / 3.5-3.8 mm either way) for a quarter of the cost (docs/RESULTS.md, session 35).
