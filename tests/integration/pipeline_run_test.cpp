@@ -56,6 +56,11 @@ TEST(PipelineRun, ThreadedRunWritesEveryOutputAndTracksWell) {
   EXPECT_LT(m["trajectory"]["robot"]["ate_rmse_m"].get<double>(), 0.05);
   // Every stage was timed on every frame it ran on.
   EXPECT_EQ(m["timings_ms"]["track"]["count"].get<int>(), kFrames);
+  // The tracker alone, within the stage that also holds --deterministic's local mapping.
+  ASSERT_TRUE(m["timings_ms"].contains("slam_tracking"));
+  EXPECT_EQ(m["timings_ms"]["slam_tracking"]["count"].get<int>(), kFrames);
+  EXPECT_GT(m["timings_ms"]["slam_tracking"]["mean"].get<double>(), 0.0);
+  EXPECT_LE(m["timings_ms"]["slam_tracking"]["mean"].get<double>(), m["timings_ms"]["track"]["mean"].get<double>());
   EXPECT_EQ(m["timings_ms"]["map"]["count"].get<int>(), m["integrated"].get<int>());
   EXPECT_GT(m["map"]["raw_over_file_ratio"].get<double>(), 20.0);  // map file >= 20x smaller than raw cloud
 }

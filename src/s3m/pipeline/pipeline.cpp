@@ -65,6 +65,8 @@ Pipeline::Work Pipeline::step1_track(RgbdFrame frame) {
   Work w;
   w.track = poses_->track(frame);
   timings_.add("track", sw.elapsed_ms());
+  // The tracker alone: with --deterministic "track" holds local mapping too (the 10 ms target is the tracker's).
+  if (w.track.tracking_ms >= 0) timings_.add("slam_tracking", w.track.tracking_ms);
   const bool wanted = config_.flow.integrate == IntegrateMode::kAllFrames || w.track.keyframe;
   w.integrate = map_ != nullptr && w.track.ok && wanted && w.track.anchor.keyframe != kNoKeyframe;
   w.frame = std::move(frame);

@@ -35,6 +35,9 @@ struct TrackOutput {
   // relocalisation kept failing (slam/map_merge.hpp). Its keyframe clouds are kept, not mapped,
   // until a correction lists their keyframes (the sub-map merged into the world).
   bool detached = false;
+  // SLAM's tracking alone (features and pose) [ms, wall clock], without the local mapping a
+  // single-thread run does inside track(); < 0 where there is no tracker (ground-truth poses).
+  double tracking_ms = -1;
 };
 
 class PoseSource {

@@ -48,6 +48,7 @@ class SlamPoses final : public PoseSource {
     out.keyframe = r.keyframe;
     out.anchor = r.anchor;
     out.corrections = corrected_poses(r.corrections);
+    out.tracking_ms = r.track_ms;
     return out;
   }
 
