@@ -168,15 +168,14 @@ class BagFrameSource final : public pipeline::FrameSource {
     if (!topics.labels.empty()) labels_ = image_index(bag_, path, topics.labels);
     // The colour CameraInfo, read once: the camera, and its frame_id places a raw depth camera.
     const auto rgb_info = rec.rgb_info.empty() ? nullptr : first_message<sensor_msgs::CameraInfo>(bag_, rec.rgb_info, path);
-    camera_ = read_camera(rec, rgb_info, topics.camera_info, dataset.camera, camera_source_);
+    const io::CameraFile camera_file = read_camera(rec, rgb_info, topics.camera_info, dataset.camera, camera_source_);
+    camera_ = camera_file.camera;
     read_depth_units(rec.depth_units);
     registered_by_ = rec.registered_by;
     // A camera file with a depth_camera section (7-Scenes' preset 7scenes_kinect_v1) says the depth
     // images are another camera's, whatever the topics' names suggest (a 7-Scenes folder written
     // as a TUM bag by `s3m tum2bag` has TUM's registered-looking topics).
-    const std::optional<io::DepthCamera> config_depth =
-        camera_source_.rfind("dataset.camera ", 0) == 0 ? io::load_camera_file(dataset.camera).depth : std::nullopt;
-    if (config_depth) {
+    if (const std::optional<io::DepthCamera>& config_depth = camera_file.depth) {
       to_colour_ = std::make_shared<io::DepthToColour>(config_depth->camera, camera_, config_depth->T_c_d);
       spdlog::info("{}: {}", path, to_colour_->describe());
       registered_by_ = "s3m, with the depth_camera of dataset.camera " + dataset.camera;
@@ -226,9 +225,10 @@ class BagFrameSource final : public pipeline::FrameSource {
   // Precedence: a camera-info topic given on the command line ("none": the config's camera); a
   // device's factory calibration (rec.device_calibration); the config's dataset.camera (a
   // calibrated preset: TUM's and openni's CameraInfo hold the driver's uncalibrated defaults); the
-  // recording's CameraInfo. What was not used and why is logged.
-  PinholeCamera read_camera(const BagRecording& rec, sensor_msgs::CameraInfoConstPtr rgb_info,
-                            const std::string& given_topic, const std::string& config_camera, std::string& source) const {
+  // recording's CameraInfo. What was not used and why is logged. Returns the colour camera, with the
+  // config file's depth camera when that file is the one used.
+  io::CameraFile read_camera(const BagRecording& rec, sensor_msgs::CameraInfoConstPtr rgb_info,
+                             const std::string& given_topic, const std::string& config_camera, std::string& source) const {
     const bool none = given_topic == "none";
     if (none && config_camera.empty())
       throw Error(path_ + ": --camera-info-topic none, but the config sets no dataset.camera");
@@ -238,7 +238,8 @@ class BagFrameSource final : public pipeline::FrameSource {
       throw Error(path_ + ": no messages on the camera-info topic " + topic + " (--camera-info-topic)" +
                   topics_of_type(bag_, "sensor_msgs/CameraInfo"));
     const bool use_info = info && (config_camera.empty() || !given_topic.empty() || rec.device_calibration);
-    PinholeCamera c;
+    io::CameraFile file;
+    PinholeCamera& c = file.camera;
     if (use_info) {
       c = camera_from_info(*info, PinholeCamera{}.bf), source = "CameraInfo on " + topic;
       if (!config_camera.empty())
@@ -246,7 +247,7 @@ class BagFrameSource final : public pipeline::FrameSource {
                      "--camera-info-topic none uses dataset.camera", path_, topic, config_camera,
                      given_topic.empty() ? " (the device's own calibration)" : "");
     } else if (!config_camera.empty()) {
-      c = io::load_camera(config_camera), source = "dataset.camera " + config_camera;
+      file = io::load_camera_file(config_camera), source = "dataset.camera " + config_camera;
       if (info && !info_matches(*info, c))
         spdlog::warn("{}: the config's camera ({}: {}x{}, fx {:.1f}) is not the recording's ({}: {}x{}, fx {:.1f}); "
                      "--camera-info-topic {} uses the recording's", path_, config_camera, c.width, c.height, c.fx,
@@ -263,7 +264,7 @@ class BagFrameSource final : public pipeline::FrameSource {
                   std::to_string(first->height) + " but the camera (" + source + ") is " + std::to_string(c.width) +
                   "x" + std::to_string(c.height) +
                   (info && !use_info ? "; --camera-info-topic " + topic + " uses the recording's calibration" : ""));
-    return c;
+    return file;
   }
 
   // The RealSense SDK records its depth unit (0.001 m by default; 0.0001 m in its high-accuracy modes).

@@ -99,7 +99,12 @@ TEST(SlamSparseFrames, AfterAGapAVelocityThatNoLongerHoldsIsNotTheOnlyStart) {
 // In the middle of the room, turning 10 deg per step (2/3 s): measured. Then `dark` frames without
 // depth while the camera turns round, and the last frame looks at the opposite wall, 180 deg from
 // frame 3. The box-like room seen the other way round aligns as the same view, from both starts.
-SE3 turned(double deg) { return test::centre_pose(deg); }
+// odometry_only() without the colour check of a measured motion.
+SlamConfig colour_check_off() {
+  SlamConfig config = odometry_only();
+  config.tracker.odometry_min_colour_agreement = -1;
+  return config;
+}
 
 std::vector<TrackResult> turn_round(int dark, const SlamConfig& config = odometry_only()) {
   const int last = 4 + dark;
@@ -107,11 +112,11 @@ std::vector<TrackResult> turn_round(int dark, const SlamConfig& config = odometr
   std::vector<TrackResult> results;
   for (int i = 0; i <= last; ++i) {
     const double deg = i <= 3 ? 10.0 * i : i < last ? 30.0 + (i - 3) * 180.0 / (last - 3) : 210.0;
-    RgbdFrame f = test::render_room(test::Room{}, test::room_camera(), turned(deg), i, i * 2.0 / 3.0, 0.002);
+    RgbdFrame f = test::render_room(test::Room{}, test::room_camera(), test::centre_pose(deg), i, i * 2.0 / 3.0, 0.002);
     if (i > 3 && i < last) f.depth_m.setTo(0.0f);
     results.push_back(slam.track(f));
     if (i >= 1 && i <= 3) {
-      const SE3 err = (turned(0).inverse() * turned(deg)).inverse() * results.back().T_w_c;
+      const SE3 err = (test::centre_pose(0).inverse() * test::centre_pose(deg)).inverse() * results.back().T_w_c;
       EXPECT_EQ(results.back().state, TrackState::kOdometry) << "frame " << i;
       EXPECT_LT(rotation_angle_rad(err.linear()) * 180 / M_PI, 0.2) << "frame " << i;
     }
@@ -124,9 +129,7 @@ TEST(SlamSparseFrames, NoMotionIsMeasuredBetweenViewsTheVelocityTurnsApart) {
   // 7 dark frames: the velocity carried over the 8 steps since frame 3 turns 80 deg, more than the
   // camera's 63 deg field of view: nothing to measure between the two views. Measured anyway,
   // frame 11 was posed 180 deg off (ODOMETRY). The colour check is off: the rule alone holds.
-  SlamConfig config = odometry_only();
-  config.tracker.odometry_min_colour_agreement = -1;
-  const std::vector<TrackResult> results = turn_round(7, config);
+  const std::vector<TrackResult> results = turn_round(7, colour_check_off());
   for (int i = 4; i <= 11; ++i) EXPECT_EQ(results[std::size_t(i)].state, TrackState::kLost) << "frame " << i;
 }
 
@@ -137,11 +140,9 @@ TEST(SlamSparseFrames, AMeasuredTurnTheColoursContradictIsNotTaken) {
   // (colour correlation -0.09, right steps 0.99): LOST at the velocity's guess, not ODOMETRY.
   const std::vector<TrackResult> results = turn_round(4);
   for (int i = 4; i <= 8; ++i) EXPECT_EQ(results[std::size_t(i)].state, TrackState::kLost) << "frame " << i;
-  SlamConfig unchecked = odometry_only();
-  unchecked.tracker.odometry_min_colour_agreement = -1;
-  const TrackResult last = turn_round(4, unchecked).back();
+  const TrackResult last = turn_round(4, colour_check_off()).back();
   EXPECT_EQ(last.state, TrackState::kOdometry) << "without the check: measured";
-  const SE3 err = (turned(0).inverse() * turned(210)).inverse() * last.T_w_c;
+  const SE3 err = (test::centre_pose(0).inverse() * test::centre_pose(210)).inverse() * last.T_w_c;
   EXPECT_GT(rotation_angle_rad(err.linear()) * 180 / M_PI, 170.0) << "... the other way round";
 }
 

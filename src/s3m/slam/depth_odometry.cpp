@@ -14,6 +14,17 @@
 #include "s3m/core/error.hpp"
 
 namespace s3m::slam {
+namespace {
+
+// The grey image of a BGR (or BGRA, or already grey) colour image.
+cv::Mat grey_of(const cv::Mat& image) {
+  if (image.channels() == 1) return image;
+  cv::Mat grey;
+  cv::cvtColor(image, grey, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+  return grey;
+}
+
+}  // namespace
 
 void DepthOdometryConfig::validate() const {
   require(downsample >= 1 && downsample <= 8, "tracker.odometry_downsample must be in [1, 8]");
@@ -61,11 +72,7 @@ cv::Mat DepthOdometry::prepare_depth(const RgbdFrame& frame) const {
 }
 
 cv::Mat DepthOdometry::prepare_grey(const RgbdFrame& frame) const {
-  cv::Mat grey;
-  if (frame.rgb.channels() == 3)
-    cv::cvtColor(frame.rgb, grey, cv::COLOR_BGR2GRAY);
-  else
-    grey = frame.rgb;
+  cv::Mat grey = grey_of(frame.rgb);
   if (!map_x_.empty()) cv::remap(grey, grey, map_x_, map_y_, cv::INTER_LINEAR);
   if (config_.downsample > 1) {
     const double s = 1.0 / config_.downsample;
@@ -152,12 +159,6 @@ double bilinear(const cv::Mat& grey, double x, double y) {
   return (1 - ay) * ((1 - ax) * at(y0, x0) + ax * at(y0, x0 + 1)) + ay * ((1 - ax) * at(y0 + 1, x0) + ax * at(y0 + 1, x0 + 1));
 }
 
-cv::Mat grey_of(const cv::Mat& image) {
-  if (image.channels() == 1) return image;
-  cv::Mat grey;
-  cv::cvtColor(image, grey, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
-  return grey;
-}
 }  // namespace
 
 double depth_agreement(const PinholeCamera& camera, const cv::Mat& depth_last, const cv::Mat& depth_cur,
