@@ -1,4 +1,4 @@
-// `s3m merge RUN_A RUN_B --out OUT`: two saved sessions of one place merged into one (issue 23).
+// `s3m merge RUN_A RUN_B --out OUT`: two saved sessions of one place merged into one.
 #include <iostream>
 
 #include "commands.hpp"

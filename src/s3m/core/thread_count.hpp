@@ -2,8 +2,8 @@
 // The accepted range of every thread count a config or model card may set. 0 means "automatic"
 // wherever a count is read; otherwise 1..max_thread_count(). Why a bound: more threads than cores
 // only add context switches (every s3m stage is CPU-bound), and absurd values crash third-party
-// pools instead of being clamped (tbb::task_arena / cv::setNumThreads(65537) ended in a segfault,
-// issue 24). 4 x the hardware threads leaves room for deliberate oversubscription.
+// pools instead of being clamped (tbb::task_arena / cv::setNumThreads(65537) ended in a
+// segfault). 4 x the hardware threads leaves room for deliberate oversubscription.
 #include <string>
 
 namespace s3m {

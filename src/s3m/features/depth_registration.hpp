@@ -47,11 +47,9 @@ struct DepthRegistrationFit {
 DepthRegistrationFit fit_depth_registration(const std::vector<EdgeFrame>& frames, double cx, double cy);
 
 // The verdict a run acts on: "registered" unless the fitted scale is more than 2 % from 1 AND the
-// fit puts the depth edges at least 20 % closer to colour edges than the identity. On 6 frames
-// (those `s3m run` uses): 7-Scenes redkitchen s 1.106, shift (8.2, 1.0) px, 3.24 vs 5.58 px (not
-// registered); TUM fr3 cabinet s 0.994, 2.14 vs 2.37 px; the simulator's 90 matrix sequences
-// s 0.991-1.005, four corridor flights preferring a 6-12 px vertical shift (registered;
-// docs/RESULTS.md). Fewer than 300 depth edges (flat views): no evidence, "registered".
+// fit puts the depth edges at least 20 % closer to colour edges than the identity: that separates
+// 7-Scenes' depth camera from registered TUM and simulator depth (see docs/DECISIONS.md, "Depth
+// registration check"). Fewer than 300 depth edges (flat views): no evidence, "registered".
 struct DepthRegistrationCheck {
   DepthRegistrationFit fit;
   bool registered = true;

@@ -15,15 +15,14 @@
 namespace s3m::features {
 
 // How far a keypoint's depth is trusted: the sigma of its depth row in tracking and bundle
-// adjustment (docs/RESULTS.md, issue 20).
+// adjustment (see docs/DECISIONS.md, "Depth noise model").
 struct DepthNoiseConfig {
   // "sensor": each keypoint's depth gets sigma_z = sigma0_m + k_per_m z^2 (structured light and active
   // stereo measure disparity, so the error grows with z^2; Kinect v1 about 1.5e-3 z^2, Khoshelham &
-  // Elberink 2012). Measured and dropped: a term for the depth slope across the keypoint's position
-  // uncertainty (or a depth-to-colour misregistration) made the simulator and the kitchen worse.
+  // Elberink 2012).
   // "virtual_right": ORB-SLAM's weighting through u_r = u - bf / z with the keypoint's pixel sigma,
   // i.e. sigma_z ~ z^2 * level scale / bf (10 cm at 2 m for bf 40): depth hardly counts, and local
-  // BA then shrinks the motion by 1-3 % even on exact depth (issue 20).
+  // BA then shrinks the motion even on exact depth.
   std::string model = "sensor";
   double sigma0_m = 0.001;         // sensor noise at z = 0 [m]
   double k_per_m = 0.0015;         // sensor noise growth [1/m]
@@ -61,8 +60,8 @@ class FeatureGrid {
 
 // The virtual right coordinate u - bf / z of a keypoint without depth. A real one can be negative:
 // a keypoint closer to the left border than bf / z pixels (40 px at 1 m, 80 px at 0.5 m with the
-// default bf) has u - bf / z < 0. Until session 14 "no depth" was any value < 0, so those keypoints
-// lost their depth in tracking, bundle adjustment and matching (issue 20).
+// default bf) has u - bf / z < 0, so "no depth" is a value no keypoint can reach (see
+// docs/DECISIONS.md, "Keypoint depth: the no-depth marker").
 inline constexpr float kNoRight = -1e9f;
 inline bool has_right(double u_right) { return u_right > -1e8; }
 

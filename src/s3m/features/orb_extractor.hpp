@@ -16,7 +16,8 @@ struct OrbConfig {
   int n_levels = 8;
   // Keypoint position sigma of level l = scale_factor^(l * level_sigma_exponent) px (ScalePyramid).
   // ORB-SLAM's 1 (sigma = the level's scale) over-states how much worse coarse levels are: the
-  // residuals measured per level grow like an exponent of 0.5-0.8 (docs/RESULTS.md, issue 20).
+  // residuals measured per level grow like an exponent of 0.5-0.8 (see docs/DECISIONS.md,
+  // "Keypoint sigma per pyramid level").
   double level_sigma_exponent = 0.75;
   int ini_fast_threshold = 20;  // FAST threshold tried first in each cell [grey levels]
   int min_fast_threshold = 7;   // fallback for low-contrast cells

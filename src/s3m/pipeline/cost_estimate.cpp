@@ -11,15 +11,8 @@
 
 namespace s3m::pipeline {
 
-// How the limits were chosen (simulator office, 640x480, fx = 525, `s3m run --deterministic` on a
-// 40-frame `s3m sim` sequence, 2-core machine shared with other builds; docs/RESULTS.md):
-//   estimate 1.9e5 (config/sim.yaml)                    map insert   2.3 ms/frame,   110 MB RSS
-//   estimate 3.0e6 (stride 1, 2 cm)                                  23 ms/frame,    175 MB
-//   estimate 2.4e7 (stride 1, 1 cm)                                 102 ms/frame,    480 MB (10 frames)
-//   estimate 6.1e7 (stride 2, 5 mm)                                 165 ms/frame,    955 MB (10 frames)
-//   estimate 3.1e8 (stride 1, 5 mm, max depth 100: issue 24)       3.8 s/frame, 24 M leaves and
-//                                                                 5.9 GB RSS after ONE frame
-// i.e. ~3-12 ns and up to ~20 B of RSS per estimated update in a room, and in open space every
+// How the limits were chosen (the measurements on the simulator office: docs/DECISIONS.md, "Map
+// cost limits"): a room costs ~3-12 ns and up to ~20 B of RSS per estimated update, and in open space every
 // update can be a new leaf of kMapBytesPerVoxel (74 B: the map's memory_bytes / leaf_nodes at 5 mm).
 // kMaxVoxelUpdates = 1e8 caps one frame at ~1 s and ~2 GB in a room (7.4 GB in open space, a third
 // of this 23 GB machine) and is ~140x above every shipped preset (<= 7.0e5, realsense_d455); kWarnVoxelUpdates =

@@ -1,8 +1,8 @@
 #pragma once
 // What one integrated frame will cost the map, estimated from the settings and the camera before
 // the first frame, so that settings which would run for hours or exhaust memory are refused up
-// front with the keys to change (issue 24: `cloud.pixel_stride: 1`, `map.resolution_m: 0.005`,
-// `cloud.max_depth_m: 100` ran until killed). Every number is an upper bound for open space; a
+// front with the keys to change (`cloud.pixel_stride: 1`, `map.resolution_m: 0.005`,
+// `cloud.max_depth_m: 100` together ran until killed). Every number is an upper bound for open space; a
 // room ends the rays at its walls (measured: 8-12x below the bound, cost_estimate.cpp).
 #include <string>
 

@@ -70,7 +70,7 @@ class Pipeline {
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
 
-  // A loaded session (issue 23), before the first process(): the kept clouds of the run whose
+  // A loaded session, before the first process(): the kept clouds of the run whose
   // SLAM map the pose source continues in (session_io.hpp); the semantic map is rebuilt from them.
   void load_session_clouds(const std::string& path);
   void process(RgbdFrame frame);

@@ -53,7 +53,7 @@ class PoseSource {
   virtual io::Trajectory keyframe_trajectory() const = 0;
   virtual KeyframePoses keyframe_poses() const = 0;
   virtual std::string name() const = 0;
-  // A map that lasts (issue 23). Before the first track(): continue in the SLAM map saved at path
+  // A map that lasts. Before the first track(): continue in the SLAM map saved at path
   // (localize_only: without changing it). After finish(): write the map to path; false when the
   // source has none to write. Sources without a map (ground truth) refuse to load one.
   virtual void load_map(const std::string& path, bool /*localize_only*/) {

@@ -32,7 +32,7 @@ struct RunOptions {
   bool progress = false;           // live progress line on stderr
   bool report = true;              // plots + report.html via tools/plot_report.py
   bool force = false;              // run even when the cost estimate is over its limit (cost_estimate.hpp)
-  // A map that lasts (issue 23): continue in the session a previous run wrote into this folder
+  // A map that lasts: continue in the session a previous run wrote into this folder
   // (slam_map.bin, and kept_clouds.bin for the semantic map); "" = start from nothing. With
   // localize_only the SLAM map is not changed (the semantic map still fuses this run's frames).
   std::string map_dir;

@@ -1,5 +1,5 @@
 #pragma once
-// A run's session in OUT, for a later run to continue in (issue 23, `s3m run ... --map OUT/`):
+// A run's session in OUT, for a later run to continue in (`s3m run ... --map OUT/`):
 //   slam_map.bin     the SLAM map (slam/map_io.hpp)
 //   kept_clouds.bin  the labelled clouds the semantic map is built from, each anchored to a
 //                    keyframe of that map, with every keyframe pose the store knows. The semantic

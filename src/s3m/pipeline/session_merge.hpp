@@ -1,5 +1,5 @@
 #pragma once
-// `s3m merge RUN_A RUN_B --out OUT` as a library call (issue 23): two saved sessions of the same
+// `s3m merge RUN_A RUN_B --out OUT` as a library call: two saved sessions of the same
 // place (each a folder `s3m run --out` wrote: slam_map.bin + kept_clouds.bin) become one. Place
 // recognition finds where B's keyframes see A's map (slam::merge_sessions: BoW candidates,
 // geometric verification, an alignment several pairs agree on), B's SLAM map is merged into A's

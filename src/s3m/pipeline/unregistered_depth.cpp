@@ -42,8 +42,8 @@ void use_nominal_rig_depth_settings(slam::SlamConfig& slam) {
   const slam::SlamConfig d;
   use_strict_keypoint_depth_test(slam.features);
   // Dense links at half resolution: on this depth (Kinect noise, resampled through a nominal rig)
-  // they agree with tracking as well as at full resolution (kitchen, four start frames: median
-  // 0.12-0.14 deg / 3.5-3.8 mm either way) for a quarter of the cost (docs/RESULTS.md, session 35).
+  // they agree with tracking as well as at full resolution for a quarter of the cost (see
+  // docs/DECISIONS.md, "7-Scenes rig").
   auto& links = slam.mapper.dense_links;
   if (links.downsample == d.mapper.dense_links.downsample) links.downsample = 2;
 }
@@ -66,8 +66,8 @@ std::string resolve_depth_registration(PipelineConfig& config, const std::vector
   }
   if (registered) return "registered (" + why + ")";
   // Read as one 585 px camera, 7-Scenes' depth lands ~8 px and 10 % off its colour pixels; drawn in
-  // from its own camera it is the colour pixel's. Kitchen 0000-0499, SE3 ATE over start frames
-  // 0 / 4 / 8 / 12: 3.50 -> 2.99 cm (docs/RESULTS.md, session 35). A set "unregistered" keeps one camera.
+  // from its own camera it is the colour pixel's, and the kitchen's trajectory improves (see
+  // docs/DECISIONS.md, "7-Scenes rig"). A set "unregistered" keeps one camera.
   if (mode == "auto" && may_use_rig && is_seven_scenes_depth_camera(camera)) {
     config.dataset.camera = "7scenes_kinect_v1";
     use_nominal_rig_depth_settings(config.slam);

@@ -19,12 +19,9 @@ struct BaConfig {
   int global_iterations = 15;
   // A local BA that moves a keyframe further than this from where it was is degenerate, not a
   // correction: a keyframe joined to the window by one neighbour that looks at a plain wall trades
-  // rotation for translation about a point on the wall at almost no cost (3.9 deg and 12 cm in one
-  // step on a simulated living-room flight, 1.2 deg on a corridor; the largest step anywhere on
-  // the kitchen is 0.43 deg / 1.5 cm, docs/RESULTS.md, issue 20; 1 deg until session 14, when a
-  // corridor keyframe tied to the map only through its free neighbours was turned 0.74 deg away from
-  // a tracked pose 0.12 deg off the truth). It is solved again with such
-  // keyframes held where they were. Set either to a large value to turn it off.
+  // rotation for translation about a point on the wall at almost no cost, while real corrections
+  // stay small (see docs/DECISIONS.md, "Local BA: keyframes held where they were"). It is solved
+  // again with such keyframes held where they were. Set either to a large value to turn it off.
   double max_keyframe_step_deg = 0.5;
   double max_keyframe_step_m = 0.05;
   void validate() const;
@@ -81,7 +78,8 @@ struct LocalBaStats {
 // link are exempt: their images tie them to their neighbour, and the final global BA with links
 // moves keyframes at the far end of a drifted flight by more than the limit, legitimately. The caller solves
 // again from `before` with those held: such a step is a degenerate solve (a keyframe joined to the
-// rest through few points), not a correction (issue 20, session 11).
+// rest through few points), not a correction (see docs/DECISIONS.md, "Local BA: keyframes held
+// where they were").
 int hold_keyframes_moved_too_far(const BaProblem& before, BaProblem& after, const BaConfig& config);
 
 // Local BA around keyframe kf: kf and its best covisible keyframes are optimised with all points

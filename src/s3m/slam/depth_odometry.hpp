@@ -2,9 +2,8 @@
 // Frame-to-frame dense RGB-D odometry (OpenCV rgbd's RgbdICPOdometry: photometric + point-to-plane
 // ICP over an image pyramid) for the frames feature tracking loses. A textured poster leaving the
 // view of a turn towards a plain wall leaves ORB with under 100 keypoints while the wall's faint
-// texture, the room's corners and the floor still fix the motion densely: on the simulator's
-// living-room loop the dense step is within 0.07 deg / 2.5 mm of the truth per frame with sensor
-// noise, where the constant-velocity guess drifts 0.1-0.3 deg per frame (docs/RESULTS.md, issue 20).
+// texture, the room's corners and the floor still fix the motion densely, and far better than the
+// constant-velocity guess does (see docs/DECISIONS.md, "Tracking: depth odometry across gaps").
 // A single plane leaves it degenerate, so the caller checks it against its own prediction, and
 // align_observable() measures only what such a view fixes.
 #include <optional>
@@ -99,18 +98,17 @@ class DepthOdometry {
 // Two estimates of one step (T_cur_last) agree: within max_deg / max_m, or within `fraction` of the
 // step's rotation and translation where that is more, but never more than twice max_deg / max_m.
 // Estimates of a step across a gap (a sparse recording, dropped frames) differ by a few percent
-// of it: forward and reverse alignment 0.6 deg / 1.2 cm apart on a 12 deg / 30 cm step 1.34 s long
-// (TUM fr3 cabinet). Twice the bounds at most: on the simulator an alignment that slid into the
-// same wrong basin from both sides, 90 deg from the truth, agreed to 0.26 deg / 4.9 cm
-// (docs/RESULTS.md, session 31). 30 Hz steps (< 2 deg / 4 cm) keep max_deg / max_m.
+// of it. Twice the bounds at most, because an alignment can slide into the same wrong basin from
+// both sides and then agree with itself closely (see docs/DECISIONS.md, "Tracking: depth odometry
+// across gaps"). 30 Hz steps (< 2 deg / 4 cm) keep max_deg / max_m.
 bool odometry_steps_agree(const SE3& step, const SE3& other, double max_deg, double max_m, double fraction);
 
 // How well a step T_cur_last explains both views: of the last frame's depth pixels (every 4th row
 // and column, metres, 0 / NaN = none) that it moves in front of `camera` onto a measured depth of
 // the current frame, the fraction within 3 cm or 3 % of that depth; 0 when none lands. Both depth
-// images in `camera`'s pixels. On the TUM fr3 cabinet 2 s apart, right steps give 0.82-0.97 and
-// steps 30-89 deg off 0.53-0.56; where one plane fills the view a slide along it gives ~1
-// (docs/RESULTS.md, session 31), so it can only choose between estimates, not confirm one.
+// images in `camera`'s pixels. Right steps score clearly higher than wrong ones, but where one plane
+// fills the view a slide along it scores ~1 too, so it can only choose between estimates, not
+// confirm one (see docs/DECISIONS.md, "Tracking: depth odometry across gaps").
 double depth_agreement(const PinholeCamera& camera, const cv::Mat& depth_last, const cv::Mat& depth_cur,
                        const SE3& T_cur_last);
 
@@ -118,9 +116,8 @@ double depth_agreement(const PinholeCamera& camera, const cv::Mat& depth_last, c
 // (in [-1, 1]) of grey levels between the last frame's pixels with depth (every 4th row and column)
 // and where the step puts them in the current frame (bilinear), over those that land on a current
 // depth within 3 cm or 3 % (seen by both). Depth alone cannot tell a box-like room from the same
-// room seen the other way round; its textures can: that step scores -0.09 on the rendered room,
-// right steps 0.99 there and 0.79-0.99 on the TUM fr3 cabinet 0.67-2.7 s apart (docs/RESULTS.md,
-// session 34). Invariant to gain and offset, so auto exposure does not count against a step.
+// room seen the other way round; its textures can (see docs/DECISIONS.md, "Tracking: colour
+// agreement"). Invariant to gain and offset, so auto exposure does not count against a step.
 // nullopt when fewer than 100 pixels land or either side has no contrast (a black image).
 std::optional<double> colour_agreement(const PinholeCamera& camera, const RgbdFrame& last, const RgbdFrame& cur,
                                        const SE3& T_cur_last);

@@ -3,11 +3,10 @@
 // RGB-D alignment of their images (DepthOdometry::align, photometric + point-to-plane ICP over
 // every pixel), a constraint for the final global BA next to the keypoints.
 //
-// Why (issue 20, session 16): the worst simulator rows drift in fast turns, where consecutive
-// keyframes are ~37 deg apart and share a narrow strip; their relative pose rests on a few hundred
-// ORB keypoints with 0.6-0.7 px noise each, and local BA cannot do better than that. Dense
-// alignment of the same two images at full resolution is within 0.0002 deg / 0.3 mm of the truth
-// on noise-free renders and 0.02-0.17 deg / 1-8 mm with sensor noise (docs/RESULTS.md).
+// Why: in fast turns consecutive keyframes share a narrow strip, and their relative pose rests on a
+// few hundred noisy ORB keypoints, which local BA cannot do better than. Dense alignment of the
+// same two images uses every pixel and is far more accurate (see docs/DECISIONS.md, "Dense
+// keyframe links").
 #include <exception>
 #include <memory>
 #include <mutex>

@@ -17,8 +17,8 @@ LocalBaStats local_bundle_adjustment(Map& map, KeyframeId kf_id, const PinholeCa
     P.fixed.push_back(fixed ? 1 : 0);
   };
   // A sub-map's root keyframe defines its world and is never moved (as ORB-SLAM holds keyframe
-  // 0): free in a window with fixed neighbours, it drifted with the window and took the whole
-  // trajectory's origin with it (issue 20: ~1 cm / 0.16 deg after a loop on the rendered room).
+  // 0): free in a window with fixed neighbours, it drifts with the window and takes the whole
+  // trajectory's origin with it (see docs/DECISIONS.md, "Local BA: keyframes held where they were").
   add_frame(kf_id, map.keyframe(kf_id).is_root());
   for (KeyframeId nb : map.keyframe(kf_id).best_covisible(config.max_local_keyframes - 1))
     add_frame(nb, map.keyframe(nb).is_root());

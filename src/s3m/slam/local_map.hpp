@@ -30,7 +30,7 @@ struct KeyFrameRequest {
   int submap = 0;  // the sub-map tracking was in (T_w_c is in its frame; Map::KeyFrame::submap)
   // The first keyframe of a map: every keypoint with depth becomes a point, not only the close ones
   // (ORB-SLAM's RGB-D initialisation). A first view of far walls (3-4 m) otherwise leaves the next
-  // frames ~100 points to track, too few to hold on (the simulator's office at rest, issue 20).
+  // frames ~100 points to track, too few to hold on (see docs/DECISIONS.md, "Keyframe policy").
   bool first_of_map = false;
   // Deep copies of the frame's colour and depth for the dense link to the previous keyframe
   // (MapperConfig::dense_links, keyframe_links.hpp); empty when those are off.

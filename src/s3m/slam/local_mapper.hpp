@@ -19,8 +19,8 @@ struct MapperConfig {
   double close_depth_m = 3.0;     // points are created for all keypoints closer than this [m] ...
   // ... and for at least this many of the closest ones. ORB-SLAM2 takes 100 (its far depth, as a
   // virtual stereo disparity, is weak); with depth weighted by its sensor model far points are
-  // safe, and in views beyond close_depth_m 100 new points per keyframe were too few to keep
-  // tracking through fast turns (office handheld flights lost 17-23 frames; docs/RESULTS.md).
+  // safe, and in views beyond close_depth_m 100 new points per keyframe are too few to keep
+  // tracking through fast turns (see docs/DECISIONS.md, "Keyframe policy").
   int min_new_points = 300;
   double min_found_ratio = 0.25;  // recent points found less often than this are culled
   int fuse_neighbours = 10;       // covisible keyframes searched for duplicates
@@ -29,10 +29,9 @@ struct MapperConfig {
   double redundant_ratio = 0.9;   // a keyframe whose points are this often seen by >= 3 others goes
   int snapshot_keyframes = 40;    // keyframes in the snapshot sent to tracking
   // System::finish() runs one BA over the whole map (not in localisation-only sessions), holding
-  // keyframes it would move too far (ba.max_keyframe_step_*). On since issue 20 session 12: over
-  // the 90-row simulator matrix the median ATE goes 0.45 -> 0.41 cm noise-free and 0.67 -> 0.63 cm
-  // noisy (21 rows better, 4 worse; flights that revisit gain most); the kitchen moves by ~1 %
-  // either way (docs/RESULTS.md). Before the sensor depth weight it had made runs slightly worse.
+  // keyframes it would move too far (ba.max_keyframe_step_*). On by default: with depth weighted by
+  // its sensor model it makes most simulator flights better, those that revisit most, and leaves
+  // the kitchen about where it was (see docs/DECISIONS.md, "Final global BA").
   bool final_global_ba = true;
   // Dense RGB-D links between consecutive keyframes, constraints of the final global BA.
   DenseLinkConfig dense_links;

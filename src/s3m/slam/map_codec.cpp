@@ -61,8 +61,8 @@ std::shared_ptr<const features::FrameFeatures> get_features(ByteReader& r, const
   r.get_bytes(f->u_right.data(), n * sizeof(float), "keypoint right coordinates");
   r.get_bytes(f->depth_sigma_m.data(), n * sizeof(float), "keypoint depth sigmas");
   // The stored right coordinates are re-derived from depth (as FrameFeatures makes them): maps
-  // written before session 14 hold -1 both for "no depth" and for keypoints with depth whose
-  // u - bf / z was negative, which then lost their depth (features::kNoRight).
+  // written before "no depth" became features::kNoRight hold -1 both for "no depth" and for
+  // keypoints with depth whose u - bf / z was negative, which then lost their depth.
   features::set_right_coordinates(*f, camera.bf);
   f->grid.build(f->keypoints, camera.width, camera.height);
   return f;

@@ -1,5 +1,5 @@
 #pragma once
-// SLAM map persistence (`slam_map.bin`, issue 23): a map that outlives the run that built it.
+// SLAM map persistence (`slam_map.bin`): a map that outlives the run that built it.
 // The file holds every keyframe (id, source frame, time, pose T_w_c, keypoints, descriptors, depth
 // and virtual right coordinate per keypoint, the map point seen at each keypoint, BoW vector and
 // direct index), every map point (position, descriptor, viewing direction, distance range,

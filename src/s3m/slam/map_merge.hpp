@@ -1,5 +1,5 @@
 #pragma once
-// Sub-maps and their merging (issue 23, ORB-SLAM3's Atlas for RGB-D). A session that cannot
+// Sub-maps and their merging (ORB-SLAM3's Atlas for RGB-D). A session that cannot
 // relocalise does not stay LOST: after a few failed frames it starts a new sub-map in a frame of
 // its own (System::track, step 3). Place recognition (the BoW keyframe index, the loop detector's
 // candidates and geometric verification) later finds an older sub-map from one of its keyframes;

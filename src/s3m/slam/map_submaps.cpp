@@ -1,4 +1,4 @@
-// Sub-maps of the Map (issue 23): a session that cannot relocalise starts a new sub-map in a
+// Sub-maps of the Map: a session that cannot relocalise starts a new sub-map in a
 // frame of its own; merging moves it into an older one (map_merge.cpp). These are the Map's
 // bookkeeping for that: membership, the rigid move, the spanning tree across the seam, pruning
 // what never joined the world, and copying a second saved map in for the offline merge.

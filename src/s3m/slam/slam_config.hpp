@@ -42,7 +42,7 @@ struct SlamConfig {
   // single-thread one, with local mapping running while the next frame's features are extracted
   // and the rest of the pipeline works. 0: take whatever has arrived (at most
   // tracker.max_pending_keyframes behind; faster, but the trajectory changes with the machine's
-  // load and was up to 1.8x less accurate on the simulator). Issue 20, docs/RESULTS.md.
+  // load and is less accurate; see docs/DECISIONS.md, "Threaded mode: mapping lag").
   int mapping_lag_frames = 1;
 
   void validate() const;

@@ -107,7 +107,7 @@ class System {
   std::vector<FramePose> robot_trajectory() const;    // robot_pose(camera_trajectory(), T_c_r)
   std::vector<FramePose> keyframe_trajectory() const;  // live keyframes, camera poses
 
-  // A map that lasts (issue 23). Before the first track(): continue in the map saved at path by
+  // A map that lasts. Before the first track(): continue in the map saved at path by
   // save_map(); load_slam_map() checks it against this camera and vocabulary (ParseError naming
   // the file otherwise). The first frame is relocalised in it (BoW candidates, PnP, refinement)
   // and every pose is in its world frame; until a frame relocalises, frames are LOST. New

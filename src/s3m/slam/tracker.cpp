@@ -282,9 +282,8 @@ bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, in
   // While a keyframe waits for local mapping, its close keypoints are becoming map points the
   // tracker cannot see yet (ORB-SLAM creates them in the tracking thread; here the mapper does),
   // so "few close points tracked" then only means "the snapshot is behind": counting it made
-  // threaded mode insert every frame or two after a keyframe another one (43 keyframes instead of
-  // single-thread's 29 on the kitchen at 30 Hz; ATE mean 3.66 -> 3.46 cm without it,
-  // docs/RESULTS.md). Single-thread mode never has a keyframe pending, so it is unchanged.
+  // threaded mode insert every frame or two after a keyframe another one (see docs/DECISIONS.md,
+  // "Keyframe policy"). Single-thread mode never has a keyframe pending, so it is unchanged.
   const bool need_close = pending == 0 && lacks_close_points(cur);
   const double ref = snapshot_->ref_tracked_points;
   const double ratio = snapshot_->n_map_keyframes < 2 ? 0.4 : config_.keyframe_ref_ratio;

@@ -27,8 +27,9 @@ struct TrackerConfig {
   int min_motion_matches = 20;
   int min_pose_inliers = 10;
   // When the reference keyframe's matches (ratio test 0.7) do not hold the pose from the last one,
-  // it is searched again with matches at this ratio and a pose from PnP RANSAC on them (a gap of
-  // dropped frames or a sparse recording; docs/RESULTS.md, issue 20 session 22). <= 0.7: off.
+  // it is searched again with matches at this ratio and a pose from PnP RANSAC on them: after a gap
+  // of dropped frames or in a sparse recording the last pose is too far off to optimise from
+  // (see docs/DECISIONS.md, "Tracking: frames after a wide gap"). <= 0.7: off.
   double wide_match_ratio = 0.8;
   double local_radius_factor = 3.0; // local-map search window factor (times 2.5/4 px per level scale)
   int min_local_inliers = 30;       // below this after local-map tracking the frame is LOST
@@ -39,16 +40,12 @@ struct TrackerConfig {
   // turn into new space the reference keyframe's points are mostly new (one observation), so the
   // reference count is small and the ratio above fires only when tracking collapses: a keyframe
   // that late shares a narrow strip with the map and local BA trades its rotation for
-  // translation (9.5 cm ATE on a simulated office loop, 1.25 with this; docs/RESULTS.md).
+  // translation (see docs/DECISIONS.md, "Keyframe policy").
   double keyframe_decay_ratio = 0.5;
   // ... or when the camera has turned more than keyframe_max_deg [deg] or moved more than
   // keyframe_max_m [m] since its reference keyframe (0 = off). The rules above count points and
-  // stay silent while far walls remain in view: 69 deg / 85 cm between two keyframes on a
-  // simulated living-room flight, whose frames were then placed by ever older points. 20 deg /
-  // 0.4 m on the 90 matrix rows: noise-free worst 0.495 -> 0.442 cm, noisy worst 0.896 -> 0.658 cm,
-  // ~9 % more keyframes, kitchen unchanged; 15 deg lost a frame on one noisy row. Default since
-  // local BA holds the root keyframe: before, the rendered room's loop-closed run lost its origin
-  // by ~1 cm with the rule (docs/RESULTS.md, issue 20 sessions 19-20).
+  // stay silent while far walls remain in view, so the frames of a long turn are placed by ever
+  // older points (see docs/DECISIONS.md, "Keyframe policy").
   double keyframe_max_deg = 20;
   double keyframe_max_m = 0.4;
   int close_tracked_min = 100;       // ... or fewer close points tracked than this
@@ -61,9 +58,10 @@ struct TrackerConfig {
   // After tracking is lost: for this many frames the last velocity keeps predicting the pose. A
   // frame whose local-map pose, searched from that prediction, agrees with it (bridge_deg,
   // bridge_m) on at least bridge_min_inliers map points, although fewer than min_local_inliers, is
-  // tracked and becomes a keyframe with all its depth: two independent estimates agree. Fast turns
-  // into unmapped space or past a plain wall, while the motion stays smooth, were LOST until a
-  // sub-map started (docs/RESULTS.md, issue 20). 0 = off.
+  // tracked and becomes a keyframe with all its depth: two independent estimates agree. Without it,
+  // fast turns into unmapped space or past a plain wall, while the motion stays smooth, are LOST
+  // until a sub-map starts (see docs/DECISIONS.md, "Tracking: lost frames, coasting and the bridge").
+  // 0 = off.
   int coast_frames = 10;
   double bridge_deg = 1.0;   // rotation between prediction and measured pose [deg]
   double bridge_m = 0.03;    // translation between them [m]
@@ -72,20 +70,21 @@ struct TrackerConfig {
   // the last frame measures the motion the velocity only predicts. A measured motion within
   // odometry_deg / odometry_m of that prediction, or of the same alignment started from no motion,
   // replaces it: the bridge searches from it, and a frame not bridged is ODOMETRY (in the
-  // trajectory at that pose) instead of LOST. Plain walls in a turn lost up to 29 frames in a row
-  // on the simulator's living-room loop (docs/RESULTS.md, issue 20). A single plane in view makes
-  // the alignment degenerate: it lands centimetres from the velocity and from the other start
+  // trajectory at that pose) instead of LOST. Why: plain walls in a turn leave ORB too little to
+  // track while their depth still fixes the motion. A single plane in view makes the alignment
+  // degenerate: it lands centimetres from the velocity and from the other start
   // (DepthOdometry.TwoStartsAgreeOnAWellConditionedPairOnly), while a well-conditioned one agrees
-  // with the other start to 0.05 deg. Such a view is then measured along the directions it fixes
+  // with the other start. Such a view is then measured along the directions it fixes
   // and kept at the velocity along the rest (DepthOdometry::align_observable; at least 3 of 6,
   // half its points on the last frame's surfaces, within the same bounds of the velocity). The
   // frame right after a map's first, with no velocity yet, is measured from no motion and confirmed
   // by the reverse alignment. Measurements start from the last frame with a pose that is not a
   // guess and may move as far as the time since then allows (DepthOdometryConfig::max_step_m per
-  // 30 Hz period): a sparse recording 0.67 s apart is measured end to end. After such a gap the
+  // 30 Hz period), so a sparse recording is measured end to end. After such a gap the
   // velocity is no better a start than no motion: when its alignment fails, the one from no motion
   // is kept if the reverse alignment confirms it, or, when the two disagree, the one that explains
-  // both depth images clearly better (depth_agreement; TUM fr3 cabinet 1.34 / 2 s apart: 0 LOST). 0 = off.
+  // both depth images clearly better (depth_agreement). Measurements: docs/DECISIONS.md,
+  // "Tracking: depth odometry across gaps". 0 = off.
   int odometry_frames = 30;
   double odometry_deg = 0.5;   // agreement of the measured motion with a second estimate, rotation [deg]
   double odometry_m = 0.015;   // ... translation [m]
@@ -94,10 +93,10 @@ struct TrackerConfig {
   // a gap (a sparse recording, dropped frames) differ by a few percent of it. 0 = the bounds alone.
   double odometry_agree_fraction = 0.1;
   // A measured motion must also explain the colour images (colour_agreement, a correlation in
-  // [-1, 1], at least this): depth odometry in a box-like room aligned a view with the opposite
-  // wall's as the same view, and both starts confirmed it (frames 180 deg off as ODOMETRY). Right
-  // steps score 0.79-0.99 on real and simulated data; images without contrast are not judged.
-  // -1 = off.
+  // [-1, 1], at least this): in a box-like room depth odometry can align a view with the opposite
+  // wall's as the same view, and both starts confirm it. Right steps score 0.79-0.99 on real and
+  // simulated data (see docs/DECISIONS.md, "Tracking: colour agreement"); images without contrast
+  // are not judged. -1 = off.
   double odometry_min_colour_agreement = 0.5;
   DepthOdometryConfig odometry;  // depth range from the feature config; downsample settable
   void validate() const;
@@ -147,12 +146,12 @@ class Tracker {
   void set_snapshot(std::shared_ptr<const LocalMapSnapshot> snapshot);
   // Relocalisation hook: resume tracking from this camera pose on the next frame.
   void set_pose(const SE3& T_w_c);
-  // A loaded map (issue 23): tracking starts LOST, so the first frame is relocalised against the
+  // A loaded map: tracking starts LOST, so the first frame is relocalised against the
   // map instead of starting a new one, and keyframes get ids from next_keyframe_id on.
   void continue_map(KeyframeId next_keyframe_id);
   // Localisation only: no keyframe requests (the map stays as it is, statistics included).
   void set_localize_only(bool on) { localize_only_ = on; }
-  // A new sub-map (issue 23: relocalisation keeps failing): the next frame with enough depth starts
+  // A new sub-map (relocalisation keeps failing): the next frame with enough depth starts
   // it in a frame of its own, as the first frame of a session does. A snapshot of another sub-map
   // is taken only when this one was merged into it (its merged_into chain leads there): the last
   // frame, the reference and pending keyframes move into its frame first. Snapshots of the
@@ -254,7 +253,8 @@ class Tracker {
   DepthOdometry odometry_;
   // The images (shallow) of the last frame with a pose not guessed, for depth odometry, and that
   // pose: a LOST frame's pose is only the velocity's guess, so its images are not kept and the
-  // next frame is measured from the frame before it (docs/RESULTS.md, session 30).
+  // next frame is measured from the frame before it (see docs/DECISIONS.md, "Tracking: depth
+  // odometry across gaps").
   RgbdFrame last_frame_;
   SE3 T_c_w_last_frame_ = SE3::Identity();
   std::shared_ptr<const LocalMapSnapshot> snapshot_;

@@ -66,9 +66,8 @@ std::optional<SE3> Tracker::dead_reckon(const RgbdFrame& frame, bool from_rest, 
   } else if (can_measure) {
     // Not when the velocity, carried over those frames, turns the camera further than it sees: two
     // views that share nothing have no motion to measure, yet in a box-like room the alignment
-    // finds the view turned round as the same view and both starts confirm it (simulator flights
-    // at every 10th-20th frame: frames 3 s after the last posed one placed 180 deg off, ATE
-    // 52-107 cm; docs/RESULTS.md, session 33).
+    // finds the view turned round as the same view and both starts confirm it (see
+    // docs/DECISIONS.md, "Tracking: depth odometry across gaps").
     const SE3 predicted = power(*coast_velocity_, n);
     if (views_may_overlap(predicted)) motion = measure_motion(frame, predicted);
   }
@@ -85,9 +84,10 @@ std::optional<SE3> Tracker::dead_reckon(const RgbdFrame& frame, bool from_rest, 
 std::optional<SE3> Tracker::measure_motion(const RgbdFrame& frame, const SE3& predicted) const {
   // 1. Dense RGB-D odometry, accepted when a second estimate agrees: the velocity (smooth motion),
   //    else the same alignment started from no motion. A well-conditioned alignment has one
-  //    minimum; a degenerate one (one plane in view) slides along its valley or fails. A hand-held
-  //    camera's motion changes by more than the bounds in one frame in 1 of 6 frames of the
-  //    kitchen, where both starts agree to 0.05 deg (docs/RESULTS.md, session 11). Two alignments
+  //    minimum; a degenerate one (one plane in view) slides along its valley or fails. The second
+  //    start is there because a hand-held camera's motion often changes by more than the bounds in
+  //    one frame, while both starts of a well-conditioned alignment agree closely (see
+  //    docs/DECISIONS.md, "Tracking: depth odometry across gaps"). Two alignments
   //    agree within the bounds or a fraction of the step (odometry_agree); one started from the
   //    velocity is compared with the velocity within the bounds alone, as it may not have moved.
   //    Both frames are prepared once for every alignment (the same result as fresh images).
@@ -101,8 +101,8 @@ std::optional<SE3> Tracker::measure_motion(const RgbdFrame& frame, const SE3& pr
   if (motion && restarted && odometry_agree(*motion, *restarted)) return motion;
   // 2. After a gap the velocity, carried over the whole gap, is a start as far off as no motion,
   //    and its alignment may fail where the other converges: the start from no motion, confirmed
-  //    as from rest by the reverse alignment. TUM fr3 cabinet at every 2nd keyframe (1.34 s,
-  //    12-24 deg / 21-40 cm per step): 28 of 29 frames LOST -> 0 (docs/RESULTS.md, session 31).
+  //    as from rest by the reverse alignment (see docs/DECISIONS.md, "Tracking: depth odometry
+  //    across gaps").
   if (gap && restarted)
     if (const std::optional<SE3> confirmed = confirm_by_reverse(frame, last, cur, *restarted, scale)) return confirmed;
   // 3. A degenerate view: what it constrains measured, the rest kept from the velocity. At least
@@ -117,10 +117,9 @@ std::optional<SE3> Tracker::measure_motion(const RgbdFrame& frame, const SE3& pr
 
 std::optional<SE3> Tracker::measure_motion_from_rest(const RgbdFrame& frame) const {
   // Started from no motion, there is no other start to compare with, so the second estimate is the
-  // reverse alignment (confirm_by_reverse). On the TUM fr3 cabinet keyframes, 0.67 s and up to
-  // 17 deg / 22 cm apart, where ORB finds too few matches on the plain cabinet, the forward
-  // alignment from rest is within 1 deg / 1 cm of the ground truth on most pairs (docs/RESULTS.md,
-  // session 30).
+  // reverse alignment (confirm_by_reverse). Where ORB finds too few matches (a plain surface seen
+  // from frames far apart), the forward alignment from rest is close to the truth on most pairs
+  // (see docs/DECISIONS.md, "Tracking: depth odometry across gaps").
   const double scale = odometry_step_scale(frame);
   const DepthOdometry::PreparedFrame last = odometry_.prepare(last_frame_), cur = odometry_.prepare(frame);
   const std::optional<SE3> motion = odometry_.align(last, cur, SE3::Identity(), scale);

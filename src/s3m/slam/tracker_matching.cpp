@@ -72,9 +72,9 @@ bool Tracker::track_reference_keyframe(Frame& cur) {
   if (!snapshot_ || snapshot_->keyframes.empty()) return false;
   const SE3 T_c_w_last = cur.T_c_w;
   // 1. After LOST frames the last pose is dead reckoning, held once coasting ends: as far off as
-  //    the camera moved meanwhile. The pose from PnP RANSAC first, no prior trusted. From the held
-  //    pose, the kitchen after 40 black frames (10 deg / 30 cm in the dark) was re-acquired
-  //    1.6 deg / 10.5 cm off and the rest of the run kept that (docs/RESULTS.md, session 32).
+  //    the camera moved meanwhile. The pose from PnP RANSAC first, no prior trusted: optimised from
+  //    the held pose, a frame can be re-acquired with an offset that the rest of the run keeps
+  //    (see docs/DECISIONS.md, "Tracking: frames after a wide gap").
   const bool after_lost = state_ == TrackState::kLost;
   if (after_lost && track_reference_keyframe_wide(cur, T_c_w_last)) return true;
   // 2. Brute-force matches of the keyframe's mapped keypoints, optimised from the last pose: right

@@ -12,7 +12,7 @@ constexpr std::int64_t kNoId = kNoKeyframe;  // no keyframe / no point
 
 using Descriptor = std::array<std::uint8_t, 32>;  // one ORB descriptor
 
-// kRelocalised: the frame was LOST for tracking and relocalised against the whole map (issue 6).
+// kRelocalised: the frame was LOST for tracking and relocalised against the whole map.
 // kOdometry: the map could not track the frame; its pose is the last frame's moved by dense depth
 // odometry (TrackerConfig::odometry_frames), in the trajectory like a tracked frame.
 enum class TrackState { kNotInitialized, kOk, kLost, kRelocalised, kOdometry };
