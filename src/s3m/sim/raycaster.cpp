@@ -1,6 +1,7 @@
 #include "s3m/sim/raycaster.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -16,16 +17,19 @@ constexpr int kCylinderSegments = 32;
 constexpr int kSphereRings = 16, kSphereSegments = 32;
 
 void box_mesh(const Eigen::Vector3d& h, std::vector<Eigen::Vector3d>& v, std::vector<Eigen::Vector3i>& f) {
-  for (int i = 0; i < 8; ++i) v.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+  for (int i = 0; i < 8; ++i)
+    v.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
   // Faces wound counter-clockwise seen from outside.
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& q : quads) {
     f.emplace_back(q[0], q[1], q[2]);
     f.emplace_back(q[0], q[2], q[3]);
   }
 }
 
-void cylinder_mesh(const Eigen::Vector3d& h, std::vector<Eigen::Vector3d>& v, std::vector<Eigen::Vector3i>& f) {
+void cylinder_mesh(const Eigen::Vector3d& h, std::vector<Eigen::Vector3d>& v,
+                   std::vector<Eigen::Vector3i>& f) {
   const int n = kCylinderSegments;
   for (int i = 0; i < n; ++i) {
     const double a = 2 * M_PI * i / n;
@@ -87,8 +91,13 @@ struct Raycaster::Impl {
 };
 
 Raycaster::Raycaster(const Scene& scene) : impl_(std::make_unique<Impl>()) {
-  impl_->device = rtcNewDevice(nullptr);
-  if (!impl_->device) throw Error("Embree: rtcNewDevice failed (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+  // S3M_EMBREE_CONFIG (e.g. "isa=sse4.2") pins Embree's kernels, whose choice otherwise follows the
+  // CPU: the test suite runs with it to show that no test depends on the machine's SIMD width.
+  const char* config = std::getenv("S3M_EMBREE_CONFIG");
+  impl_->device = rtcNewDevice(config);
+  if (!impl_->device)
+    throw Error("Embree: rtcNewDevice(\"" + std::string(config ? config : "") + "\") failed (error " +
+                std::to_string(rtcGetDeviceError(nullptr)) + ")");
   impl_->scene = rtcNewScene(impl_->device);
   // Robust mode: no cracks along shared triangle edges (otherwise stray rays pass between faces).
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
@@ -98,7 +107,8 @@ Raycaster::Raycaster(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                            3 * sizeof(float), mesh.vertices_w.size()));
-    for (std::size_t k = 0; k < mesh.vertices_w.size(); ++k) std::memcpy(vb + 3 * k, mesh.vertices_w[k].data(), 3 * sizeof(float));
+    for (std::size_t k = 0; k < mesh.vertices_w.size(); ++k)
+      std::memcpy(vb + 3 * k, mesh.vertices_w[k].data(), 3 * sizeof(float));
     auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                               3 * sizeof(unsigned), mesh.triangles.size()));
     for (std::size_t k = 0; k < mesh.triangles.size(); ++k)
