@@ -15,8 +15,12 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import onnx
-from onnx import TensorProto, helper, numpy_helper
+
+try:
+    import onnx
+    from onnx import TensorProto, helper, numpy_helper
+except ImportError:
+    sys.exit("seg_make_test_model: the onnx module is missing: scripts/setup.sh --with-training installs it (python3-onnx)")
 
 
 def build(path: Path, stride2: bool, flat: bool = False) -> None:

@@ -25,7 +25,11 @@ import time
 from pathlib import Path
 
 import numpy as np
-import torch
+
+try:
+    import torch
+except ImportError:
+    sys.exit("train_segmenter: PyTorch is missing: scripts/setup.sh --with-training installs it (python3-torch)")
 import torch.nn as nn
 import torch.nn.functional as F
 
