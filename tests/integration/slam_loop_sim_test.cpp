@@ -1,14 +1,21 @@
 // End to end on an `s3m sim` sequence (fixed seed): the `loop` flight comes back over its start,
 // so loop closing must reduce the drift; after an outage (10 blank frames, then a 1 s gap) on the
-// way back, relocalisation must find the camera again, with the blank frames marked LOST. The
-// outage is run single-thread, threaded in lockstep (exact expectations) and threaded free-running
-// (what holds whatever the machine's load).
+// way back, the camera must be found again, with the blank frames marked LOST. The outage is run
+// single-thread, threaded in lockstep and threaded free-running (what holds whatever the load).
+// Which component finds the camera after the gap is not asserted: whether the tracker's own
+// reference-keyframe search holds (OK) or relocalisation is needed (RELOCALISED) turns on the last
+// bits of the rendered depth and of the solvers, which differ between x86-64 machines (Embree picks
+// its kernels by the CPU's vector width). What must hold anywhere is asserted: the blank frames are
+// LOST, the resume frame is posed within a bound of the truth by one of the two, and nothing else is
+// lost. Relocalisation itself is asserted exactly where only it can work (the kidnapped camera in
+// tests/unit/slam_loop_closing_test.cpp).
 #include <cmath>
 #include <cstdio>
 #include <map>
 
 #include <gtest/gtest.h>
 
+#include "s3m/core/se3.hpp"
 #include "s3m/eval/trajectory_eval.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
 #include "s3m/slam/system.hpp"
@@ -37,7 +44,9 @@ struct LoopRun {
 enum class Mode { kSingleThread, kLockstep, kFree };
 
 const char* to_string(Mode m) {
-  return m == Mode::kSingleThread ? "single-thread" : m == Mode::kLockstep ? "threaded lockstep" : "threaded free";
+  return m == Mode::kSingleThread ? "single-thread"
+         : m == Mode::kLockstep   ? "threaded lockstep"
+                                  : "threaded free";
 }
 
 LoopRun run(bool loop_closing, Mode mode, bool outage) {
@@ -85,8 +94,8 @@ TEST(LoopOnSimulator, LoopClosingReducesAteOnTheLoopFlight) {
   const LoopRun without = run(false, Mode::kSingleThread, false);
   const LoopRun with = run(true, Mode::kSingleThread, false);
   const double ate_without = ate_rmse(without.traj), ate_with = ate_rmse(with.traj);
-  std::printf("sim loop flight: ATE without loop closing %.4f m, with %.4f m (%d loops)\n", ate_without, ate_with,
-              with.loops);
+  std::printf("sim loop flight: ATE without loop closing %.4f m, with %.4f m (%d loops)\n", ate_without,
+              ate_with, with.loops);
   EXPECT_EQ(without.loops, 0);
   ASSERT_GE(with.loops, 1);
   EXPECT_EQ(with.corrections_heard, with.loops);
@@ -94,34 +103,63 @@ TEST(LoopOnSimulator, LoopClosingReducesAteOnTheLoopFlight) {
   EXPECT_LT(ate_with, 0.85 * ate_without);
 }
 
-void expect_outage_bridged_by_relocalisation(Mode mode) {
+// Motion from the last frame before the outage to frame `to`, as estimated and as true: the error
+// of the re-found pose, independent of the drift accumulated before the outage.
+struct StepError {
+  double deg = 0, m = 0;
+};
+StepError resume_step_error(const std::vector<slam::FramePose>& traj, int to) {
+  const auto& gt = loop_simulation().trajectory().samples;
+  const int from = kBlankFirst - 1;
+  const slam::FramePose* a = nullptr;
+  const slam::FramePose* b = nullptr;
+  for (const auto& p : traj) {
+    if (p.frame_index == from) a = &p;
+    if (p.frame_index == to) b = &p;
+  }
+  if (!a || !b) return {1e9, 1e9};
+  const SE3 est = a->T_w_x.inverse() * b->T_w_x;
+  const SE3 truth = gt[std::size_t(from)].T_w_c.inverse() * gt[std::size_t(to)].T_w_c;
+  const SE3 err = truth.inverse() * est;
+  return {rotation_angle_rad(err.rotation()) * 180.0 / M_PI, err.translation().norm()};
+}
+
+void expect_outage_bridged(Mode mode) {
   const LoopRun r = run(true, mode, true);
   const char* name = to_string(mode);
-  std::printf("%s: frame %d after the outage is %s, %d relocalisations, %d loops, ATE %.4f m\n", name, kResumeSource,
-              slam::to_string(r.states.at(kResumeSource)), r.relocalisations, r.loops, ate_rmse(r.traj));
+  const slam::TrackState resume = r.states.at(kResumeSource);
+  const StepError step = resume_step_error(r.traj, kResumeSource);
+  std::printf(
+      "%s: frame %d after the outage is %s (%.3f deg / %.4f m from the truth since frame %d), "
+      "%d relocalisations, %d loops, ATE %.4f m\n",
+      name, kResumeSource, slam::to_string(resume), step.deg, step.m, kBlankFirst - 1, r.relocalisations,
+      r.loops, ate_rmse(r.traj));
+  // 1. Exactly the blank frames are LOST; every other frame is posed.
+  int relocalised_states = 0;
   for (const auto& [i, s] : r.states) {
-    slam::TrackState expected = slam::TrackState::kOk;
-    if (i >= kBlankFirst && i < kBlankFirst + 10) expected = slam::TrackState::kLost;
-    if (i == kResumeSource) expected = slam::TrackState::kRelocalised;
-    EXPECT_EQ(s, expected) << name << " frame " << i;
+    const bool blank = i >= kBlankFirst && i < kBlankFirst + 10;
+    EXPECT_EQ(s == slam::TrackState::kLost, blank) << name << " frame " << i << " " << slam::to_string(s);
+    relocalised_states += s == slam::TrackState::kRelocalised;
   }
-  EXPECT_EQ(r.relocalisations, 1) << name;
-  // The final trajectory keeps the LOST marks and has the relocalised frame at its found pose.
+  // 2. The resume frame is re-found by tracking or by relocalisation, and the count says which.
+  EXPECT_TRUE(resume == slam::TrackState::kOk || resume == slam::TrackState::kRelocalised) << name;
+  EXPECT_EQ(r.relocalisations, relocalised_states) << name;
+  EXPECT_LE(r.relocalisations, 1) << name;
+  // 3. Its pose: the 1 s of motion across the outage (~40 deg, ~1 m) within 1 deg / 3 cm of the truth.
+  EXPECT_LT(step.deg, 1.0) << name;
+  EXPECT_LT(step.m, 0.03) << name;
+  // 4. The final trajectory keeps the LOST marks and the resume frame's state.
   int lost = 0;
   for (const auto& p : r.traj) {
     lost += p.state == slam::TrackState::kLost;
-    if (p.frame_index == kResumeSource) {
-      EXPECT_EQ(p.state, slam::TrackState::kRelocalised) << name;
-    }
+    if (p.frame_index == kResumeSource) EXPECT_EQ(p.state, resume) << name;
   }
   EXPECT_EQ(lost, 10) << name;
   EXPECT_LT(ate_rmse(r.traj), kMaxAteWithOutage_m) << name;
 }
 
-TEST(LoopOnSimulator, OutageIsLostThenRelocalisedSingleThread) {
-  expect_outage_bridged_by_relocalisation(Mode::kSingleThread);
-}
-TEST(LoopOnSimulator, OutageIsLostThenRelocalisedThreaded) { expect_outage_bridged_by_relocalisation(Mode::kLockstep); }
+TEST(LoopOnSimulator, OutageIsLostThenBridgedSingleThread) { expect_outage_bridged(Mode::kSingleThread); }
+TEST(LoopOnSimulator, OutageIsLostThenBridgedThreaded) { expect_outage_bridged(Mode::kLockstep); }
 
 TEST(LoopOnSimulator, OutageIsBridgedThreadedFreeRunning) {
   // Free-running threads, so only what holds under any load: a loaded 2-core machine may lose the
@@ -135,7 +173,8 @@ TEST(LoopOnSimulator, OutageIsBridgedThreadedFreeRunning) {
   std::printf("threaded free: frame %d after the outage is %s, %d relocalisations, %d loops, ATE %.4f m\n",
               kResumeSource, slam::to_string(r.states.at(kResumeSource)), r.relocalisations, r.loops,
               ate_rmse(r.traj));
-  for (int i = kBlankFirst; i < kBlankFirst + 10; ++i) EXPECT_EQ(r.states.at(i), slam::TrackState::kLost) << i;
+  for (int i = kBlankFirst; i < kBlankFirst + 10; ++i)
+    EXPECT_EQ(r.states.at(i), slam::TrackState::kLost) << i;
   for (const auto& [i, s] : r.states) {
     if (i >= kResumeSource) {
       EXPECT_NE(s, slam::TrackState::kLost) << "frame " << i;
