@@ -4,14 +4,25 @@
 #     installed also the ROS1 node and rosbag tests (-DS3M_WITH_ROS=ON, ctest label "ros").
 #  2. Sanitizer build (build-asan/: ASan + UBSan, -O1 -g, no benchmarks): the unit tests again
 #     (ctest -L unit, which includes the fuzz-corpus replay); any sanitizer report or leak fails.
-# Usage: scripts/test.sh [--quick] [extra ctest args]
+# Usage: scripts/test.sh [--quick] [--restricted-isa] [extra ctest args]
 #   --quick (or S3M_TEST_QUICK=1) runs stage 1 only, for quick local iterations.
+#   --restricted-isa pins the vector code chosen at run time to SSE4.2 (Embree's kernels, which
+#     render the simulator's frames, and OpenCV's dispatched functions), as an older x86-64 CPU
+#     would run it: no test may depend on the machine's SIMD width. Simulator folders cached in
+#     the temp folder are kept apart per Embree setting (tests/integration/cached_folder.hpp).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick="${S3M_TEST_QUICK:-0}"
 args=()
 for a in "$@"; do
-  if [ "$a" = --quick ]; then quick=1; else args+=("$a"); fi
+  case "$a" in
+    --quick) quick=1 ;;
+    --restricted-isa)
+      export S3M_EMBREE_CONFIG="isa=sse4.2"
+      export OPENCV_CPU_DISABLE="AVX2,FMA3,FP16,AVX,POPCNT,SSE4.1,SSE4.2"
+      echo "test.sh: restricted ISA: S3M_EMBREE_CONFIG=$S3M_EMBREE_CONFIG OPENCV_CPU_DISABLE=$OPENCV_CPU_DISABLE" ;;
+    *) args+=("$a") ;;
+  esac
 done
 
 # ccache keys on paths below the repository relative to it, so another clone of it (CI's) reuses the cache.

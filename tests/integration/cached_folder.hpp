@@ -2,6 +2,8 @@
 // A folder the integration tests build once and share across test processes (ctest runs them in
 // parallel): built into a private folder and renamed into place, so no process ever sees it half
 // written. Only for content that is deterministic, so a complete cached copy equals a fresh one.
+#include <cctype>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <regex>
@@ -12,10 +14,22 @@
 
 namespace s3m::it {
 
-// Returns dir; when dir/complete_marker is missing, build(tmp) fills a fresh private folder first.
-inline std::string cached_folder(const std::filesystem::path& dir, const std::string& complete_marker,
+// The simulator's frames depend on Embree's kernels (S3M_EMBREE_CONFIG pins them, e.g. "isa=sse4.2"),
+// so a run with them pinned must not reuse frames rendered with the CPU's own choice.
+inline std::string render_key() {
+  const char* config = std::getenv("S3M_EMBREE_CONFIG");
+  if (!config || !*config) return "";
+  std::string key = "_embree_";
+  for (const char c : std::string(config)) key += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  return key;
+}
+
+// Returns the cached folder, dir (plus render_key()); when its complete_marker is missing,
+// build(tmp) fills a fresh private folder first.
+inline std::string cached_folder(const std::filesystem::path& requested, const std::string& complete_marker,
                                  const std::function<void(const std::filesystem::path& tmp)>& build) {
   namespace fs = std::filesystem;
+  const fs::path dir = requested.string() + render_key();
   if (fs::exists(dir / complete_marker)) return dir.string();
   const fs::path tmp = dir.string() + ".tmp" + std::to_string(::getpid());
   build(tmp);
@@ -33,9 +47,11 @@ inline void remove_other_builds(const std::filesystem::path& stamped, const std:
   static const std::regex kStamp("[0-9]+_-?[0-9]+(\\.tmp[0-9]+)?");
   const std::string own = stamped.filename().string();
   std::error_code ec;
-  for (auto it = fs::directory_iterator(stamped.parent_path(), ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+  for (auto it = fs::directory_iterator(stamped.parent_path(), ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.size() <= base_name.size() + 1 || name.compare(0, base_name.size() + 1, base_name + "_") != 0) continue;
+    if (name.size() <= base_name.size() + 1 || name.compare(0, base_name.size() + 1, base_name + "_") != 0)
+      continue;
     const std::string stamp = name.substr(base_name.size() + 1);
     if (!std::regex_match(stamp, kStamp) || name.compare(0, own.size(), own) == 0) continue;
     std::error_code ignored;  // another process may be removing it too

@@ -18,7 +18,7 @@ struct FlightResult {
   int lost = 0;      // frames without a tracked pose (not OK, not ODOMETRY)
   int odometry = 0;  // frames whose pose came from depth odometry (TrackState::kOdometry)
   double ate_cam = 0, ate_robot = 0;
-  double sim3_scale = 0;  // scale of the sim3 alignment of the camera positions onto the truth
+  double sim3_scale = 0;             // scale of the sim3 alignment of the camera positions onto the truth
   double max_keyframe_turn_deg = 0;  // largest true rotation between consecutive keyframes
 };
 
@@ -82,10 +82,11 @@ FlightResult fly(const RenderedFlight& flown, slam::SlamConfig cfg = {}) {
     res.max_keyframe_turn_deg =
         std::max(res.max_keyframe_turn_deg, rotation_angle_rad(T_a_b.linear()) * 180.0 / M_PI);
   }
-  std::printf("%s %s%s: lost %d, odometry %d, ATE camera %.4f m, robot %.4f m, sim3 scale %.4f, keyframes %d, "
-              "largest turn between keyframes %.1f deg\n", sc.scene.c_str(), type.c_str(), sc.sensor.noise ? "" : " (no noise)",
-              lost, odometry, res.ate_cam, res.ate_robot, res.sim3_scale, slam.map().n_keyframes(),
-              res.max_keyframe_turn_deg);
+  std::printf(
+      "%s %s%s: lost %d, odometry %d, ATE camera %.4f m, robot %.4f m, sim3 scale %.4f, keyframes %d, "
+      "largest turn between keyframes %.1f deg\n",
+      sc.scene.c_str(), type.c_str(), sc.sensor.noise ? "" : " (no noise)", lost, odometry, res.ate_cam,
+      res.ate_robot, res.sim3_scale, slam.map().n_keyframes(), res.max_keyframe_turn_deg);
   return res;
 }
 
@@ -119,7 +120,10 @@ TEST(SlamOnSimulator, NoiseFreeFastTurnsHoldTheirScaleWithDenseKeyframeLinks) {
   EXPECT_EQ(linked.lost, 0);
   EXPECT_LT(linked.ate_cam, 0.005);
   EXPECT_NEAR(linked.sim3_scale, 1.0, 0.002);
-  EXPECT_GT(unlinked.ate_cam, 1.5 * linked.ate_cam) << "the links are what holds it";
+  // Without the links the flight drifts by an amount that varies between machines (the rendered
+  // frames' last bits: 3.8 mm with Embree's SSE4.2 kernels, 6.0 mm with AVX2, on the links' 2.8 and
+  // 2.9 mm), so the margin is a benchmark's number; that the links help holds on any machine.
+  EXPECT_LT(linked.ate_cam, unlinked.ate_cam) << "the links are what holds it";
 }
 
 // Issue 20, session 18. A frame's pose is stored against keyframes and follows them when BA moves
@@ -166,48 +170,36 @@ TEST(SlamOnSimulator, NoiseFreeLongTurnsGetKeyframesByViewpointChange) {
   EXPECT_NEAR(with_rule.sim3_scale, 1.0, 0.002);
 }
 
-// Issue 20, session 9. In a fast turn into new space the reference keyframe's points are mostly
-// new, ORB-SLAM's "tracked < 0.75 x the reference's well-observed points" came only when tracking
-// had collapsed (476 -> 59 points), and local BA moved that late keyframe 5 cm off: 9.5 cm ATE on
-// this flight (the benchmark matrix's office/loop/noisy/s202). tracker.keyframe_decay_ratio asks
-// for the keyframe when tracking has halved since the last one. Both runs here, so the test shows
-// the rule is what holds the ATE. Measured here (tracking and local mapping only, no loop closing):
-// 4.8 cm with the rule, 9.6 cm without; the CLI with loop closing: 1.25 vs 9.53 cm.
-// Session 11: local BA's keyframe step limit (ba.max_keyframe_step_deg) holds that late keyframe
-// too, so without the rule the flight is now 2.9 cm (with it 4.8 cm). The rule is pinned here with
-// the limit off; the limit alone must also keep the late keyframe from spoiling the flight.
-// Session 13: with keypoint depth interpolated at the sub-pixel keypoint, s202 no longer breaks
-// without the rule (1.9 cm; 3.6 with it). Seeds 101-606 (x101), limit off, with / without the rule:
-// 2.1 / 16.8, 3.6 / 1.9, 1.0 / 3.8, 3.6 / 2.1, 2.1 / 3.8, 1.9 / 16.0 cm. This test flies s101
-// (the matrix's office/loop/noisy/s101); the limit alone: 3.4 cm.
-// Session 19: the viewpoint keyframes (tracker.keyframe_max_deg 20 / _m 0.4, default since session
-// 20) also ask for that keyframe in time: alone (decay rule and limit off) they must hold the
-// flight too. Measured: 0.77 cm (the decay rule alone, limit off: 0.84 cm; all three off: 17.2 cm).
-// The runs of the older rules have the viewpoint rule off, so each shows what that rule does.
+// In a fast turn into new space the reference keyframe's points are mostly new, so ORB-SLAM's
+// "tracked < 0.75 x the reference's points" rule fires only once tracking has collapsed, and local
+// BA then moves that late keyframe off (see docs/DECISIONS.md, "Keyframe policy"). Three rules ask
+// for that keyframe in time: tracker.keyframe_decay_ratio, local BA's keyframe step limit
+// (ba.max_keyframe_step_*) and the viewpoint keyframes (tracker.keyframe_max_*). Each alone must
+// hold this flight (the matrix's office/loop/noisy/s101). With all three off the flight may or may
+// not break, depending on the rendered frames' last bits (17.2 cm with Embree's AVX2 kernels, 7.5
+// mm with SSE4.2), so that ablation is benchmark material, not asserted here. Measured, AVX2 /
+// SSE4.2: decay rule alone 7.9 / 8.2 mm, limit alone 3.57 cm / 7.5 mm, viewpoint alone 7.7 / 7.3 mm.
 TEST(SlamOnSimulator, FastTurnIntoNewSpaceGetsItsKeyframeInTime) {
   const RenderedFlight flown(flight("office", "loop", /*noise=*/true, /*seed=*/101));
   slam::SlamConfig no_limit;
   no_limit.mapper.ba.max_keyframe_step_deg = no_limit.mapper.ba.max_keyframe_step_m = 1e3;
   no_limit.tracker.keyframe_max_deg = no_limit.tracker.keyframe_max_m = 0;
   const FlightResult with_rule = fly(flown, no_limit);
-  slam::SlamConfig off = no_limit;
-  off.tracker.keyframe_decay_ratio = 0.0;
-  const FlightResult without = fly(flown, off);
   EXPECT_EQ(with_rule.lost, 0);
-  EXPECT_LT(with_rule.ate_cam, 0.06);
-  EXPECT_GT(without.ate_cam, 1.5 * with_rule.ate_cam);
+  EXPECT_LT(with_rule.ate_cam, 0.03);
   slam::SlamConfig limit_only;
   limit_only.tracker.keyframe_decay_ratio = 0.0;
   limit_only.tracker.keyframe_max_deg = limit_only.tracker.keyframe_max_m = 0;
   const FlightResult held = fly(flown, limit_only);
   EXPECT_EQ(held.lost, 0);
-  EXPECT_LT(held.ate_cam, 0.5 * without.ate_cam);
-  slam::SlamConfig viewpoint_only = off;  // decay rule and limit off
+  EXPECT_LT(held.ate_cam, 0.08);               // a spoiled flight is off by 17 cm
+  slam::SlamConfig viewpoint_only = no_limit;  // decay rule and limit off
+  viewpoint_only.tracker.keyframe_decay_ratio = 0.0;
   viewpoint_only.tracker.keyframe_max_deg = 20;
   viewpoint_only.tracker.keyframe_max_m = 0.4;
   const FlightResult turned = fly(flown, viewpoint_only);
   EXPECT_EQ(turned.lost, 0);
-  EXPECT_LT(turned.ate_cam, 0.5 * without.ate_cam);
+  EXPECT_LT(turned.ate_cam, 0.03);
 }
 
 // Issue 20, session 9. Handheld through the office: a fast turn towards the far end (median depth
@@ -232,24 +224,19 @@ TEST(SlamOnSimulator, FastTurnTowardsFarWallsStaysTracked) {
   EXPECT_GT(with_100.lost, 20);
 }
 
-// Issue 20, session 10. The living-room loop turns at ~80 deg/s into a view the map does not have
-// yet (the matrix's living_room/loop/clean/s202): local-map tracking found 26-28 points, under
-// min_local_inliers, and the CLI lost 29 frames until a sub-map started. Its constant-velocity
-// prediction is right to 0.1 deg there (the turn is smooth), and the 26 points' pose agrees with it:
-// tracker.coast_frames bridges the turn with a keyframe of all its depth. Measured here (tracking
-// and local mapping only, so no relocalisation and no loop closing): 0 LOST and 1.5 cm with the
-// bridge; without it 176 LOST (tracking never comes back). The CLI: 0.34 cm over all 300 frames
-// (0.39 before the final global BA of session 12; 0.40 with session 13's keypoint depth).
+// The living-room loop turns at ~80 deg/s into a view the map does not have yet (the matrix's
+// living_room/loop/clean/s202): local-map tracking can find fewer points than min_local_inliers
+// there, while the constant-velocity prediction is right to 0.1 deg (the turn is smooth), so
+// tracker.coast_frames bridges the turn with a keyframe of all its depth. Whether the turn needs
+// the bridge depends on the rendered frames' last bits: with Embree's AVX2 kernels, without the
+// bridge (and depth odometry) 176 frames are LOST, tracking never comes back; with SSE4.2 the turn
+// is tracked without it. So this asserts the flight with the bridge; that ablation is measured, not
+// asserted. Measured, AVX2 / SSE4.2: 0 LOST, 7.1 / 3.1 mm.
 TEST(SlamOnSimulator, SmoothFastTurnIntoUnmappedSpaceIsBridged) {
   const RenderedFlight flown(flight("living_room", "loop", /*noise=*/false, /*seed=*/202));
   const FlightResult bridged = fly(flown);
-  slam::SlamConfig off;
-  off.tracker.coast_frames = 0;
-  off.tracker.odometry_frames = 0;  // which would carry the turn too
-  const FlightResult without = fly(flown, off);
   EXPECT_EQ(bridged.lost, 0);
   EXPECT_LT(bridged.ate_cam, 0.025);
-  EXPECT_GT(without.lost, 20);
 }
 
 // Issue 20, session 11. The living-room loop (seed 101) turns past a plain wall: for 30 frames ORB
@@ -274,8 +261,8 @@ TEST(SlamOnSimulator, TurnPastAPlainWallIsCarriedByDepthOdometry) {
   slam::SlamConfig distance_only;  // only the wall's distance counts as observed: under 3 directions
   distance_only.tracker.odometry.min_observed_ratio = 0.9;
   const FlightResult refused = fly(flown, distance_only);
-  std::printf("carried: %d LOST, %d ODOMETRY, ATE %.2f cm; plane views refused: %d LOST, %.2f cm\n", carried.lost,
-              carried.odometry, 100 * carried.ate_cam, refused.lost, 100 * refused.ate_cam);
+  std::printf("carried: %d LOST, %d ODOMETRY, ATE %.2f cm; plane views refused: %d LOST, %.2f cm\n",
+              carried.lost, carried.odometry, 100 * carried.ate_cam, refused.lost, 100 * refused.ate_cam);
   EXPECT_EQ(carried.lost, 0);
   EXPECT_GT(carried.odometry, 0);
   EXPECT_LT(carried.ate_cam, 0.03);
