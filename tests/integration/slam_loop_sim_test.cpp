@@ -152,7 +152,9 @@ void expect_outage_bridged(Mode mode) {
   int lost = 0;
   for (const auto& p : r.traj) {
     lost += p.state == slam::TrackState::kLost;
-    if (p.frame_index == kResumeSource) EXPECT_EQ(p.state, resume) << name;
+    if (p.frame_index == kResumeSource) {
+      EXPECT_EQ(p.state, resume) << name;
+    }
   }
   EXPECT_EQ(lost, 10) << name;
   EXPECT_LT(ate_rmse(r.traj), kMaxAteWithOutage_m) << name;
