@@ -17,12 +17,15 @@ void register_check(CLI::App& app) {
     RosbagArgs bag;
   };
   auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand("check", "Say what s3m makes of a dataset folder or a rosbag before a run: layout "
-                                          "or recorder, camera, timing, ground truth, depth registration and scale, "
-                                          "segmenter");
+  auto* cmd = app.add_subcommand("check",
+                                 "Say what s3m makes of a dataset folder or a rosbag before a run: layout "
+                                 "or recorder, camera, timing, ground truth, depth registration and scale, "
+                                 "segmenter");
   cmd->add_option("dataset", args->dataset, "dataset folder (TUM layout, ETH3D, 7-Scenes, ScanNet, Replica)");
-  cmd->add_option("--config", args->config, "pipeline preset the run would use (its dataset and segmenter sections)");
-  cmd->add_option("--camera", args->camera, "camera file or preset instead of the dataset's (dataset.camera)");
+  cmd->add_option("--config", args->config,
+                  "pipeline preset the run would use (its dataset and segmenter sections)");
+  cmd->add_option("--camera", args->camera,
+                  "camera file or preset instead of the dataset's (dataset.camera)");
   add_rosbag_options(*cmd, args->bag);
   cmd->callback([args] {
     if (args->bag.bag.empty() == args->dataset.empty())

@@ -98,7 +98,9 @@ TEST(UnregisteredDepth, ASetModeIsObeyedWithoutReadingFrames) {
   EXPECT_EQ(unreg.loads, 0);
   BoxesSource reg(1.0, 0);
   c.dataset.depth_registration = "unregistered";
-  EXPECT_EQ(resolve_depth_registration(c, reg).rfind("not registered (dataset.depth_registration: unregistered)", 0), 0u);
+  EXPECT_EQ(resolve_depth_registration(c, reg).rfind(
+                "not registered (dataset.depth_registration: unregistered)", 0),
+            0u);
   expect_unregistered_settings(c.slam);
   EXPECT_EQ(reg.loads, 0);
 }
@@ -113,7 +115,9 @@ TEST(UnregisteredDepth, ASourceThatAlignedItsDepthIsBelievedWithoutReadingFrames
   expect_defaults(c.slam);
   EXPECT_EQ(aligned.loads, 0);
   c.dataset.depth_registration = "unregistered";  // a set mode still wins
-  EXPECT_EQ(resolve_depth_registration(c, aligned).rfind("not registered (dataset.depth_registration: unregistered)", 0), 0u);
+  EXPECT_EQ(resolve_depth_registration(c, aligned)
+                .rfind("not registered (dataset.depth_registration: unregistered)", 0),
+            0u);
 }
 
 TEST(UnregisteredDepth, APresetsOwnValuesStay) {

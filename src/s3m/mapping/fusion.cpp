@@ -39,9 +39,8 @@ struct Work {
 void write_top_k(const Work& w, int k, LabelSet& out) {
   std::array<int, 2 * kMaxLabels> order{};
   for (int i = 0; i < w.n; ++i) order[i] = i;
-  std::sort(order.begin(), order.begin() + w.n, [&](int a, int b) {
-    return w.p[a] != w.p[b] ? w.p[a] > w.p[b] : w.ids[a] < w.ids[b];
-  });
+  std::sort(order.begin(), order.begin() + w.n,
+            [&](int a, int b) { return w.p[a] != w.p[b] ? w.p[a] > w.p[b] : w.ids[a] < w.ids[b]; });
   out = LabelSet{};
   for (int i = 0; i < w.n && out.n < k; ++i)
     if (w.p[order[i]] > 0.0) out.push(w.ids[order[i]], float(w.p[order[i]]));
@@ -70,8 +69,8 @@ void synchronise(const Work& from, Work& to, const FusionConfig& cfg) {
 }  // namespace
 
 void FusionConfig::validate() const {
-  require(k >= 1 && k <= kMaxLabels, "fusion.k must be in [1, " + std::to_string(kMaxLabels) + "], got " +
-                                         std::to_string(k));
+  require(k >= 1 && k <= kMaxLabels,
+          "fusion.k must be in [1, " + std::to_string(kMaxLabels) + "], got " + std::to_string(k));
   require(alpha > 0.0 && alpha <= 1.0, "fusion.alpha must be in (0, 1], got " + std::to_string(alpha));
   require(min_other > 0.0 && min_other < 1.0, "fusion.min_other must be in (0, 1)");
   require(max_decay > 0.0 && max_decay <= 1.0, "fusion.max_decay must be in (0, 1]");

@@ -26,7 +26,7 @@ struct FusionConfig {
   // Floor for the unexplained mass p-bar (paper: 1 - sum p, which is 0 for a full softmax
   // top-k list and would zero every label the other view did not list).
   double min_other = 1e-3;
-  double max_decay = 0.9;  // max-confidence: factor applied to the kept list on disagreement
+  double max_decay = 0.9;         // max-confidence: factor applied to the kept list on disagreement
   int num_classes = cls::kCount;  // Bayesian: "other" mass is spread over the classes not listed
 
   void validate() const;  // throws s3m::Error naming the bad field

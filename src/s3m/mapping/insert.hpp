@@ -15,8 +15,8 @@ namespace s3m::mapping {
 struct InsertConfig {
   // Ranges are measured from the sensor origin to the centre of a point's voxel, as OctoMap's
   // discretized insertion does.
-  double min_range_m = 0.0;  // closer voxels are ignored (robot body, sensor noise)
-  double max_range_m = 4.0;  // farther voxels are not marked occupied ...
+  double min_range_m = 0.0;            // closer voxels are ignored (robot body, sensor noise)
+  double max_range_m = 4.0;            // farther voxels are not marked occupied ...
   bool clear_beyond_max_range = true;  // ... but clear free space up to max_range_m
   bool clear_free_space = true;        // false: only occupied updates (no ray casting)
   // Radius outlier removal (voxel level): keep a voxel only if at least this many of its 26
@@ -27,7 +27,8 @@ struct InsertConfig {
   // sor_neighbors occupied voxels within 2 voxels; drop voxels above mean + sor_std_mul * std.
   int sor_neighbors = 0;  // 0 disables it
   double sor_std_mul = 2.0;
-  int num_threads = 0;  // 0 = all cores (TBB default), else 1..max_thread_count(); results are identical for any value
+  int num_threads =
+      0;  // 0 = all cores (TBB default), else 1..max_thread_count(); results are identical for any value
 
   void validate() const;  // throws s3m::Error naming the field
 };

@@ -37,6 +37,7 @@ MappingConfig load_mapping_config(const YAML::Node& node, const std::string& ctx
 MappingConfig load_mapping_config_file(const std::string& path);
 
 // An empty map configured by cfg; fusion.num_classes is set to the class list's size.
-std::unique_ptr<SemanticOcTree> make_semantic_map(const MappingConfig& cfg, const ClassList& classes = indoor_classes());
+std::unique_ptr<SemanticOcTree> make_semantic_map(const MappingConfig& cfg,
+                                                  const ClassList& classes = indoor_classes());
 
 }  // namespace s3m::mapping

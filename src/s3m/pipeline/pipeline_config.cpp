@@ -61,7 +61,8 @@ void load_dataset(const YAML::Node& n, DatasetConfig& c, const std::string& ctx)
 }
 
 void load_cloud(const YAML::Node& n, CloudConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"min_depth_m", "max_depth_m", "pixel_stride", "keyframe_voxel_m", "kept_clouds_budget_mb"}, ctx);
+  check_known_keys(
+      n, {"min_depth_m", "max_depth_m", "pixel_stride", "keyframe_voxel_m", "kept_clouds_budget_mb"}, ctx);
   yaml_get(n, "min_depth_m", c.min_depth_m, ctx);
   yaml_get(n, "max_depth_m", c.max_depth_m, ctx);
   yaml_get(n, "pixel_stride", c.pixel_stride, ctx);
@@ -94,8 +95,9 @@ void load_segmenter(const YAML::Node& n, SegmenterConfig& c, const std::string& 
 }
 
 void load_eval(const YAML::Node& n, EvalConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"rpe_delta_s", "gt_max_dt_s", "align", "plots", "reprojection_every_n", "reprojection_max_frames"},
-                   ctx);
+  check_known_keys(
+      n, {"rpe_delta_s", "gt_max_dt_s", "align", "plots", "reprojection_every_n", "reprojection_max_frames"},
+      ctx);
   yaml_get(n, "rpe_delta_s", c.rpe_delta_s, ctx);
   yaml_get(n, "gt_max_dt_s", c.gt_max_dt_s, ctx);
   yaml_get(n, "align", c.align, ctx);
@@ -118,10 +120,12 @@ void SegmenterConfig::validate() const {
 void DatasetConfig::validate() const {
   require(std::isfinite(max_dt_s) && max_dt_s > 0 && max_dt_s < 1.0,
           "dataset.max_dt_s must be in (0, 1) s (got " + num(max_dt_s) + ")");
-  require(depth_registration == "auto" || depth_registration == "registered" || depth_registration == "unregistered",
-          "dataset.depth_registration must be auto | registered | unregistered (got '" + depth_registration + "')");
-  require(max_unreadable_in_a_row >= 0,
-          "dataset.max_unreadable_in_a_row must be >= 0 (got " + std::to_string(max_unreadable_in_a_row) + ")");
+  require(depth_registration == "auto" || depth_registration == "registered" ||
+              depth_registration == "unregistered",
+          "dataset.depth_registration must be auto | registered | unregistered (got '" + depth_registration +
+              "')");
+  require(max_unreadable_in_a_row >= 0, "dataset.max_unreadable_in_a_row must be >= 0 (got " +
+                                            std::to_string(max_unreadable_in_a_row) + ")");
 }
 
 void CloudConfig::validate() const {
@@ -134,7 +138,8 @@ void CloudConfig::validate() const {
   require(std::isfinite(keyframe_voxel_m) && keyframe_voxel_m >= 0 && keyframe_voxel_m <= 1.0,
           "cloud.keyframe_voxel_m must be in [0, 1] m (got " + num(keyframe_voxel_m) + ")");
   require(std::isfinite(kept_clouds_budget_mb) && kept_clouds_budget_mb >= 0 && kept_clouds_budget_mb <= 1e6,
-          "cloud.kept_clouds_budget_mb must be in [0, 1e6] MB, 0 = unlimited (got " + num(kept_clouds_budget_mb) + ")");
+          "cloud.kept_clouds_budget_mb must be in [0, 1e6] MB, 0 = unlimited (got " +
+              num(kept_clouds_budget_mb) + ")");
 }
 
 void ThreadingConfig::validate() const {
@@ -151,10 +156,11 @@ void EvalConfig::validate() const {
           "eval.gt_max_dt_s must be > 0 s (got " + num(gt_max_dt_s) + ")");
   require(align == "se3" || align == "sim3" || align == "none",
           "eval.align must be se3 | sim3 | none (got '" + align + "')");
-  require(reprojection_every_n >= 1, "eval.reprojection_every_n must be >= 1 frame (got " +
-                                         std::to_string(reprojection_every_n) + ")");
+  require(reprojection_every_n >= 1,
+          "eval.reprojection_every_n must be >= 1 frame (got " + std::to_string(reprojection_every_n) + ")");
   require(reprojection_max_frames >= 0 && reprojection_max_frames <= 10000,
-          "eval.reprojection_max_frames must be in [0, 10000] frames (got " + std::to_string(reprojection_max_frames) + ")");
+          "eval.reprojection_max_frames must be in [0, 10000] frames (got " +
+              std::to_string(reprojection_max_frames) + ")");
 }
 
 void PipelineConfig::validate() const {
@@ -194,12 +200,15 @@ PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::stri
   PipelineConfig c;
   c.source = path;
   if (!root || root.IsNull()) return c;  // an empty preset means "all defaults"
-  if (!root.IsMap()) throw ParseError(path, 1, "top level is not a map", "sections such as 'cloud:', 'slam:'");
-  check_known_keys(root, {"dataset", "slam", "loop_closing", "cloud", "threads", "flow", "eval", "map", "segmenter"},
-                   path);
+  if (!root.IsMap())
+    throw ParseError(path, 1, "top level is not a map", "sections such as 'cloud:', 'slam:'");
+  check_known_keys(
+      root, {"dataset", "slam", "loop_closing", "cloud", "threads", "flow", "eval", "map", "segmenter"},
+      path);
   if (const auto n = section(root, "dataset", path)) load_dataset(n, c.dataset, path);
   if (const auto n = section(root, "slam", path)) c.slam = slam::slam_config_from_yaml(n, path);
-  if (const auto n = section(root, "loop_closing", path)) slam::read_loop_closing(n, c.slam.loop_closing, path);
+  if (const auto n = section(root, "loop_closing", path))
+    slam::read_loop_closing(n, c.slam.loop_closing, path);
   if (const auto n = section(root, "cloud", path)) load_cloud(n, c.cloud, path);
   if (const auto n = section(root, "threads", path)) load_threads(n, c.threads, path);
   if (const auto n = section(root, "flow", path)) load_flow(n, c.flow, path);

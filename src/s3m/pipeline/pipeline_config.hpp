@@ -43,9 +43,9 @@ struct DatasetConfig {
 };
 
 struct CloudConfig {
-  double min_depth_m = 0.2;    // pixels closer than this are dropped before back-projection [m]
-  double max_depth_m = 4.0;    // pixels farther than this are dropped (sensor noise grows with z^2) [m]
-  int pixel_stride = 2;        // back-project every n-th pixel in u and v (1 = all) [px]
+  double min_depth_m = 0.2;  // pixels closer than this are dropped before back-projection [m]
+  double max_depth_m = 4.0;  // pixels farther than this are dropped (sensor noise grows with z^2) [m]
+  int pixel_stride = 2;      // back-project every n-th pixel in u and v (1 = all) [px]
   // Keyframe clouds kept for re-integration after loop closure are voxel-downsampled to this size;
   // 0 = the map resolution. What is kept is exactly what was inserted, so a rebuild is exact. [m]
   double keyframe_voxel_m = 0.0;
@@ -71,10 +71,10 @@ struct FlowConfig {
 };
 
 struct EvalConfig {
-  double rpe_delta_s = 1.0;         // RPE over this time delta [s]
-  double gt_max_dt_s = 0.02;        // max timestamp gap estimate <-> ground truth [s]
-  std::string align = "se3";        // trajectory alignment before ATE: se3 | sim3 | none
-  bool plots = true;                // write OUT/report/ (PNG plots + report.html) via tools/*.py
+  double rpe_delta_s = 1.0;   // RPE over this time delta [s]
+  double gt_max_dt_s = 0.02;  // max timestamp gap estimate <-> ground truth [s]
+  std::string align = "se3";  // trajectory alignment before ATE: se3 | sim3 | none
+  bool plots = true;          // write OUT/report/ (PNG plots + report.html) via tools/*.py
   // Map labels projected back into segmented frames with ground truth (reprojection.hpp): every
   // n-th such frame is kept (its argmax, 2 bytes/px), at most max_frames (0 = off) [frames].
   int reprojection_every_n = 10;
@@ -90,9 +90,9 @@ struct SegmenterConfig {
   // auto: the oracle on a simulator sequence, the shipped real-image model on anything else
   // (pipeline::choose_segmenter); onnx | oracle | none: as said.
   std::string type = "auto";
-  std::string model;            // onnx: model card (.yaml) or a folder holding one; relative to the preset
-  std::string model_dir;        // onnx: folder with the model files when the card lives elsewhere
-  int top_k = 3;                // oracle: labels per pixel (an ONNX model card carries its own)
+  std::string model;      // onnx: model card (.yaml) or a folder holding one; relative to the preset
+  std::string model_dir;  // onnx: folder with the model files when the card lives elsewhere
+  int top_k = 3;          // oracle: labels per pixel (an ONNX model card carries its own)
   semantics::OracleNoiseConfig oracle;  // `oracle:` noise model (keys of semantics::OracleNoiseConfig)
   void validate() const;
 };

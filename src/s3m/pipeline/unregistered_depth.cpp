@@ -28,7 +28,8 @@ void use_unregistered_depth_settings(slam::SlamConfig& slam) {
   auto& f = slam.features;
   use_strict_keypoint_depth_test(f);
   if (f.depth_noise.model == d.features.depth_noise.model) f.depth_noise.model = "virtual_right";
-  if (slam.mapper.dense_links.enabled == d.mapper.dense_links.enabled) slam.mapper.dense_links.enabled = false;
+  if (slam.mapper.dense_links.enabled == d.mapper.dense_links.enabled)
+    slam.mapper.dense_links.enabled = false;
 }
 
 bool is_seven_scenes_depth_camera(const PinholeCamera& camera) {
@@ -71,19 +72,24 @@ std::string resolve_depth_registration(PipelineConfig& config, const std::vector
   if (mode == "auto" && may_use_rig && is_seven_scenes_depth_camera(camera)) {
     config.dataset.camera = "7scenes_kinect_v1";
     use_nominal_rig_depth_settings(config.slam);
-    return "not registered (" + why + "); 585 px at 640x480 are 7-Scenes' Kinect v1 depth camera: its depth is "
-           "drawn into the colour camera by s3m with the camera preset 7scenes_kinect_v1 (colour 529 px, the depth "
-           "camera 2.5 cm beside it), keypoint depth test 0.02 z over 7x7 px where the config leaves it at its default";
+    return "not registered (" + why +
+           "); 585 px at 640x480 are 7-Scenes' Kinect v1 depth camera: its depth is "
+           "drawn into the colour camera by s3m with the camera preset 7scenes_kinect_v1 (colour 529 px, the "
+           "depth "
+           "camera 2.5 cm beside it), keypoint depth test 0.02 z over 7x7 px where the config leaves it at "
+           "its default";
   }
   use_unregistered_depth_settings(config.slam);
-  return "not registered (" + why + "): keypoint depth test 0.02 z over 7x7 px, virtual-right depth weight, "
+  return "not registered (" + why +
+         "): keypoint depth test 0.02 z over 7x7 px, virtual-right depth weight, "
          "dense keyframe links off, where the config leaves them at their defaults";
 }
 
 std::string resolve_depth_registration(PipelineConfig& config, const FrameSource& source, bool may_use_rig) {
   const bool check = config.dataset.depth_registration == "auto" && source.depth_registered_by().empty();
   const std::vector<RgbdFrame> sample = check ? sample_frames(source) : std::vector<RgbdFrame>{};
-  return resolve_depth_registration(config, sample, source.camera(), source.depth_registered_by(), may_use_rig);
+  return resolve_depth_registration(config, sample, source.camera(), source.depth_registered_by(),
+                                    may_use_rig);
 }
 
 }  // namespace s3m::pipeline

@@ -38,6 +38,7 @@ std::string resolve_depth_registration(PipelineConfig& config, const std::vector
 
 // The same with frames 0, 20, 40, ... (at most 6, within the first 120) of `source`; reads no
 // frame unless the mode is "auto".
-std::string resolve_depth_registration(PipelineConfig& config, const FrameSource& source, bool may_use_rig = false);
+std::string resolve_depth_registration(PipelineConfig& config, const FrameSource& source,
+                                       bool may_use_rig = false);
 
 }  // namespace s3m::pipeline

@@ -43,27 +43,40 @@ OracleNoiseConfig parse_oracle_config(const YAML::Node& node, const std::string&
 
 std::map<ClassId, std::vector<ClassId>> default_similar() {
   using namespace cls;
-  return {{kWall, {kDoor, kWindow, kCeiling}}, {kFloor, {kOther, kTable}},     {kCeiling, {kWall}},
-          {kDoor, {kWall, kCabinet}},          {kWindow, {kWall, kTvMonitor}}, {kTable, {kCabinet, kShelf}},
-          {kChair, {kSofa, kTable}},           {kSofa, {kChair, kBed}},        {kBed, {kSofa, kTable}},
-          {kCabinet, {kShelf, kTable, kDoor}}, {kShelf, {kCabinet, kTable}},   {kTvMonitor, {kWindow, kOther}},
-          {kPlant, {kOther}},                  {kPerson, {kOther, kChair}},    {kOther, {kCabinet, kTable}}};
+  return {{kWall, {kDoor, kWindow, kCeiling}},
+          {kFloor, {kOther, kTable}},
+          {kCeiling, {kWall}},
+          {kDoor, {kWall, kCabinet}},
+          {kWindow, {kWall, kTvMonitor}},
+          {kTable, {kCabinet, kShelf}},
+          {kChair, {kSofa, kTable}},
+          {kSofa, {kChair, kBed}},
+          {kBed, {kSofa, kTable}},
+          {kCabinet, {kShelf, kTable, kDoor}},
+          {kShelf, {kCabinet, kTable}},
+          {kTvMonitor, {kWindow, kOther}},
+          {kPlant, {kOther}},
+          {kPerson, {kOther, kChair}},
+          {kOther, {kCabinet, kTable}}};
 }
 
 void OracleNoiseConfig::validate() const {
   require(confusion_rate >= 0 && drop_rate >= 0 && confusion_rate + drop_rate <= 0.6,
           "oracle: confusion_rate and drop_rate must be >= 0 with sum <= 0.6");
   require(boundary_width_px >= 0 && boundary_width_px <= 50, "oracle: boundary_width_px must be in 0..50");
-  require(boundary_flip_prob >= 0 && boundary_flip_prob <= 0.5, "oracle: boundary_flip_prob must be in [0, 0.5]");
+  require(boundary_flip_prob >= 0 && boundary_flip_prob <= 0.5,
+          "oracle: boundary_flip_prob must be in [0, 0.5]");
   require(concentration > 0, "oracle: concentration must be > 0");
-  require(min_confidence >= 0.375 && min_confidence <= 1, "oracle: min_confidence must be in [0.375, 1] (rank 1 >= rank 2)");
+  require(min_confidence >= 0.375 && min_confidence <= 1,
+          "oracle: min_confidence must be in [0.375, 1] (rank 1 >= rank 2)");
 }
 
 OracleNoiseConfig load_oracle_config(const YAML::Node& node, const std::string& ctx) {
   try {
     return parse_oracle_config(node, ctx);
   } catch (const YAML::Exception& e) {
-    throw ParseError(ctx, e.mark.line + 1, "bad oracle entry: " + e.msg, "oracle: {enabled, confusion_rate, ..., similar: {class: [classes]}}");
+    throw ParseError(ctx, e.mark.line + 1, "bad oracle entry: " + e.msg,
+                     "oracle: {enabled, confusion_rate, ..., similar: {class: [classes]}}");
   }
 }
 
@@ -71,8 +84,9 @@ OracleNoiseConfig parse_oracle_config(const YAML::Node& node, const std::string&
   OracleNoiseConfig c;
   c.similar = default_similar();
   if (!node) return c;
-  check_known_keys(node, {"enabled", "confusion_rate", "drop_rate", "boundary_width_px", "boundary_flip_prob",
-                          "concentration", "min_confidence", "seed", "similar"},
+  check_known_keys(node,
+                   {"enabled", "confusion_rate", "drop_rate", "boundary_width_px", "boundary_flip_prob",
+                    "concentration", "min_confidence", "seed", "similar"},
                    ctx);
   yaml_get(node, "enabled", c.enabled, ctx);
   yaml_get(node, "confusion_rate", c.confusion_rate, ctx);
@@ -86,7 +100,9 @@ OracleNoiseConfig parse_oracle_config(const YAML::Node& node, const std::string&
     const auto& classes = indoor_classes();
     auto id_of = [&](const YAML::Node& n) {
       const int id = classes.find(n.as<std::string>());
-      if (id < 0) throw ParseError(ctx, n.Mark().line + 1, "unknown class '" + n.as<std::string>() + "'", "a project class name");
+      if (id < 0)
+        throw ParseError(ctx, n.Mark().line + 1, "unknown class '" + n.as<std::string>() + "'",
+                         "a project class name");
       return static_cast<ClassId>(id);
     };
     for (const auto& kv : sim) {
@@ -116,10 +132,12 @@ LabelMap OracleSegmenter::segment(const RgbdFrame& frame) {
 }
 
 LabelMap OracleSegmenter::segment_labels(const cv::Mat& gt, int frame_index) const {
-  require(gt.type() == CV_16UC1 && !gt.empty(), "OracleSegmenter: ground truth must be a CV_16UC1 class-id image");
+  require(gt.type() == CV_16UC1 && !gt.empty(),
+          "OracleSegmenter: ground truth must be a CV_16UC1 class-id image");
   const OracleNoiseConfig& cfg = config_;
   // Seed per frame so the noise does not depend on the order frames are processed in.
-  Rng rng(cfg.seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(frame_index) * 0xBF58476D1CE4E5B9ull + 1);
+  Rng rng(cfg.seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(frame_index) * 0xBF58476D1CE4E5B9ull +
+          1);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   cv::Mat noisy = gt.clone();
   cv::Mat conf(gt.size(), CV_32FC1, cv::Scalar(1.0f));
@@ -147,8 +165,8 @@ LabelMap OracleSegmenter::segment_labels(const cv::Mat& gt, int frame_index) con
           to = surrounding_class(gt, comp == r, box, static_cast<ClassId>(cid));
         } else {
           const auto it = cfg.similar.find(static_cast<ClassId>(cid));
-          const std::vector<ClassId> cand = it != cfg.similar.end() && !it->second.empty() ? it->second
-                                                                                           : std::vector<ClassId>{cls::kOther};
+          const std::vector<ClassId> cand =
+              it != cfg.similar.end() && !it->second.empty() ? it->second : std::vector<ClassId>{cls::kOther};
           to = cand[std::uniform_int_distribution<std::size_t>(0, cand.size() - 1)(rng)];
         }
         noisy(box).setTo(to, region);

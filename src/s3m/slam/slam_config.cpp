@@ -10,8 +10,10 @@ namespace {
 
 void read_orb(const YAML::Node& n, features::OrbConfig& c, const std::string& ctx) {
   if (!n) return;
-  check_known_keys(n, {"n_features", "scale_factor", "n_levels", "ini_fast_threshold", "min_fast_threshold",
-                       "cell_px", "parallel_levels", "level_sigma_exponent"}, ctx);
+  check_known_keys(n,
+                   {"n_features", "scale_factor", "n_levels", "ini_fast_threshold", "min_fast_threshold",
+                    "cell_px", "parallel_levels", "level_sigma_exponent"},
+                   ctx);
   yaml_get(n, "n_features", c.n_features, ctx);
   yaml_get(n, "scale_factor", c.scale_factor, ctx);
   yaml_get(n, "n_levels", c.n_levels, ctx);
@@ -32,8 +34,9 @@ void read_depth_noise(const YAML::Node& n, features::DepthNoiseConfig& c, const 
 
 void read_features(const YAML::Node& n, features::FeatureConfig& c, const std::string& ctx) {
   if (!n) return;
-  check_known_keys(n, {"orb", "min_depth_m", "max_depth_m", "depth_discontinuity_ratio", "depth_window_px",
-                       "depth_noise"}, ctx);
+  check_known_keys(
+      n, {"orb", "min_depth_m", "max_depth_m", "depth_discontinuity_ratio", "depth_window_px", "depth_noise"},
+      ctx);
   read_orb(n["orb"], c.orb, ctx);
   read_depth_noise(n["depth_noise"], c.depth_noise, ctx);
   yaml_get(n, "min_depth_m", c.min_depth_m, ctx);
@@ -44,16 +47,43 @@ void read_features(const YAML::Node& n, features::FeatureConfig& c, const std::s
 
 void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx) {
   if (!n) return;
-  check_known_keys(n, {"pose_rounds", "pose_iterations", "close_depth_m", "motion_radius_px", "min_motion_matches",
-                       "min_pose_inliers", "wide_match_ratio", "local_radius_factor", "min_local_inliers",
-                       "max_frames_between_keyframes",
-                       "min_frames_between_keyframes", "keyframe_ref_ratio", "keyframe_decay_ratio", "keyframe_max_deg", "keyframe_max_m", "close_tracked_min",
-                       "close_untracked_min", "max_pending_keyframes", "min_init_depth_points", "anchor_keyframes",
-                       "coast_frames", "bridge_deg", "bridge_m", "bridge_min_inliers", "odometry_frames",
-                       "odometry_deg", "odometry_m", "odometry_agree_fraction",
-                       "odometry_min_colour_agreement", "odometry_downsample", "odometry_max_depth_diff_m",
-                       "odometry_min_observed_ratio", "odometry_max_step_m", "odometry_max_step_deg",
-                       "odometry_gap_max_depth_diff_m"}, ctx);
+  check_known_keys(n,
+                   {"pose_rounds",
+                    "pose_iterations",
+                    "close_depth_m",
+                    "motion_radius_px",
+                    "min_motion_matches",
+                    "min_pose_inliers",
+                    "wide_match_ratio",
+                    "local_radius_factor",
+                    "min_local_inliers",
+                    "max_frames_between_keyframes",
+                    "min_frames_between_keyframes",
+                    "keyframe_ref_ratio",
+                    "keyframe_decay_ratio",
+                    "keyframe_max_deg",
+                    "keyframe_max_m",
+                    "close_tracked_min",
+                    "close_untracked_min",
+                    "max_pending_keyframes",
+                    "min_init_depth_points",
+                    "anchor_keyframes",
+                    "coast_frames",
+                    "bridge_deg",
+                    "bridge_m",
+                    "bridge_min_inliers",
+                    "odometry_frames",
+                    "odometry_deg",
+                    "odometry_m",
+                    "odometry_agree_fraction",
+                    "odometry_min_colour_agreement",
+                    "odometry_downsample",
+                    "odometry_max_depth_diff_m",
+                    "odometry_min_observed_ratio",
+                    "odometry_max_step_m",
+                    "odometry_max_step_deg",
+                    "odometry_gap_max_depth_diff_m"},
+                   ctx);
   yaml_get(n, "pose_rounds", c.pose.rounds, ctx);
   yaml_get(n, "pose_iterations", c.pose.iterations, ctx);
   yaml_get(n, "close_depth_m", c.close_depth_m, ctx);
@@ -93,8 +123,11 @@ void read_tracker(const YAML::Node& n, TrackerConfig& c, const std::string& ctx)
 
 void read_ba(const YAML::Node& n, BaConfig& c, const std::string& ctx) {
   if (!n) return;
-  check_known_keys(n, {"first_iterations", "second_iterations", "chi2_mono", "chi2_stereo", "max_local_keyframes",
-                       "global_iterations", "max_keyframe_step_deg", "max_keyframe_step_m"}, ctx);
+  check_known_keys(
+      n,
+      {"first_iterations", "second_iterations", "chi2_mono", "chi2_stereo", "max_local_keyframes",
+       "global_iterations", "max_keyframe_step_deg", "max_keyframe_step_m"},
+      ctx);
   yaml_get(n, "first_iterations", c.first_iterations, ctx);
   yaml_get(n, "second_iterations", c.second_iterations, ctx);
   yaml_get(n, "chi2_mono", c.chi2_mono, ctx);
@@ -107,8 +140,10 @@ void read_ba(const YAML::Node& n, BaConfig& c, const std::string& ctx) {
 
 void read_dense_links(const YAML::Node& n, DenseLinkConfig& c, const std::string& ctx) {
   if (!n) return;
-  check_known_keys(n, {"enabled", "sigma_deg", "sigma_m", "max_deg", "max_m", "downsample", "max_median_deg",
-                       "max_median_m"}, ctx);
+  check_known_keys(
+      n,
+      {"enabled", "sigma_deg", "sigma_m", "max_deg", "max_m", "downsample", "max_median_deg", "max_median_m"},
+      ctx);
   yaml_get(n, "enabled", c.enabled, ctx);
   yaml_get(n, "sigma_deg", c.sigma_deg, ctx);
   yaml_get(n, "sigma_m", c.sigma_m, ctx);
@@ -121,9 +156,11 @@ void read_dense_links(const YAML::Node& n, DenseLinkConfig& c, const std::string
 
 void read_mapper(const YAML::Node& n, MapperConfig& c, const std::string& ctx) {
   if (!n) return;
-  check_known_keys(n, {"close_depth_m", "min_new_points", "min_found_ratio", "fuse_neighbours", "local_ba",
-                       "cull_keyframes", "redundant_ratio", "snapshot_keyframes", "final_global_ba", "dense_links", "ba"},
-                   ctx);
+  check_known_keys(
+      n,
+      {"close_depth_m", "min_new_points", "min_found_ratio", "fuse_neighbours", "local_ba", "cull_keyframes",
+       "redundant_ratio", "snapshot_keyframes", "final_global_ba", "dense_links", "ba"},
+      ctx);
   yaml_get(n, "close_depth_m", c.close_depth_m, ctx);
   yaml_get(n, "min_new_points", c.min_new_points, ctx);
   yaml_get(n, "min_found_ratio", c.min_found_ratio, ctx);
@@ -140,7 +177,8 @@ void read_mapper(const YAML::Node& n, MapperConfig& c, const std::string& ctx) {
 // Loop closing's sub-structs, one reader each.
 void read_detector(const YAML::Node& n, LoopDetectorConfig& c, const std::string& ctx) {
   if (!n) return;
-  check_known_keys(n, {"min_common_words_ratio", "group_score_ratio", "group_neighbours", "consistency"}, ctx);
+  check_known_keys(n, {"min_common_words_ratio", "group_score_ratio", "group_neighbours", "consistency"},
+                   ctx);
   yaml_get(n, "min_common_words_ratio", c.min_common_words_ratio, ctx);
   yaml_get(n, "group_score_ratio", c.group_score_ratio, ctx);
   yaml_get(n, "group_neighbours", c.group_neighbours, ctx);
@@ -181,10 +219,20 @@ void read_pnp(const YAML::Node& n, PnpConfig& c, const std::string& ctx) {
 }
 
 // LoopConfig's keys sit at the top of the `loop_closing:` section (next to enabled, ...).
-const std::vector<std::string> kLoopKeys = {"min_keyframes", "min_keyframes_since_loop", "direct_level", "detector",
-                                            "bow_match", "min_bow_matches", "ransac", "loop_group_size",
-                                            "search_radius_factor", "min_projection_matches", "essential_min_weight",
-                                            "pose_graph", "global_ba", "ba"};
+const std::vector<std::string> kLoopKeys = {"min_keyframes",
+                                            "min_keyframes_since_loop",
+                                            "direct_level",
+                                            "detector",
+                                            "bow_match",
+                                            "min_bow_matches",
+                                            "ransac",
+                                            "loop_group_size",
+                                            "search_radius_factor",
+                                            "min_projection_matches",
+                                            "essential_min_weight",
+                                            "pose_graph",
+                                            "global_ba",
+                                            "ba"};
 
 void read_loop(const YAML::Node& n, LoopConfig& c, const std::string& ctx) {
   yaml_get(n, "min_keyframes", c.min_keyframes, ctx);
@@ -205,8 +253,11 @@ void read_loop(const YAML::Node& n, LoopConfig& c, const std::string& ctx) {
 
 void read_reloc(const YAML::Node& n, RelocConfig& c, const std::string& ctx) {
   if (!n) return;
-  check_known_keys(n, {"max_candidates", "min_score_ratio", "bow_match", "min_bow_matches", "pnp", "local_keyframes",
-                       "wide_radius_factor", "search_radius_factor", "min_final_inliers", "snapshot_keyframes"}, ctx);
+  check_known_keys(
+      n,
+      {"max_candidates", "min_score_ratio", "bow_match", "min_bow_matches", "pnp", "local_keyframes",
+       "wide_radius_factor", "search_radius_factor", "min_final_inliers", "snapshot_keyframes"},
+      ctx);
   yaml_get(n, "max_candidates", c.max_candidates, ctx);
   yaml_get(n, "min_score_ratio", c.min_score_ratio, ctx);
   read_bow_match(n["bow_match"], c.bow_match, ctx);
@@ -254,12 +305,15 @@ void TrackerConfig::validate() const {
   require(max_frames_between_keyframes >= 1 && min_frames_between_keyframes >= 0,
           "tracker: keyframe frame gaps must be >= 1 / >= 0");
   require(keyframe_ref_ratio > 0 && keyframe_ref_ratio <= 1, "tracker.keyframe_ref_ratio must be in (0, 1]");
-  require(keyframe_decay_ratio >= 0 && keyframe_decay_ratio < 1, "tracker.keyframe_decay_ratio must be in [0, 1)");
-  require(keyframe_max_deg >= 0 && keyframe_max_m >= 0, "tracker.keyframe_max_deg / keyframe_max_m must be >= 0");
+  require(keyframe_decay_ratio >= 0 && keyframe_decay_ratio < 1,
+          "tracker.keyframe_decay_ratio must be in [0, 1)");
+  require(keyframe_max_deg >= 0 && keyframe_max_m >= 0,
+          "tracker.keyframe_max_deg / keyframe_max_m must be >= 0");
   require(max_pending_keyframes >= 1 && min_init_depth_points >= 3, "tracker: bad pending/init limits");
   require(anchor_keyframes >= 1, "tracker.anchor_keyframes must be >= 1");
-  require(coast_frames >= 0 && bridge_deg >= 0 && bridge_m >= 0 && bridge_min_inliers >= min_pose_inliers,
-          "tracker: coast_frames, bridge_deg and bridge_m must be >= 0, bridge_min_inliers >= min_pose_inliers");
+  require(
+      coast_frames >= 0 && bridge_deg >= 0 && bridge_m >= 0 && bridge_min_inliers >= min_pose_inliers,
+      "tracker: coast_frames, bridge_deg and bridge_m must be >= 0, bridge_min_inliers >= min_pose_inliers");
   require(odometry_frames >= 0 && odometry_deg >= 0 && odometry_m >= 0 && odometry_agree_fraction >= 0,
           "tracker: odometry_frames, odometry_deg, odometry_m and odometry_agree_fraction must be >= 0");
   require(odometry_min_colour_agreement >= -1 && odometry_min_colour_agreement <= 1,
@@ -292,7 +346,8 @@ void SlamConfig::validate() const {
   loop_closing.validate();
   require(queue_capacity >= tracker.max_pending_keyframes + 2,
           "slam.queue_capacity must be >= tracker.max_pending_keyframes + 2 = " +
-              std::to_string(tracker.max_pending_keyframes + 2) + " (got " + std::to_string(queue_capacity) + ")");
+              std::to_string(tracker.max_pending_keyframes + 2) + " (got " + std::to_string(queue_capacity) +
+              ")");
   require(T_c_r.matrix().allFinite(), "slam.T_c_r must be finite");
   require(mapping_lag_frames >= 0 && mapping_lag_frames <= 30,
           "slam.mapping_lag_frames must be in [0, 30] (got " + std::to_string(mapping_lag_frames) + ")");
@@ -301,8 +356,9 @@ void SlamConfig::validate() const {
 SlamConfig slam_config_from_yaml(const YAML::Node& node, const std::string& ctx) {
   SlamConfig c;
   if (!node || node.IsNull()) return c;
-  check_known_keys(node, {"features", "tracker", "mapper", "T_c_r", "threaded", "queue_capacity", "mapping_lag_frames"},
-                   ctx);
+  check_known_keys(
+      node, {"features", "tracker", "mapper", "T_c_r", "threaded", "queue_capacity", "mapping_lag_frames"},
+      ctx);
   read_features(node["features"], c.features, ctx);
   read_tracker(node["tracker"], c.tracker, ctx);
   read_mapper(node["mapper"], c.mapper, ctx);

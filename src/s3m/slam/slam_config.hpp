@@ -30,8 +30,8 @@ struct SlamConfig {
   TrackerConfig tracker;
   MapperConfig mapper;
   LoopClosingConfig loop_closing;  // a pipeline preset's `loop_closing:` section
-  SE3 T_c_r = SE3::Identity();  // robot (body) frame to camera frame: T_w_r = T_w_c * T_c_r
-  bool threaded = false;        // tracking and local mapping in separate threads
+  SE3 T_c_r = SE3::Identity();     // robot (body) frame to camera frame: T_w_r = T_w_c * T_c_r
+  bool threaded = false;           // tracking and local mapping in separate threads
   // Bound of the two queues between tracking and local mapping (threaded mode). Tracking keeps at
   // most tracker.max_pending_keyframes + 1 keyframes unanswered, plus one relocalisation query:
   // validate() requires room for that, so neither thread can block the other for good.
