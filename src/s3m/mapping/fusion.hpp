@@ -8,6 +8,10 @@
 
 #include "s3m/mapping/label_set.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::mapping {
 
 enum class FusionPolicy : std::uint8_t {
@@ -34,6 +38,8 @@ struct FusionConfig {
 
 // Reads the keys of FusionConfig from a YAML map (policy: paper | max_confidence | bayesian).
 FusionConfig fusion_config_from_yaml(const YAML::Node& node, const std::string& ctx);
+// Its YAML keys with the members they fill (core/config_table.hpp).
+void fields(config::FieldVisitor& v, FusionConfig& c);
 std::string to_string(FusionPolicy policy);
 FusionPolicy parse_fusion_policy(const std::string& name);  // throws s3m::Error
 

@@ -5,6 +5,7 @@
 
 #include <tbb/task_arena.h>
 
+#include "s3m/core/config_table.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/thread_count.hpp"
 #include "s3m/core/timing.hpp"
@@ -29,23 +30,21 @@ void InsertConfig::validate() const {
                                             thread_count_range("all cores"));
 }
 
+void fields(config::FieldVisitor& v, InsertConfig& c) {
+  v("min_range_m", c.min_range_m);
+  v("max_range_m", c.max_range_m);
+  v("clear_beyond_max_range", c.clear_beyond_max_range);
+  v("clear_free_space", c.clear_free_space);
+  v("radius_min_neighbors", c.radius_min_neighbors);
+  v("min_points_per_voxel", c.min_points_per_voxel);
+  v("sor_neighbors", c.sor_neighbors);
+  v("sor_std_mul", c.sor_std_mul);
+  v("num_threads", c.num_threads);
+}
+
 InsertConfig insert_config_from_yaml(const YAML::Node& node, const std::string& ctx) {
   InsertConfig c;
-  if (!node) return c;
-  check_known_keys(
-      node,
-      {"min_range_m", "max_range_m", "clear_beyond_max_range", "clear_free_space", "radius_min_neighbors",
-       "min_points_per_voxel", "sor_neighbors", "sor_std_mul", "num_threads"},
-      ctx);
-  yaml_get(node, "min_range_m", c.min_range_m, ctx);
-  yaml_get(node, "max_range_m", c.max_range_m, ctx);
-  yaml_get(node, "clear_beyond_max_range", c.clear_beyond_max_range, ctx);
-  yaml_get(node, "clear_free_space", c.clear_free_space, ctx);
-  yaml_get(node, "radius_min_neighbors", c.radius_min_neighbors, ctx);
-  yaml_get(node, "min_points_per_voxel", c.min_points_per_voxel, ctx);
-  yaml_get(node, "sor_neighbors", c.sor_neighbors, ctx);
-  yaml_get(node, "sor_std_mul", c.sor_std_mul, ctx);
-  yaml_get(node, "num_threads", c.num_threads, ctx);
+  if (node) config::read(node, config::table_of(c), ctx);
   return c;
 }
 

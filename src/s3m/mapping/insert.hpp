@@ -10,6 +10,10 @@
 #include "s3m/mapping/semantic_octree.hpp"
 #include "s3m/mapping/voxelize.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::mapping {
 
 struct InsertConfig {
@@ -35,6 +39,8 @@ struct InsertConfig {
 
 // Not validated here: load_mapping_config() validates the whole map section and names the file.
 InsertConfig insert_config_from_yaml(const YAML::Node& node, const std::string& ctx);
+// Its YAML keys with the members they fill (core/config_table.hpp).
+void fields(config::FieldVisitor& v, InsertConfig& c);
 
 struct InsertStats {
   std::size_t points = 0, voxels = 0, voxels_occupied = 0, voxels_removed_outliers = 0, voxels_far = 0;

@@ -31,6 +31,10 @@ struct MappingConfig {
   void validate() const;  // throws s3m::Error naming the field
 };
 
+// Its YAML keys with the members they fill (core/config_table.hpp), and those of its occupancy.
+void fields(config::FieldVisitor& v, MappingConfig& c);
+void fields(config::FieldVisitor& v, OccupancyParams& c);
+
 // Reads a `mapping:`-style YAML map (keys above; absent keys keep defaults, unknown keys are
 // errors). ctx names the file/section in messages.
 MappingConfig load_mapping_config(const YAML::Node& node, const std::string& ctx);

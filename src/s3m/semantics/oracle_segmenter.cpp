@@ -5,6 +5,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "s3m/core/config_table.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/yaml_util.hpp"
 
@@ -39,8 +40,6 @@ ClassId surrounding_class(const cv::Mat& gt, const cv::Mat& region_mask, const c
 
 }  // namespace
 
-OracleNoiseConfig parse_oracle_config(const YAML::Node& node, const std::string& ctx);
-
 std::map<ClassId, std::vector<ClassId>> default_similar() {
   using namespace cls;
   return {{kWall, {kDoor, kWindow, kCeiling}},
@@ -71,46 +70,64 @@ void OracleNoiseConfig::validate() const {
           "oracle: min_confidence must be in [0.375, 1] (rank 1 >= rank 2)");
 }
 
-OracleNoiseConfig load_oracle_config(const YAML::Node& node, const std::string& ctx) {
+namespace {
+
+// `similar: {wall: [door, window], ...}`: entries replace those of default_similar().
+void read_similar(const YAML::Node& node, std::map<ClassId, std::vector<ClassId>>& similar,
+                  const std::string& ctx) {
+  const auto& classes = indoor_classes();
+  auto id_of = [&](const YAML::Node& n) {
+    const int id = classes.find(n.as<std::string>());
+    if (id < 0)
+      throw ParseError(ctx, n.Mark().line + 1, "unknown class '" + n.as<std::string>() + "'",
+                       "a project class name");
+    return static_cast<ClassId>(id);
+  };
+  if (similar.empty()) similar = default_similar();
   try {
-    return parse_oracle_config(node, ctx);
+    for (const auto& kv : node) {
+      std::vector<ClassId> to;
+      for (const auto& v : kv.second) to.push_back(id_of(v));
+      similar[id_of(kv.first)] = to;
+    }
   } catch (const YAML::Exception& e) {
-    throw ParseError(ctx, e.mark.line + 1, "bad oracle entry: " + e.msg,
-                     "oracle: {enabled, confusion_rate, ..., similar: {class: [classes]}}");
+    throw ParseError(ctx, e.mark.line + 1, "bad oracle entry: " + e.msg, "similar: {class: [classes]}");
   }
 }
 
-OracleNoiseConfig parse_oracle_config(const YAML::Node& node, const std::string& ctx) {
+YAML::Node similar_node(const std::map<ClassId, std::vector<ClassId>>& similar) {
+  YAML::Node n(YAML::NodeType::Map);
+  for (const auto& [from, to] : similar.empty() ? default_similar() : similar) {  // empty: the defaults apply
+    YAML::Node list(YAML::NodeType::Sequence);
+    for (const ClassId c : to) list.push_back(indoor_classes().at(c).name);
+    list.SetStyle(YAML::EmitterStyle::Flow);
+    n[indoor_classes().at(from).name] = list;
+  }
+  return n;
+}
+
+}  // namespace
+
+void fields(config::FieldVisitor& v, OracleNoiseConfig& c) {
+  v("enabled", c.enabled);
+  v("confusion_rate", c.confusion_rate);
+  v("drop_rate", c.drop_rate);
+  v("boundary_width_px", c.boundary_width_px);
+  v("boundary_flip_prob", c.boundary_flip_prob);
+  v("concentration", c.concentration);
+  v("min_confidence", c.min_confidence);
+  v("seed", c.seed);
+  v("similar", config::Custom{[&c](const YAML::Node& n, const std::string&, const std::string& ctx) {
+                                read_similar(n, c.similar, ctx);
+                              },
+                              [&c] { return similar_node(c.similar); }});
+}
+
+OracleNoiseConfig load_oracle_config(const YAML::Node& node, const std::string& ctx) {
   OracleNoiseConfig c;
   c.similar = default_similar();
   if (!node) return c;
-  check_known_keys(node,
-                   {"enabled", "confusion_rate", "drop_rate", "boundary_width_px", "boundary_flip_prob",
-                    "concentration", "min_confidence", "seed", "similar"},
-                   ctx);
-  yaml_get(node, "enabled", c.enabled, ctx);
-  yaml_get(node, "confusion_rate", c.confusion_rate, ctx);
-  yaml_get(node, "drop_rate", c.drop_rate, ctx);
-  yaml_get(node, "boundary_width_px", c.boundary_width_px, ctx);
-  yaml_get(node, "boundary_flip_prob", c.boundary_flip_prob, ctx);
-  yaml_get(node, "concentration", c.concentration, ctx);
-  yaml_get(node, "min_confidence", c.min_confidence, ctx);
-  yaml_get(node, "seed", c.seed, ctx);
-  if (const YAML::Node sim = node["similar"]) {
-    const auto& classes = indoor_classes();
-    auto id_of = [&](const YAML::Node& n) {
-      const int id = classes.find(n.as<std::string>());
-      if (id < 0)
-        throw ParseError(ctx, n.Mark().line + 1, "unknown class '" + n.as<std::string>() + "'",
-                         "a project class name");
-      return static_cast<ClassId>(id);
-    };
-    for (const auto& kv : sim) {
-      std::vector<ClassId> to;
-      for (const auto& v : kv.second) to.push_back(id_of(v));
-      c.similar[id_of(kv.first)] = to;
-    }
-  }
+  config::read(node, config::table_of(c), ctx);
   c.validate();
   return c;
 }
