@@ -112,7 +112,11 @@ void register_run(CLI::App& app) {
     o.out_dir = args->out;
     o.config =
         args->config.empty() ? pipeline::PipelineConfig{} : pipeline::load_pipeline_config(args->config);
-    if (args->deterministic) o.config.threads.deterministic = true;
+    // Options that set config keys count as written: automatic decisions leave them as set.
+    if (args->deterministic) {
+      o.config.threads.deterministic = true;
+      pipeline::mark_written(o.config, "threads.deterministic");
+    }
     // Without a preset a simulator sequence's camera mount comes from its sim.yaml; robot poses
     // would otherwise be camera poses (identity T_c_r) and the robot's ATE/RPE meaningless.
     if (args->config.empty())
@@ -120,9 +124,15 @@ void register_run(CLI::App& app) {
         o.config.slam.T_c_r = *T_c_r;
         spdlog::info("run: no --config: T_c_r (robot -> camera) from {}/sim.yaml", args->dataset);
       }
-    if (args->no_loop_closing)
+    if (args->no_loop_closing) {
       o.config.slam.loop_closing.enabled = o.config.slam.loop_closing.relocalisation = false;
-    if (!args->vocab.empty()) o.config.slam.loop_closing.vocabulary = args->vocab;
+      pipeline::mark_written(o.config, "loop_closing.enabled");
+      pipeline::mark_written(o.config, "loop_closing.relocalisation");
+    }
+    if (!args->vocab.empty()) {
+      o.config.slam.loop_closing.vocabulary = args->vocab;
+      pipeline::mark_written(o.config, "loop_closing.vocabulary");
+    }
     o.segmenter = args->segmenter;
     o.model_dir = args->model_dir;
     o.poses = args->poses;

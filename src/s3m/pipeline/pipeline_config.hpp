@@ -3,7 +3,9 @@
 // wires together. Loaded from a YAML preset in config/ (see config/README.md for every key);
 // keys absent from the file keep the defaults below, unknown keys are refused with file and line.
 // The robot trajectory uses the SLAM section's calibration: T_w_r = T_w_c * slam.T_c_r.
+#include <set>
 #include <string>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
@@ -108,11 +110,26 @@ struct PipelineConfig {
   slam::SlamConfig slam;
   MapConfig map;
   SegmenterConfig segmenter;
+  // Named overlays (config/overlays/NAME.yaml, config_overlays.hpp) applied beneath the keys this
+  // config writes: those a preset lists under `overlays:`, then those an automatic decision chose.
+  std::vector<std::string> overlays;
   std::string source;  // file the config was loaded from ("" = defaults), for messages
+  // Keys the preset and the command line set, dotted ("slam.features.depth_window_px"), with those
+  // of the overlays the preset lists: automatic decisions leave them as they are.
+  std::set<std::string> written;
   void validate() const;
 };
 
-// Loads and validates a preset. Errors name the file, the line and what was expected.
+// Its YAML keys with the members they fill (core/config_table.hpp): the sections above, each with
+// its own table, and `overlays`.
+void fields(config::FieldVisitor& v, PipelineConfig& c);
+
+// Records that the command line set `key` (dotted; must be a key of the table), so that automatic
+// decisions leave it as set.
+void mark_written(PipelineConfig& c, const std::string& key);
+
+// Loads and validates a preset. Errors name the file, the line and what was expected. The overlays
+// it lists are applied to the keys it does not write.
 PipelineConfig load_pipeline_config(const std::string& path);
 // The same from an already parsed document (e.g. a preset merged with ROS parameters); `path`
 // names it in messages and anchors relative camera/model paths (its folder; "" = the working dir).
