@@ -44,7 +44,8 @@ TEST(DatasetCheck, LinesForPeople) {
             "warning: unreadable frame 20: rgb/x.png: cannot read\n"
             "depth: registered (dataset.depth_registration: registered)\n"
             "depth scale: median 1.50 m over 4 frame(s), plausible\n"
-            "segmenter: none (segmenter section of p.yaml)\n");
+            "segmenter: none (segmenter section of p.yaml)\n"
+            "settings: built-in defaults; differing from the defaults: none\n");
 }
 
 TEST(DatasetCheck, NoGroundTruthAndADepthScaleWarning) {

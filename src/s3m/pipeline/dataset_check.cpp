@@ -8,6 +8,7 @@
 
 #include "s3m/io/association.hpp"
 #include "s3m/io/trajectory.hpp"
+#include "s3m/pipeline/effective_config.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/frame_source.hpp"
 #include "s3m/pipeline/run.hpp"
@@ -77,10 +78,12 @@ DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig&
   // 3. The segmenter a run would choose.
   const SegmenterChoice choice = choose_segmenter(parse_segmenter_spec(""), config, sim_sign);
   c.segmenter = (choice.type == "onnx" ? choice.model : choice.type) + " (" + choice.reason + ")";
+  record_segmenter_choice(resolved, choice);
+  c.settings = resolved;
   return c;
 }
 
-std::string format_dataset_check(const DatasetCheck& c) {
+std::string format_dataset_check(const DatasetCheck& c, bool all_settings) {
   std::ostringstream o;
   const PinholeCamera& k = c.camera;
   o << "dataset: " << c.dir << " (" << c.layout << ")\n";
@@ -114,6 +117,8 @@ std::string format_dataset_check(const DatasetCheck& c) {
   else
     o << "warning: " << c.depth_scale.warning << "\n";
   o << "segmenter: " << c.segmenter << "\n";
+  o << settings_summary(c.settings);
+  if (all_settings) o << effective_config_text(c.settings);
   return o.str();
 }
 

@@ -28,7 +28,8 @@ struct DatasetCheck {
   std::string depth_registration;       // resolve_depth_registration()'s words
   std::string depth_camera;             // FrameSource::depth_camera(): raw depth drawn into colour
   DepthScaleCheck depth_scale;
-  std::string segmenter;  // what `s3m run` with this config would use, and why
+  std::string segmenter;    // what `s3m run` with this config would use, and why
+  PipelineConfig settings;  // the config after the decisions above, as `s3m run` would use it
 };
 
 // Opens the folder as `s3m run` does with `config` (its dataset section; its segmenter section for
@@ -41,7 +42,8 @@ DatasetCheck check_dataset(const std::string& dir, const PipelineConfig& config)
 DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig& config,
                                 const std::string& sim_sign, bool may_use_rig = false);
 
-// The check for people: one line per item, warnings marked "warning:".
-std::string format_dataset_check(const DatasetCheck& c);
+// The check for people: one line per item, warnings marked "warning:"; the settings that differ
+// from the defaults, or with all_settings every setting (as config_effective.yaml).
+std::string format_dataset_check(const DatasetCheck& c, bool all_settings = false);
 
 }  // namespace s3m::pipeline

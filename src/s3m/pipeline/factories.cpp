@@ -98,6 +98,12 @@ SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig
   return c;
 }
 
+void record_segmenter_choice(PipelineConfig& c, const SegmenterChoice& choice) {
+  c.segmenter.type = choice.type;
+  c.segmenter.model = choice.model;
+  c.segmenter.model_dir = choice.model_dir;
+}
+
 std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterChoice& choice,
                                                      const PipelineConfig& config, bool dataset_has_labels) {
   const SegmenterConfig& sc = config.segmenter;

@@ -59,6 +59,10 @@ std::optional<SE3> simulator_T_c_r(const std::string& dataset_dir);
 SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig& config,
                                  const std::string& sim_sign);
 
+// Writes the choice into c.segmenter (type, model, model_dir), so the effective config says which
+// segmenter ran and a rerun with it makes the same choice.
+void record_segmenter_choice(PipelineConfig& c, const SegmenterChoice& choice);
+
 // nullptr for "none". The oracle needs the dataset's label images (simulator output).
 std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterChoice& choice,
                                                      const PipelineConfig& config, bool dataset_has_labels);

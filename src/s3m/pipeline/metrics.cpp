@@ -223,8 +223,10 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
                   {"map_ot", paths.map_ot},
                   {"map_ply", paths.map_ply},
                   {"slam_map", paths.slam_map},
-                  {"kept_clouds", paths.kept_clouds}};
+                  {"kept_clouds", paths.kept_clouds},
+                  {"config_effective", paths.config_effective}};
   if (!info.depth_registration.empty()) m["inputs"]["depth_registration"] = info.depth_registration;
+  if (!info.overlays.empty()) m["inputs"]["overlays"] = info.overlays;
   if (info.depth_median_m > 0) m["inputs"]["depth_median_m"] = info.depth_median_m;
   if (!info.depth_scale_warning.empty()) m["inputs"]["depth_scale_warning"] = info.depth_scale_warning;
   if (!info.loaded_map.empty())

@@ -1,5 +1,6 @@
 #include "s3m/pipeline/run.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <optional>
 
@@ -12,6 +13,7 @@
 #include "s3m/pipeline/camera_views.hpp"
 #include "s3m/pipeline/cost_estimate.hpp"
 #include "s3m/pipeline/depth_scale.hpp"
+#include "s3m/pipeline/effective_config.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/metrics.hpp"
 #include "s3m/pipeline/outputs.hpp"
@@ -86,6 +88,9 @@ Components build(const RunOptions& o) {
   c.info.depth_registration = resolve_depth_registration(c.config, sample, c.source->camera(),
                                                          c.source->depth_registered_by(), !o.open_source);
   spdlog::info("run: depth {}", c.info.depth_registration);
+  for (const std::string& name : c.config.overlays)  // those the decision added, for metrics.json
+    if (std::find(o.config.overlays.begin(), o.config.overlays.end(), name) == o.config.overlays.end())
+      c.info.overlays.push_back(name);
   if (c.config.dataset.camera != o.config.dataset.camera) {  // 7-Scenes' Kinect, opened as its two cameras
     c.source = open_tum_source(o.dataset_dir, c.config.dataset);
     sample = sample_frames(*c.source);
@@ -109,6 +114,7 @@ Components build(const RunOptions& o) {
     const std::string sim_sign = simulator_sign(o.open_source ? "" : o.dataset_dir, c.source->has_labels());
     const SegmenterChoice choice = choose_segmenter(spec, c.config, sim_sign);
     segmenter = make_segmenter(choice, c.config, c.source->has_labels());
+    record_segmenter_choice(c.config, choice);
     c.info.segmenter_reason = choice.reason;
     map = std::make_unique<MapIntegrator>(c.config.map);
   }
@@ -238,7 +244,12 @@ RunResult run_dataset(const RunOptions& o) {
   // Outputs first (trajectory and map are what a user keeps), then the evaluation of them.
   const bool keep_loaded = r.interrupted && same_folder(o.map_dir, o.out_dir);
   if (keep_loaded) spdlog::warn("run: interrupted: the session loaded from {} is not overwritten", o.out_dir);
-  const OutputPaths paths = write_outputs(*c.pipeline, c.config, o.out_dir, !keep_loaded);
+  OutputPaths paths = write_outputs(*c.pipeline, c.config, o.out_dir, !keep_loaded);
+  paths.config_effective = write_effective_config(
+      o.out_dir, c.config,
+      {"depth: " + c.info.depth_registration,
+       "segmenter: " + c.info.segmenter +
+           (c.info.segmenter_reason.empty() ? "" : " (" + c.info.segmenter_reason + ")")});
   r.metrics = compute_metrics(*c.pipeline, *c.source, c.config, c.info, paths);
   write_metrics(r.metrics, paths);
   if (o.report && c.config.eval.plots) {
