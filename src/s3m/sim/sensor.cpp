@@ -18,15 +18,35 @@ void SensorConfig::validate() const {
     require(p >= 0 && p <= 1, "sensor: dropout probabilities must be in [0, 1]");
   require(grazing_cos >= 0 && grazing_cos < 1, "sensor: grazing_cos must be in [0, 1)");
   require(rgb_sigma >= 0 && optics_blur_px >= 0, "sensor: rgb_sigma and optics_blur_px must be >= 0");
-  require(motion_blur_samples >= 1 && motion_blur_samples <= 32, "sensor: motion_blur_samples must be in 1..32");
+  require(motion_blur_samples >= 1 && motion_blur_samples <= 32,
+          "sensor: motion_blur_samples must be in 1..32");
   require(exposure_s >= 0, "sensor: exposure_s must be >= 0");
 }
 
 void load_sensor_config(const YAML::Node& n, SensorConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"fx", "fy", "cx", "cy", "width", "height", "depth_factor", "min_depth_m", "max_depth_m",
-                       "noise", "depth_sigma0_m", "depth_sigma_k", "edge_jump_rel", "edge_dropout", "dark_albedo",
-                       "dark_dropout", "grazing_cos", "random_dropout", "rgb_sigma", "optics_blur_px",
-                       "motion_blur_samples", "exposure_s"},
+  check_known_keys(n,
+                   {"fx",
+                    "fy",
+                    "cx",
+                    "cy",
+                    "width",
+                    "height",
+                    "depth_factor",
+                    "min_depth_m",
+                    "max_depth_m",
+                    "noise",
+                    "depth_sigma0_m",
+                    "depth_sigma_k",
+                    "edge_jump_rel",
+                    "edge_dropout",
+                    "dark_albedo",
+                    "dark_dropout",
+                    "grazing_cos",
+                    "random_dropout",
+                    "rgb_sigma",
+                    "optics_blur_px",
+                    "motion_blur_samples",
+                    "exposure_s"},
                    ctx);
   yaml_get(n, "fx", c.camera.fx, ctx);
   yaml_get(n, "fy", c.camera.fy, ctx);
@@ -56,9 +76,12 @@ PinholeCamera sensor_camera(const std::string& name, int width, int height) {
   require(width > 0 && height > 0, "sensor_camera: width and height must be positive");
   PinholeCamera c;
   double f640 = 0;
-  if (name == "kinect") f640 = 525.0;
-  else if (name == "d455") f640 = 382.6;  // D455 colour/depth at 640x480: ~87 deg horizontal FOV
-  else throw Error("unknown sensor camera '" + name + "' (expected kinect or d455)");
+  if (name == "kinect")
+    f640 = 525.0;
+  else if (name == "d455")
+    f640 = 382.6;  // D455 colour/depth at 640x480: ~87 deg horizontal FOV
+  else
+    throw Error("unknown sensor camera '" + name + "' (expected kinect or d455)");
   const double s = width / 640.0;
   c.fx = c.fy = f640 * s;
   c.cx = (width - 1) / 2.0;

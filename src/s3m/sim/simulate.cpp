@@ -75,12 +75,14 @@ void SimConfig::validate() const {
   trajectory.validate();
   sensor.validate();
   require(drop_frames >= 0, "sim: drop_frames must be >= 0");
-  require(voxel_resolution_m > 0.005 && voxel_resolution_m <= 1.0, "sim: voxel_resolution_m must be in (0.005, 1] m");
+  require(voxel_resolution_m > 0.005 && voxel_resolution_m <= 1.0,
+          "sim: voxel_resolution_m must be in (0.005, 1] m");
   make_scene(scene, layout());  // throws for an unknown preset
 }
 
 void load_sim_config(const YAML::Node& n, SimConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"scene", "seed", "layout_seed", "drop_frames", "voxel_resolution_m", "trajectory", "sensor"}, ctx);
+  check_known_keys(
+      n, {"scene", "seed", "layout_seed", "drop_frames", "voxel_resolution_m", "trajectory", "sensor"}, ctx);
   yaml_get(n, "scene", c.scene, ctx);
   yaml_get(n, "seed", c.seed, ctx);
   if (n["layout_seed"]) {
@@ -116,9 +118,10 @@ RgbdFrame Simulation::frame(std::size_t i) const {
     f.depth_m = cv::Mat::zeros(c.height, c.width, CV_32FC1);
     f.labels = cv::Mat::zeros(c.height, c.width, CV_16UC1);
   } else {
-    const SE3 T_open = i > 0 ? interpolate(trajectory_.samples[i - 1].T_w_c, s.T_w_c,
-                                           std::clamp(1.0 - cfg_.sensor.exposure_s * cfg_.trajectory.fps, 0.0, 1.0))
-                             : s.T_w_c;
+    const SE3 T_open =
+        i > 0 ? interpolate(trajectory_.samples[i - 1].T_w_c, s.T_w_c,
+                            std::clamp(1.0 - cfg_.sensor.exposure_s * cfg_.trajectory.fps, 0.0, 1.0))
+              : s.T_w_c;
     f = renderer_.render(s.T_w_c, hash3(cfg_.seed, i, 0xF4A3Eull), &T_open);
   }
   f.index = static_cast<int>(i);

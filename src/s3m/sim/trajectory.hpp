@@ -18,7 +18,7 @@ namespace s3m::sim {
 struct CameraMount {
   Eigen::Vector3d position_r_m{0.10, 0.0, -0.03};
   double pitch_down_deg = 12.0;
-  double yaw_deg = 0.0;   // positive: camera turned to the left
+  double yaw_deg = 0.0;  // positive: camera turned to the left
   double roll_deg = 0.0;
 };
 SE3 camera_to_robot(const CameraMount& mount);  // returns T_c_r
