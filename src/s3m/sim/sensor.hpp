@@ -13,6 +13,10 @@
 
 #include "s3m/core/camera.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::sim {
 
 struct SensorConfig {
@@ -39,6 +43,8 @@ struct SensorConfig {
 
 // Reads the keys of SensorConfig (plus fx, fy, cx, cy, width, height) from a YAML map.
 void load_sensor_config(const YAML::Node& node, SensorConfig& cfg, const std::string& ctx);
+// Its YAML keys with the members they fill (core/config_table.hpp).
+void fields(config::FieldVisitor& v, SensorConfig& c);
 
 // Named intrinsics: "kinect" (fx = fy = 525, TUM-like), "d455" (fx = fy = 382.6 at 640x480).
 // Scaled to width x height (keeping the field of view). Throws s3m::Error for an unknown name.

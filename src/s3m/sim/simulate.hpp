@@ -20,6 +20,10 @@
 #include "s3m/sim/sensor.hpp"
 #include "s3m/sim/trajectory.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::sim {
 
 struct SimConfig {
@@ -42,6 +46,8 @@ struct SimConfig {
 // Unknown keys are errors (ParseError with file and line).
 SimConfig load_sim_config(const std::string& path);
 void load_sim_config(const YAML::Node& node, SimConfig& cfg, const std::string& ctx);
+// Its YAML keys with the members they fill (core/config_table.hpp).
+void fields(config::FieldVisitor& v, SimConfig& c);
 
 class Simulation {
  public:

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "s3m/core/config_table.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/yaml_util.hpp"
 #include "s3m/sim/trajectory_shapes.hpp"
@@ -84,25 +85,32 @@ std::vector<std::string> trajectory_types() {
   return {"uav_sweep", "figure8", "loop", "lawnmower", "handheld", "hover", "forward"};
 }
 
+void fields(config::FieldVisitor& v, TrajectoryConfig& c) {
+  v("type", c.type);
+  v("frames", c.frames);
+  v("fps", c.fps);
+  v("start_time_s", c.start_time_s);
+  // The camera mount's keys sit flat in `trajectory:` (camera_*).
+  Vec3& pos = c.mount.position_r_m;
+  v("camera_position_r_m",
+    config::Custom{[&pos](const YAML::Node& n, const std::string& key, const std::string& ctx) {
+                     const auto xyz = yaml_as<std::vector<double>>(n, key, ctx);
+                     if (xyz.size() != 3) throw ParseError(ctx, n.Mark().line + 1, "bad " + key, "[x, y, z]");
+                     pos = Vec3(xyz[0], xyz[1], xyz[2]);
+                   },
+                   [&pos] {
+                     YAML::Node n(YAML::NodeType::Sequence);
+                     for (int i = 0; i < 3; ++i) n.push_back(config::format_number(pos[i]));
+                     n.SetStyle(YAML::EmitterStyle::Flow);
+                     return n;
+                   }});
+  v("camera_pitch_down_deg", c.mount.pitch_down_deg);
+  v("camera_yaw_deg", c.mount.yaw_deg);
+  v("camera_roll_deg", c.mount.roll_deg);
+}
+
 void load_trajectory_config(const YAML::Node& n, TrajectoryConfig& c, const std::string& ctx) {
-  check_known_keys(n,
-                   {"type", "frames", "fps", "start_time_s", "camera_position_r_m", "camera_pitch_down_deg",
-                    "camera_yaw_deg", "camera_roll_deg"},
-                   ctx);
-  yaml_get(n, "type", c.type, ctx);
-  yaml_get(n, "frames", c.frames, ctx);
-  yaml_get(n, "fps", c.fps, ctx);
-  yaml_get(n, "start_time_s", c.start_time_s, ctx);
-  std::vector<double> pos;
-  yaml_get(n, "camera_position_r_m", pos, ctx);
-  if (!pos.empty()) {
-    if (pos.size() != 3)
-      throw ParseError(ctx, n["camera_position_r_m"].Mark().line + 1, "bad camera_position_r_m", "[x, y, z]");
-    c.mount.position_r_m = Vec3(pos[0], pos[1], pos[2]);
-  }
-  yaml_get(n, "camera_pitch_down_deg", c.mount.pitch_down_deg, ctx);
-  yaml_get(n, "camera_yaw_deg", c.mount.yaw_deg, ctx);
-  yaml_get(n, "camera_roll_deg", c.mount.roll_deg, ctx);
+  config::read(n, config::table_of(c), ctx);
 }
 
 double Trajectory::max_speed_mps() const {

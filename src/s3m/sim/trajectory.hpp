@@ -11,6 +11,10 @@
 #include "s3m/core/se3.hpp"
 #include "s3m/sim/scene.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::sim {
 
 // Camera mounting on the robot: position [m] in the robot frame and a downward pitch [deg]
@@ -38,6 +42,8 @@ struct TrajectoryConfig {
 };
 std::vector<std::string> trajectory_types();
 void load_trajectory_config(const YAML::Node& node, TrajectoryConfig& cfg, const std::string& ctx);
+// Its YAML keys with the members they fill (core/config_table.hpp).
+void fields(config::FieldVisitor& v, TrajectoryConfig& c);
 
 struct TrajectorySample {
   double t_s = 0;
