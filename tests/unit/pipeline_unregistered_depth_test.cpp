@@ -264,7 +264,7 @@ TEST(UnregisteredDepth, APresetMayListAnOverlay) {
   EXPECT_EQ(c.slam.features.depth_window_px, 4);
   EXPECT_DOUBLE_EQ(c.slam.features.depth_discontinuity_ratio, 0.02);
   EXPECT_TRUE(c.written.count("slam.features.depth_discontinuity_ratio"));  // chosen by the preset
-  EXPECT_THROW(pipeline_config_from_yaml(YAML::Load("overlays: [sometimes]\n"), "preset.yaml"), Error);
+  EXPECT_THROW(pipeline_config_from_yaml(YAML::Load("overlays: [sometimes]\n"), "preset.yaml"), ParseError);
 }
 
 TEST(UnregisteredDepth, ModeIsValidated) {

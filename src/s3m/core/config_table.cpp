@@ -17,6 +17,9 @@ class KeyLister final : public FieldVisitor {
   void section(const char* key, const Table&) override { keys.emplace_back(key); }
 };
 
+void read_section(const YAML::Node& node, const Table& table, const std::string& ctx,
+                  const std::set<std::string>& keep, const std::string& prefix, ReadKeys& out);
+
 class Reader final : public FieldVisitor {
  public:
   Reader(const YAML::Node& node, const std::string& ctx, const std::set<std::string>& keep,
@@ -25,27 +28,21 @@ class Reader final : public FieldVisitor {
 
  protected:
   void value(const char* key, ValueRef v) override {
-    if (take(key))
-      std::visit(
-          [&](auto* member) { *member = yaml_as<std::decay_t<decltype(*member)>>(node_[key], key, ctx_); },
-          v);
+    if (take(key)) std::visit([&](auto* member) { read_value(key, *member); }, v);
   }
   void custom(const char* key, const Custom& c) override {
     if (take(key)) c.read(node_[key], key, ctx_);
   }
   void section(const char* key, const Table& t) override {
-    if (const YAML::Node sub = node_[key]) read(sub, t, ctx_, keep_, prefix_ + key + ".", out_);
-  }
-
- public:
-  static void read(const YAML::Node& node, const Table& table, const std::string& ctx,
-                   const std::set<std::string>& keep, const std::string& prefix, ReadKeys& out) {
-    check_known_keys(node, keys(table), ctx);
-    Reader r(node, ctx, keep, prefix, out);
-    table(r);
+    if (const YAML::Node sub = node_[key]) read_section(sub, t, ctx_, keep_, prefix_ + key + ".", out_);
   }
 
  private:
+  template <class T>
+  void read_value(const char* key, T& member) {
+    member = yaml_as<T>(node_[key], key, ctx_);
+  }
+
   // Whether to read key: present in the YAML and not to be kept.
   bool take(const char* key) {
     if (!node_[key]) return false;
@@ -62,26 +59,29 @@ class Reader final : public FieldVisitor {
   ReadKeys& out_;
 };
 
-std::string text_of(ValueRef v) {
-  struct {
-    std::string operator()(bool* b) const { return *b ? "true" : "false"; }
-    std::string operator()(int* i) const { return std::to_string(*i); }
-    std::string operator()(double* d) const { return format_number(*d); }
-    std::string operator()(std::uint64_t* u) const { return std::to_string(*u); }
-    std::string operator()(std::string* s) const { return *s; }
-    std::string operator()(std::vector<std::string>*) const { return ""; }  // not a scalar: see node_of
-  } text;
-  return std::visit(text, v);
+void read_section(const YAML::Node& node, const Table& table, const std::string& ctx,
+                  const std::set<std::string>& keep, const std::string& prefix, ReadKeys& out) {
+  check_known_keys(node, keys(table), ctx);  // first, so that a typo is named with the keys taken
+  Reader r(node, ctx, keep, prefix, out);
+  table(r);
 }
 
+// A value as YAML: scalars as text (numbers the shortest that read back exactly), lists in flow style.
 YAML::Node node_of(ValueRef v) {
-  if (auto* const* list = std::get_if<std::vector<std::string>*>(&v)) {
-    YAML::Node seq(YAML::NodeType::Sequence);
-    for (const auto& s : **list) seq.push_back(s);
-    seq.SetStyle(YAML::EmitterStyle::Flow);
-    return seq;
-  }
-  return YAML::Node(text_of(v));
+  struct {
+    YAML::Node operator()(bool* b) const { return YAML::Node(*b ? "true" : "false"); }
+    YAML::Node operator()(int* i) const { return YAML::Node(std::to_string(*i)); }
+    YAML::Node operator()(double* d) const { return YAML::Node(format_number(*d)); }
+    YAML::Node operator()(std::uint64_t* u) const { return YAML::Node(std::to_string(*u)); }
+    YAML::Node operator()(std::string* s) const { return YAML::Node(*s); }
+    YAML::Node operator()(std::vector<std::string>* list) const {
+      YAML::Node seq(YAML::NodeType::Sequence);
+      for (const auto& s : *list) seq.push_back(s);
+      seq.SetStyle(YAML::EmitterStyle::Flow);
+      return seq;
+    }
+  } node;
+  return std::visit(node, v);
 }
 
 class Writer final : public FieldVisitor {
@@ -122,7 +122,7 @@ class ValueLister final : public FieldVisitor {
 ReadKeys read(const YAML::Node& node, const Table& table, const std::string& ctx,
               const std::set<std::string>& keep, const std::string& prefix) {
   ReadKeys out;
-  Reader::read(node, table, ctx, keep, prefix, out);
+  read_section(node, table, ctx, keep, prefix, out);
   return out;
 }
 

@@ -196,26 +196,50 @@ PipelineConfig load_pipeline_config(const std::string& path) {
   return pipeline_config_from_yaml(load_yaml_file(path), path);
 }
 
+namespace {
+
+// The keys root writes, then the overlays it lists (a preset's own choice: their keys count as
+// written too).
+void read_keys(const YAML::Node& root, PipelineConfig& c, const std::string& path) {
+  std::vector<std::string> sections = config::keys(config::table_of(c));
+  sections.erase(std::remove(sections.begin(), sections.end(), "overlays"), sections.end());
+  require_sections_are_maps(root, sections, path);
+  const config::ReadKeys read = config::read(root, config::table_of(c), path);
+  c.written.insert(read.set.begin(), read.set.end());
+  for (const std::string& name : std::vector<std::string>(c.overlays)) {
+    try {
+      const OverlayResult o = apply_overlay(c, name, "listed in " + (path.empty() ? "the config" : path));
+      c.written.insert(o.set.begin(), o.set.end());
+    } catch (const ParseError&) {
+      throw;
+    } catch (const Error& e) {  // an unknown name
+      throw ParseError(path, root["overlays"].Mark().line + 1, e.what());
+    }
+  }
+}
+
+// Camera files, models and the vocabulary named in a preset are relative to the preset (presets
+// live next to their camera files); a camera without ".yaml" is a preset name.
+void resolve_relative_paths(PipelineConfig& c, const std::string& path) {
+  const auto relative = [](const std::string& p) {
+    return !p.empty() && std::filesystem::path(p).is_relative();
+  };
+  if (relative(c.dataset.camera) && c.dataset.camera.find(".yaml") != std::string::npos)
+    c.dataset.camera = preset_relative(path, c.dataset.camera);
+  for (std::string* p : {&c.segmenter.model, &c.segmenter.model_dir, &c.slam.loop_closing.vocabulary})
+    if (relative(*p)) *p = preset_relative(path, *p);
+}
+
+}  // namespace
+
 PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::string& path) {
   PipelineConfig c;
   c.source = path;
   if (!root || root.IsNull()) return c;  // an empty preset means "all defaults"
   if (!root.IsMap())
     throw ParseError(path, 1, "top level is not a map", "sections such as 'cloud:', 'slam:'");
-  std::vector<std::string> sections = config::keys(config::table_of(c));
-  sections.erase(std::remove(sections.begin(), sections.end(), "overlays"), sections.end());
-  require_sections_are_maps(root, sections, path);
-  const config::ReadKeys read = config::read(root, config::table_of(c), path);
-  c.written.insert(read.set.begin(), read.set.end());
-  // The overlays a preset lists are its own choice: their keys count as written.
-  for (const std::string& name : std::vector<std::string>(c.overlays)) {
-    const OverlayResult o = apply_overlay(c, name, "listed in " + (path.empty() ? "the config" : path));
-    c.written.insert(o.set.begin(), o.set.end());
-  }
-  // A relative camera file is relative to the preset (presets live next to their camera files).
-  const auto& cam = c.dataset.camera;
-  if (!cam.empty() && cam.find(".yaml") != std::string::npos && std::filesystem::path(cam).is_relative())
-    c.dataset.camera = preset_relative(path, cam);
+  read_keys(root, c, path);
+  resolve_relative_paths(c, path);
   validate_in(c.dataset, path, "dataset");
   validate_in(c.slam.loop_closing, path, "loop_closing");
   validate_in(c.slam, path, "slam");
@@ -224,9 +248,6 @@ PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::stri
   validate_in(c.flow, path, "flow");
   validate_in(c.eval, path, "eval");
   validate_in(c.map, path, "map");
-  // Model and vocabulary paths in a preset are relative to the preset, like camera files.
-  for (std::string* p : {&c.segmenter.model, &c.segmenter.model_dir, &c.slam.loop_closing.vocabulary})
-    if (!p->empty() && std::filesystem::path(*p).is_relative()) *p = preset_relative(path, *p);
   validate_in(c.segmenter, path, "segmenter");
   return c;
 }
