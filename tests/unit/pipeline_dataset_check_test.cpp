@@ -33,16 +33,19 @@ DatasetCheck kitchen_like() {
 TEST(DatasetCheck, LinesForPeople) {
   EXPECT_EQ(format_dataset_check(kitchen_like()),
             "dataset: seq (TUM layout)\n"
-            "frames: 100, t 0.000 .. 4.300 s (4.3 s), median step 40.0 ms (25.0 Hz), longest 500.0 ms after frame 41\n"
+            "frames: 100, t 0.000 .. 4.300 s (4.3 s), median step 40.0 ms (25.0 Hz), longest 500.0 ms after "
+            "frame 41\n"
             "warning: a gap of 0.50 s after frame 41: tracking may be lost there (dropped frames?)\n"
-            "camera: 640x480, fx 585 fy 585 cx 320 cy 240, no distortion, depth factor 1000 (from seq/camera.yaml)\n"
+            "camera: 640x480, fx 585 fy 585 cx 320 cy 240, no distortion, depth factor 1000 (from "
+            "seq/camera.yaml)\n"
             "ground truth: 90 poses, camera path 2.35 m; 88 of 100 frames have a pose\n"
             "labels: none\n"
             "sample: frames 0, 20, ... (5 read)\n"
             "warning: unreadable frame 20: rgb/x.png: cannot read\n"
             "depth: registered (dataset.depth_registration: registered)\n"
             "depth scale: median 1.50 m over 4 frame(s), plausible\n"
-            "segmenter: none (segmenter section of p.yaml)\n");
+            "segmenter: none (segmenter section of p.yaml)\n"
+            "settings: built-in defaults; differing from the defaults: none\n");
 }
 
 TEST(DatasetCheck, NoGroundTruthAndADepthScaleWarning) {
@@ -51,7 +54,9 @@ TEST(DatasetCheck, NoGroundTruthAndADepthScaleWarning) {
   c.largest_gap_s = 0.05;  // within 5 median steps: no gap warning
   c.depth_scale.warning = "depth scale check: median depth 0.30 m ...";
   const std::string text = format_dataset_check(c);
-  EXPECT_NE(text.find("ground truth: none (no ATE; s3m eval can score the trajectory later)\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("ground truth: none (no ATE; s3m eval can score the trajectory later)\n"),
+            std::string::npos)
+      << text;
   EXPECT_NE(text.find("\nwarning: depth scale check: median depth 0.30 m ...\n"), std::string::npos) << text;
   EXPECT_EQ(text.find("gap"), std::string::npos) << text;
   EXPECT_EQ(text.find("plausible"), std::string::npos) << text;

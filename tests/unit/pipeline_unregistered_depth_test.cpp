@@ -1,5 +1,7 @@
 // dataset.depth_registration: what a run changes for depth that is not registered to colour, and
 // that a preset's own values and a registered sequence are left alone.
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -8,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "s3m/core/error.hpp"
+#include "s3m/pipeline/config_overlays.hpp"
 #include "s3m/pipeline/unregistered_depth.hpp"
 #include "s3m/slam/slam_config.hpp"
 
@@ -98,7 +101,9 @@ TEST(UnregisteredDepth, ASetModeIsObeyedWithoutReadingFrames) {
   EXPECT_EQ(unreg.loads, 0);
   BoxesSource reg(1.0, 0);
   c.dataset.depth_registration = "unregistered";
-  EXPECT_EQ(resolve_depth_registration(c, reg).rfind("not registered (dataset.depth_registration: unregistered)", 0), 0u);
+  EXPECT_EQ(resolve_depth_registration(c, reg).rfind(
+                "not registered (dataset.depth_registration: unregistered)", 0),
+            0u);
   expect_unregistered_settings(c.slam);
   EXPECT_EQ(reg.loads, 0);
 }
@@ -113,18 +118,59 @@ TEST(UnregisteredDepth, ASourceThatAlignedItsDepthIsBelievedWithoutReadingFrames
   expect_defaults(c.slam);
   EXPECT_EQ(aligned.loads, 0);
   c.dataset.depth_registration = "unregistered";  // a set mode still wins
-  EXPECT_EQ(resolve_depth_registration(c, aligned).rfind("not registered (dataset.depth_registration: unregistered)", 0), 0u);
+  EXPECT_EQ(resolve_depth_registration(c, aligned)
+                .rfind("not registered (dataset.depth_registration: unregistered)", 0),
+            0u);
 }
 
 TEST(UnregisteredDepth, APresetsOwnValuesStay) {
-  slam::SlamConfig s;
-  s.features.depth_window_px = 4;
-  s.features.depth_discontinuity_ratio = 0.03;
-  use_unregistered_depth_settings(s);
+  PipelineConfig c = pipeline_config_from_yaml(
+      YAML::Load("slam: {features: {depth_window_px: 4, depth_discontinuity_ratio: 0.03}}"), "preset.yaml");
+  const OverlayResult r = apply_overlay(c, kUnregisteredDepthOverlay, "test");
+  const slam::SlamConfig& s = c.slam;
   EXPECT_EQ(s.features.depth_window_px, 4);
   EXPECT_DOUBLE_EQ(s.features.depth_discontinuity_ratio, 0.03);
-  EXPECT_EQ(s.features.depth_noise.model, "virtual_right");  // still at the default: changed
+  EXPECT_EQ(s.features.depth_noise.model, "virtual_right");  // not written: changed
   EXPECT_FALSE(s.mapper.dense_links.enabled);
+  EXPECT_EQ(r.kept, (std::vector<std::string>{"slam.features.depth_discontinuity_ratio",
+                                              "slam.features.depth_window_px"}));
+  EXPECT_EQ(r.set,
+            (std::vector<std::string>{"slam.features.depth_noise.model", "slam.mapper.dense_links.enabled"}));
+  EXPECT_EQ(c.overlays, std::vector<std::string>{kUnregisteredDepthOverlay});
+}
+
+TEST(UnregisteredDepth, ADefaultValueWrittenOnPurposeIsNotOverridden) {
+  // A preset that writes the default 0.05 keeps it on unregistered depth; without the key the
+  // overlay's 0.02 applies. Comparing with a default-built struct could not tell the two apart.
+  const auto resolved = [](const std::string& yaml) {
+    PipelineConfig c = pipeline_config_from_yaml(YAML::Load(yaml), "preset.yaml");
+    BoxesSource unregistered(1.10, 8);
+    const std::string why = resolve_depth_registration(c, unregistered);
+    EXPECT_EQ(why.rfind("not registered", 0), 0u) << why;
+    return std::pair(c, why);
+  };
+  const auto [explicit_default, why] =
+      resolved("slam: {features: {depth_discontinuity_ratio: 0.05}}\ncloud: {max_depth_m: 3.5}\n");
+  EXPECT_DOUBLE_EQ(explicit_default.slam.features.depth_discontinuity_ratio, 0.05);
+  EXPECT_EQ(explicit_default.slam.features.depth_window_px, 3);  // not written: the overlay's
+  EXPECT_NE(why.find("left as the config writes them: slam.features.depth_discontinuity_ratio"),
+            std::string::npos)
+      << why;
+  const auto [without, why2] = resolved("cloud: {max_depth_m: 3.5}\n");
+  EXPECT_DOUBLE_EQ(without.slam.features.depth_discontinuity_ratio, 0.02);
+  EXPECT_NE(why2.find("overlay unregistered_depth set slam.features.depth_discontinuity_ratio = 0.02"),
+            std::string::npos)
+      << why2;
+  EXPECT_EQ(without.overlays, std::vector<std::string>{kUnregisteredDepthOverlay});
+}
+
+TEST(UnregisteredDepth, ACommandLineSettingCountsAsWritten) {
+  PipelineConfig c;
+  c.slam.mapper.dense_links.enabled = true;
+  mark_written(c, "slam.mapper.dense_links.enabled");
+  apply_overlay(c, kUnregisteredDepthOverlay, "test");
+  EXPECT_TRUE(c.slam.mapper.dense_links.enabled);
+  EXPECT_THROW(mark_written(c, "slam.mapper.dense_link.enabled"), Error);  // not a key
 }
 
 TEST(UnregisteredDepth, SevenScenesIntrinsicsAreRecognisedExactly) {
@@ -187,8 +233,7 @@ TEST(UnregisteredDepth, TheRigSettingsAreThoseOfTheKitchenPreset) {
       load_pipeline_config(std::string(S3M_TEST_DATA_DIR) + "/../../config/kitchen_7scenes.yaml");
   EXPECT_EQ(kitchen.dataset.camera, "7scenes_kinect_v1");
   PipelineConfig applied;
-  applied.slam.threaded = kitchen.slam.threaded;
-  use_nominal_rig_depth_settings(applied.slam);
+  apply_overlay(applied, kSevenScenesRigOverlay, "test");
   const slam::SlamConfig& k = kitchen.slam;
   EXPECT_DOUBLE_EQ(applied.slam.features.depth_discontinuity_ratio, k.features.depth_discontinuity_ratio);
   EXPECT_EQ(applied.slam.features.depth_window_px, k.features.depth_window_px);
@@ -197,16 +242,29 @@ TEST(UnregisteredDepth, TheRigSettingsAreThoseOfTheKitchenPreset) {
   EXPECT_EQ(applied.slam.mapper.dense_links.downsample, k.mapper.dense_links.downsample);
 }
 
-TEST(UnregisteredDepth, SettingsAreThoseOfTheShippedPreset) {
-  // The library cannot read config/slam_7scenes.yaml; this keeps the two from drifting apart.
-  const slam::SlamConfig preset =
-      slam::load_slam_config(std::string(S3M_TEST_DATA_DIR) + "/../../config/slam_7scenes.yaml");
-  slam::SlamConfig applied;
-  use_unregistered_depth_settings(applied);
-  EXPECT_DOUBLE_EQ(applied.features.depth_discontinuity_ratio, preset.features.depth_discontinuity_ratio);
-  EXPECT_EQ(applied.features.depth_window_px, preset.features.depth_window_px);
-  EXPECT_EQ(applied.features.depth_noise.model, preset.features.depth_noise.model);
-  EXPECT_EQ(applied.mapper.dense_links.enabled, preset.mapper.dense_links.enabled);
+TEST(UnregisteredDepth, TheOverlaysAreTheShippedFiles) {
+  // The library carries config/overlays/ built in; a stale build would silently use old values.
+  EXPECT_EQ(overlay_names(), (std::vector<std::string>{"7scenes_rig", "unregistered_depth"}));
+  for (const std::string& name : overlay_names()) {
+    SCOPED_TRACE(name);
+    const std::string path = std::string(S3M_TEST_DATA_DIR) + "/../../config/overlays/" + name + ".yaml";
+    std::ifstream in(path);
+    EXPECT_EQ(overlay_text(name), std::string(std::istreambuf_iterator<char>(in), {}));
+    // Each is also a preset of its own, and a SLAM config (bench_slam_kitchen --config).
+    EXPECT_NO_THROW(load_pipeline_config(path).validate());
+    EXPECT_NO_THROW(slam::load_slam_config(path));
+  }
+  PipelineConfig c;
+  EXPECT_THROW(apply_overlay(c, "registered_depth", "test"), Error);
+}
+
+TEST(UnregisteredDepth, APresetMayListAnOverlay) {
+  const PipelineConfig c = pipeline_config_from_yaml(
+      YAML::Load("overlays: [unregistered_depth]\nslam: {features: {depth_window_px: 4}}\n"), "preset.yaml");
+  EXPECT_EQ(c.slam.features.depth_window_px, 4);
+  EXPECT_DOUBLE_EQ(c.slam.features.depth_discontinuity_ratio, 0.02);
+  EXPECT_TRUE(c.written.count("slam.features.depth_discontinuity_ratio"));  // chosen by the preset
+  EXPECT_THROW(pipeline_config_from_yaml(YAML::Load("overlays: [sometimes]\n"), "preset.yaml"), ParseError);
 }
 
 TEST(UnregisteredDepth, ModeIsValidated) {

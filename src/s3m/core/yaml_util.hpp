@@ -1,9 +1,6 @@
 #pragma once
 // Small helpers to read Config structs from YAML with errors that name the file and key.
-// Pattern for a module config:
-//   struct FooConfig { double max_range_m = 4.0; void validate() const; };
-//   FooConfig c; yaml_get(node, "max_range_m", c.max_range_m, ctx); c.validate();
-// Keys absent from YAML keep their defaults; unknown keys are reported by check_known_keys().
+// Config structs list their keys in a table (config_table.hpp), whose reader uses these.
 #include <string>
 #include <vector>
 
@@ -17,16 +14,20 @@ namespace s3m {
 // or "file not found".
 YAML::Node load_yaml_file(const std::string& path);
 
-// Reads node[key] into out when present. ctx names the file/section for messages.
+// The value v of key as a T; ctx names the file/section for messages.
 template <typename T>
-void yaml_get(const YAML::Node& node, const std::string& key, T& out, const std::string& ctx) {
-  const YAML::Node v = node[key];
-  if (!v) return;
+T yaml_as(const YAML::Node& v, const std::string& key, const std::string& ctx) {
   try {
-    out = v.as<T>();
+    return v.as<T>();
   } catch (const YAML::Exception&) {
     throw ParseError(ctx, v.Mark().line + 1, "bad value for '" + key + "'", "a value of the right type");
   }
+}
+
+// Reads node[key] into out when present.
+template <typename T>
+void yaml_get(const YAML::Node& node, const std::string& key, T& out, const std::string& ctx) {
+  if (const YAML::Node v = node[key]) out = yaml_as<T>(v, key, ctx);
 }
 
 // Throws ParseError if node (a map) has a key not listed in known; catches typos in configs.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "s3m/core/config_table.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/yaml_util.hpp"
 
@@ -39,9 +40,8 @@ struct Work {
 void write_top_k(const Work& w, int k, LabelSet& out) {
   std::array<int, 2 * kMaxLabels> order{};
   for (int i = 0; i < w.n; ++i) order[i] = i;
-  std::sort(order.begin(), order.begin() + w.n, [&](int a, int b) {
-    return w.p[a] != w.p[b] ? w.p[a] > w.p[b] : w.ids[a] < w.ids[b];
-  });
+  std::sort(order.begin(), order.begin() + w.n,
+            [&](int a, int b) { return w.p[a] != w.p[b] ? w.p[a] > w.p[b] : w.ids[a] < w.ids[b]; });
   out = LabelSet{};
   for (int i = 0; i < w.n && out.n < k; ++i)
     if (w.p[order[i]] > 0.0) out.push(w.ids[order[i]], float(w.p[order[i]]));
@@ -70,8 +70,8 @@ void synchronise(const Work& from, Work& to, const FusionConfig& cfg) {
 }  // namespace
 
 void FusionConfig::validate() const {
-  require(k >= 1 && k <= kMaxLabels, "fusion.k must be in [1, " + std::to_string(kMaxLabels) + "], got " +
-                                         std::to_string(k));
+  require(k >= 1 && k <= kMaxLabels,
+          "fusion.k must be in [1, " + std::to_string(kMaxLabels) + "], got " + std::to_string(k));
   require(alpha > 0.0 && alpha <= 1.0, "fusion.alpha must be in (0, 1], got " + std::to_string(alpha));
   require(min_other > 0.0 && min_other < 1.0, "fusion.min_other must be in (0, 1)");
   require(max_decay > 0.0 && max_decay <= 1.0, "fusion.max_decay must be in (0, 1]");
@@ -94,18 +94,30 @@ FusionPolicy parse_fusion_policy(const std::string& name) {
   throw Error("unknown fusion policy '" + name + "' (expected paper, max_confidence or bayesian)");
 }
 
+void fields(config::FieldVisitor& v, FusionConfig& c) {
+  // Read through parse_fusion_policy, which also takes the short spellings (max, bayes).
+  config::Custom policy{[&c](const YAML::Node& n, const std::string& key, const std::string& ctx) {
+                          try {
+                            c.policy = parse_fusion_policy(yaml_as<std::string>(n, key, ctx));
+                          } catch (const ParseError&) {
+                            throw;
+                          } catch (const Error& e) {
+                            throw ParseError(ctx, n.Mark().line + 1, e.what());
+                          }
+                        },
+                        [&c] { return YAML::Node(to_string(c.policy)); }};
+  v("policy", policy);
+  v("k", c.k);
+  v("alpha", c.alpha);
+  v("min_other", c.min_other);
+  v("max_decay", c.max_decay);
+  v("num_classes", c.num_classes);
+}
+
 FusionConfig fusion_config_from_yaml(const YAML::Node& node, const std::string& ctx) {
   FusionConfig c;
   if (!node) return c;
-  check_known_keys(node, {"policy", "k", "alpha", "min_other", "max_decay", "num_classes"}, ctx);
-  std::string policy = to_string(c.policy);
-  yaml_get(node, "policy", policy, ctx);
-  c.policy = parse_fusion_policy(policy);
-  yaml_get(node, "k", c.k, ctx);
-  yaml_get(node, "alpha", c.alpha, ctx);
-  yaml_get(node, "min_other", c.min_other, ctx);
-  yaml_get(node, "max_decay", c.max_decay, ctx);
-  yaml_get(node, "num_classes", c.num_classes, ctx);
+  config::read(node, config::table_of(c), ctx);
   c.validate();
   return c;
 }

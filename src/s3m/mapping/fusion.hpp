@@ -8,6 +8,10 @@
 
 #include "s3m/mapping/label_set.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::mapping {
 
 enum class FusionPolicy : std::uint8_t {
@@ -26,7 +30,7 @@ struct FusionConfig {
   // Floor for the unexplained mass p-bar (paper: 1 - sum p, which is 0 for a full softmax
   // top-k list and would zero every label the other view did not list).
   double min_other = 1e-3;
-  double max_decay = 0.9;  // max-confidence: factor applied to the kept list on disagreement
+  double max_decay = 0.9;         // max-confidence: factor applied to the kept list on disagreement
   int num_classes = cls::kCount;  // Bayesian: "other" mass is spread over the classes not listed
 
   void validate() const;  // throws s3m::Error naming the bad field
@@ -34,6 +38,8 @@ struct FusionConfig {
 
 // Reads the keys of FusionConfig from a YAML map (policy: paper | max_confidence | bayesian).
 FusionConfig fusion_config_from_yaml(const YAML::Node& node, const std::string& ctx);
+// Its YAML keys with the members they fill (core/config_table.hpp).
+void fields(config::FieldVisitor& v, FusionConfig& c);
 std::string to_string(FusionPolicy policy);
 FusionPolicy parse_fusion_policy(const std::string& name);  // throws s3m::Error
 

@@ -5,6 +5,7 @@
 
 #include <tbb/task_arena.h>
 
+#include "s3m/core/config_table.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/thread_count.hpp"
 #include "s3m/core/timing.hpp"
@@ -20,7 +21,8 @@ enum VoxelState : std::uint8_t { kOccupied = 0, kFar = 1, kTooClose = 2, kOutlie
 void InsertConfig::validate() const {
   require(min_range_m >= 0.0, "insert.min_range_m must be >= 0");
   require(max_range_m > min_range_m, "insert.max_range_m must be > min_range_m");
-  require(radius_min_neighbors >= 0 && radius_min_neighbors <= 26, "insert.radius_min_neighbors must be in [0, 26]");
+  require(radius_min_neighbors >= 0 && radius_min_neighbors <= 26,
+          "insert.radius_min_neighbors must be in [0, 26]");
   require(min_points_per_voxel >= 1, "insert.min_points_per_voxel must be >= 1");
   require(sor_neighbors >= 0 && sor_neighbors <= 124, "insert.sor_neighbors must be in [0, 124]");
   require(sor_std_mul > 0.0, "insert.sor_std_mul must be > 0");
@@ -28,22 +30,21 @@ void InsertConfig::validate() const {
                                             thread_count_range("all cores"));
 }
 
+void fields(config::FieldVisitor& v, InsertConfig& c) {
+  v("min_range_m", c.min_range_m);
+  v("max_range_m", c.max_range_m);
+  v("clear_beyond_max_range", c.clear_beyond_max_range);
+  v("clear_free_space", c.clear_free_space);
+  v("radius_min_neighbors", c.radius_min_neighbors);
+  v("min_points_per_voxel", c.min_points_per_voxel);
+  v("sor_neighbors", c.sor_neighbors);
+  v("sor_std_mul", c.sor_std_mul);
+  v("num_threads", c.num_threads);
+}
+
 InsertConfig insert_config_from_yaml(const YAML::Node& node, const std::string& ctx) {
   InsertConfig c;
-  if (!node) return c;
-  check_known_keys(node,
-                   {"min_range_m", "max_range_m", "clear_beyond_max_range", "clear_free_space",
-                    "radius_min_neighbors", "min_points_per_voxel", "sor_neighbors", "sor_std_mul", "num_threads"},
-                   ctx);
-  yaml_get(node, "min_range_m", c.min_range_m, ctx);
-  yaml_get(node, "max_range_m", c.max_range_m, ctx);
-  yaml_get(node, "clear_beyond_max_range", c.clear_beyond_max_range, ctx);
-  yaml_get(node, "clear_free_space", c.clear_free_space, ctx);
-  yaml_get(node, "radius_min_neighbors", c.radius_min_neighbors, ctx);
-  yaml_get(node, "min_points_per_voxel", c.min_points_per_voxel, ctx);
-  yaml_get(node, "sor_neighbors", c.sor_neighbors, ctx);
-  yaml_get(node, "sor_std_mul", c.sor_std_mul, ctx);
-  yaml_get(node, "num_threads", c.num_threads, ctx);
+  if (node) config::read(node, config::table_of(c), ctx);
   return c;
 }
 
@@ -57,7 +58,8 @@ InsertStats Inserter::insert(const LabeledCloud& cloud, SemanticOcTree& tree) {
   const KeyCoder coder(tree.getResolution());
   const octomap::point3d origin(cloud.origin.x(), cloud.origin.y(), cloud.origin.z());
   octomap::OcTreeKey origin_key;
-  if (!coder.key_checked(origin, origin_key)) throw Error("insert: sensor origin is outside the map's key range");
+  if (!coder.key_checked(origin, origin_key))
+    throw Error("insert: sensor origin is outside the map's key range");
   tbb::task_arena arena(cfg_.num_threads > 0 ? cfg_.num_threads : tbb::task_arena::automatic);
   arena.execute([&] {
     // 1. Voxel down-sampling at map resolution: one merged observation per voxel.
@@ -104,8 +106,10 @@ void Inserter::classify_by_range(const KeyCoder& coder, const octomap::point3d& 
   state_.assign(voxels_.voxels.size(), kOccupied);
   for (std::size_t i = 0; i < voxels_.voxels.size(); ++i) {
     const double range = (coder.center(voxels_.voxels[i].key) - origin).norm();
-    if (range > cfg_.max_range_m) state_[i] = kFar, ++stats.voxels_far;
-    else if (range < cfg_.min_range_m) state_[i] = kTooClose, ++stats.voxels_too_close;
+    if (range > cfg_.max_range_m)
+      state_[i] = kFar, ++stats.voxels_far;
+    else if (range < cfg_.min_range_m)
+      state_[i] = kTooClose, ++stats.voxels_too_close;
   }
 }
 

@@ -10,13 +10,17 @@
 #include "s3m/mapping/semantic_octree.hpp"
 #include "s3m/mapping/voxelize.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::mapping {
 
 struct InsertConfig {
   // Ranges are measured from the sensor origin to the centre of a point's voxel, as OctoMap's
   // discretized insertion does.
-  double min_range_m = 0.0;  // closer voxels are ignored (robot body, sensor noise)
-  double max_range_m = 4.0;  // farther voxels are not marked occupied ...
+  double min_range_m = 0.0;            // closer voxels are ignored (robot body, sensor noise)
+  double max_range_m = 4.0;            // farther voxels are not marked occupied ...
   bool clear_beyond_max_range = true;  // ... but clear free space up to max_range_m
   bool clear_free_space = true;        // false: only occupied updates (no ray casting)
   // Radius outlier removal (voxel level): keep a voxel only if at least this many of its 26
@@ -27,13 +31,16 @@ struct InsertConfig {
   // sor_neighbors occupied voxels within 2 voxels; drop voxels above mean + sor_std_mul * std.
   int sor_neighbors = 0;  // 0 disables it
   double sor_std_mul = 2.0;
-  int num_threads = 0;  // 0 = all cores (TBB default), else 1..max_thread_count(); results are identical for any value
+  int num_threads =
+      0;  // 0 = all cores (TBB default), else 1..max_thread_count(); results are identical for any value
 
   void validate() const;  // throws s3m::Error naming the field
 };
 
 // Not validated here: load_mapping_config() validates the whole map section and names the file.
 InsertConfig insert_config_from_yaml(const YAML::Node& node, const std::string& ctx);
+// Its YAML keys with the members they fill (core/config_table.hpp).
+void fields(config::FieldVisitor& v, InsertConfig& c);
 
 struct InsertStats {
   std::size_t points = 0, voxels = 0, voxels_occupied = 0, voxels_removed_outliers = 0, voxels_far = 0;

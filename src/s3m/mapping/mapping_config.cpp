@@ -1,5 +1,6 @@
 #include "s3m/mapping/mapping_config.hpp"
 
+#include "s3m/core/config_table.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/yaml_util.hpp"
 
@@ -12,22 +13,26 @@ void MappingConfig::validate() const {
   insert.validate();
 }
 
+void fields(config::FieldVisitor& v, OccupancyParams& c) {
+  v("prob_hit", c.prob_hit);
+  v("prob_miss", c.prob_miss);
+  v("clamp_min", c.clamp_min);
+  v("clamp_max", c.clamp_max);
+  v("occupancy_thres", c.occupancy_thres);
+}
+
+void fields(config::FieldVisitor& v, MappingConfig& c) {
+  v("resolution_m", c.resolution_m);
+  v("keep_session_surfaces", c.keep_session_surfaces);
+  v("occupancy", c.occupancy);
+  v("fusion", c.fusion);
+  v("insert", c.insert);
+}
+
 MappingConfig load_mapping_config(const YAML::Node& node, const std::string& ctx) {
   MappingConfig c;
   if (!node) return c;
-  check_known_keys(node, {"resolution_m", "keep_session_surfaces", "occupancy", "fusion", "insert"}, ctx);
-  yaml_get(node, "resolution_m", c.resolution_m, ctx);
-  yaml_get(node, "keep_session_surfaces", c.keep_session_surfaces, ctx);
-  if (const YAML::Node o = node["occupancy"]) {
-    check_known_keys(o, {"prob_hit", "prob_miss", "clamp_min", "clamp_max", "occupancy_thres"}, ctx);
-    yaml_get(o, "prob_hit", c.occupancy.prob_hit, ctx);
-    yaml_get(o, "prob_miss", c.occupancy.prob_miss, ctx);
-    yaml_get(o, "clamp_min", c.occupancy.clamp_min, ctx);
-    yaml_get(o, "clamp_max", c.occupancy.clamp_max, ctx);
-    yaml_get(o, "occupancy_thres", c.occupancy.occupancy_thres, ctx);
-  }
-  c.fusion = fusion_config_from_yaml(node["fusion"], ctx);
-  c.insert = insert_config_from_yaml(node["insert"], ctx);
+  config::read(node, config::table_of(c), ctx);
   try {
     c.validate();
   } catch (const Error& e) {

@@ -31,12 +31,17 @@ struct MappingConfig {
   void validate() const;  // throws s3m::Error naming the field
 };
 
+// Its YAML keys with the members they fill (core/config_table.hpp), and those of its occupancy.
+void fields(config::FieldVisitor& v, MappingConfig& c);
+void fields(config::FieldVisitor& v, OccupancyParams& c);
+
 // Reads a `mapping:`-style YAML map (keys above; absent keys keep defaults, unknown keys are
 // errors). ctx names the file/section in messages.
 MappingConfig load_mapping_config(const YAML::Node& node, const std::string& ctx);
 MappingConfig load_mapping_config_file(const std::string& path);
 
 // An empty map configured by cfg; fusion.num_classes is set to the class list's size.
-std::unique_ptr<SemanticOcTree> make_semantic_map(const MappingConfig& cfg, const ClassList& classes = indoor_classes());
+std::unique_ptr<SemanticOcTree> make_semantic_map(const MappingConfig& cfg,
+                                                  const ClassList& classes = indoor_classes());
 
 }  // namespace s3m::mapping

@@ -8,6 +8,7 @@
 
 #include "s3m/io/association.hpp"
 #include "s3m/io/trajectory.hpp"
+#include "s3m/pipeline/effective_config.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/frame_source.hpp"
 #include "s3m/pipeline/run.hpp"
@@ -55,8 +56,8 @@ DatasetCheck check_dataset(const std::string& dir, const PipelineConfig& config)
   return c;
 }
 
-DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig& config, const std::string& sim_sign,
-                                bool may_use_rig) {
+DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig& config,
+                                const std::string& sim_sign, bool may_use_rig) {
   DatasetCheck c;
   // 1. What was opened: layout, camera, timing, ground truth, labels.
   c.dir = source.name();
@@ -70,45 +71,54 @@ DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig&
   const std::vector<RgbdFrame> sample = sample_frames(source, &c.unreadable);
   c.sampled = sample.size() + c.unreadable.size();
   PipelineConfig resolved = config;
-  c.depth_registration = resolve_depth_registration(resolved, sample, c.camera, source.depth_registered_by(), may_use_rig);
+  c.depth_registration =
+      resolve_depth_registration(resolved, sample, c.camera, source.depth_registered_by(), may_use_rig);
   c.depth_camera = source.depth_camera();
   c.depth_scale = check_depth_scale(sample, c.camera.depth_factor);
   // 3. The segmenter a run would choose.
   const SegmenterChoice choice = choose_segmenter(parse_segmenter_spec(""), config, sim_sign);
   c.segmenter = (choice.type == "onnx" ? choice.model : choice.type) + " (" + choice.reason + ")";
+  record_segmenter_choice(resolved, choice);
+  c.settings = resolved;
   return c;
 }
 
-std::string format_dataset_check(const DatasetCheck& c) {
+std::string format_dataset_check(const DatasetCheck& c, bool all_settings) {
   std::ostringstream o;
   const PinholeCamera& k = c.camera;
   o << "dataset: " << c.dir << " (" << c.layout << ")\n";
-  o << fmt::format("frames: {}, t {:.3f} .. {:.3f} s ({:.1f} s)", c.frames, c.t_first_s, c.t_last_s, c.t_last_s - c.t_first_s);
+  o << fmt::format("frames: {}, t {:.3f} .. {:.3f} s ({:.1f} s)", c.frames, c.t_first_s, c.t_last_s,
+                   c.t_last_s - c.t_first_s);
   if (c.median_step_s > 0)
-    o << fmt::format(", median step {:.1f} ms ({:.1f} Hz), longest {:.1f} ms after frame {}", 1e3 * c.median_step_s,
-                     1.0 / c.median_step_s, 1e3 * c.largest_gap_s, c.largest_gap_after);
+    o << fmt::format(", median step {:.1f} ms ({:.1f} Hz), longest {:.1f} ms after frame {}",
+                     1e3 * c.median_step_s, 1.0 / c.median_step_s, 1e3 * c.largest_gap_s,
+                     c.largest_gap_after);
   o << "\n";
   if (c.median_step_s > 0 && c.largest_gap_s > 5 * c.median_step_s)
-    o << fmt::format("warning: a gap of {:.2f} s after frame {}: tracking may be lost there (dropped frames?)\n",
-                     c.largest_gap_s, c.largest_gap_after);
-  o << fmt::format("camera: {}x{}, fx {:g} fy {:g} cx {:g} cy {:g}, {}, depth factor {:g} (from {})\n", k.width, k.height,
-                   k.fx, k.fy, k.cx, k.cy, k.has_distortion() ? "with distortion" : "no distortion", k.depth_factor,
-                   c.camera_source);
+    o << fmt::format(
+        "warning: a gap of {:.2f} s after frame {}: tracking may be lost there (dropped frames?)\n",
+        c.largest_gap_s, c.largest_gap_after);
+  o << fmt::format("camera: {}x{}, fx {:g} fy {:g} cx {:g} cy {:g}, {}, depth factor {:g} (from {})\n",
+                   k.width, k.height, k.fx, k.fy, k.cx, k.cy,
+                   k.has_distortion() ? "with distortion" : "no distortion", k.depth_factor, c.camera_source);
   if (c.gt_poses == 0)
     o << "ground truth: none (no ATE; s3m eval can score the trajectory later)\n";
   else
-    o << fmt::format("ground truth: {} poses, camera path {:.2f} m; {} of {} frames have a pose\n", c.gt_poses,
-                     c.gt_path_m, c.frames_with_gt, c.frames);
+    o << fmt::format("ground truth: {} poses, camera path {:.2f} m; {} of {} frames have a pose\n",
+                     c.gt_poses, c.gt_path_m, c.frames_with_gt, c.frames);
   o << "labels: " << (c.labels ? "ground-truth label images (segmentation and map mIoU)" : "none") << "\n";
   o << fmt::format("sample: frames 0, 20, ... ({} read)\n", c.sampled);
   for (const auto& u : c.unreadable) o << "warning: unreadable " << u << "\n";
   o << "depth: " << c.depth_registration << "\n";
   if (!c.depth_camera.empty()) o << c.depth_camera << "\n";  // "depth camera 848x480 fx ... at (...) cm ..."
   if (c.depth_scale.warning.empty())
-    o << fmt::format("depth scale: median {:.2f} m over {} frame(s), plausible\n", c.depth_scale.median_m, c.depth_scale.frames);
+    o << fmt::format("depth scale: median {:.2f} m over {} frame(s), plausible\n", c.depth_scale.median_m,
+                     c.depth_scale.frames);
   else
     o << "warning: " << c.depth_scale.warning << "\n";
   o << "segmenter: " << c.segmenter << "\n";
+  o << settings_summary(c.settings);
+  if (all_settings) o << effective_config_text(c.settings);
   return o.str();
 }
 

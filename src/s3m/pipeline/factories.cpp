@@ -17,7 +17,8 @@ std::unique_ptr<PoseSource> make_pose_source(const std::string& kind, const Fram
   if (kind == "slam") return make_slam_poses(camera, config);
   if (kind == "gt") {
     if (source.groundtruth().empty())
-      throw Error("--poses gt: " + source.name() + " has no ground truth (expected groundtruth.txt with TUM "
+      throw Error("--poses gt: " + source.name() +
+                  " has no ground truth (expected groundtruth.txt with TUM "
                   "'t tx ty tz qx qy qz qw' lines, or a bag's ground-truth topic)");
     GroundTruthPosesConfig g;
     g.max_dt_s = config.eval.gt_max_dt_s;
@@ -41,9 +42,11 @@ std::string resolve_model_card(const std::string& path) {
   }
   std::sort(cards.begin(), cards.end());
   if (cards.size() == 1) return cards[0];
-  if (cards.size() > 1) throw Error("segmenter: " + path + " holds several model cards; pass one: onnx:" + cards[0]);
+  if (cards.size() > 1)
+    throw Error("segmenter: " + path + " holds several model cards; pass one: onnx:" + cards[0]);
   throw Error("segmenter: no model card in " + path + " (expected a .yaml card with a 'model:' key, see " +
-              shipped_file("models/s3m_pspnet_small.yaml") + "); or pass onnx:CARD.yaml with --model-dir " + path);
+              shipped_file("models/s3m_pspnet_small.yaml") + "); or pass onnx:CARD.yaml with --model-dir " +
+              path);
 }
 
 std::optional<SE3> simulator_T_c_r(const std::string& dataset_dir) {
@@ -67,17 +70,20 @@ std::string simulator_sign(const std::string& dataset_dir, bool has_labels) {
   return has_labels ? "ground-truth label images" : "";
 }
 
-SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig& config, const std::string& sim_sign) {
+SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig& config,
+                                 const std::string& sim_sign) {
   const SegmenterConfig& sc = config.segmenter;
   SegmenterChoice c{sc.type, sc.model, sc.model_dir, ""};
   switch (spec.kind) {
     case SegmenterSpec::Kind::kFromConfig:
-      c.reason = "segmenter section of " +
-                 (config.source.empty() ? "the built-in defaults" : fs::path(config.source).filename().string());
+      c.reason =
+          "segmenter section of " +
+          (config.source.empty() ? "the built-in defaults" : fs::path(config.source).filename().string());
       break;
     case SegmenterSpec::Kind::kNone: return {"none", "", "", "--segmenter none"};
     case SegmenterSpec::Kind::kOracle: return {"oracle", "", "", "--segmenter oracle"};
-    case SegmenterSpec::Kind::kOnnx: return {"onnx", spec.model, spec.model_dir, "--segmenter onnx:" + spec.model};
+    case SegmenterSpec::Kind::kOnnx:
+      return {"onnx", spec.model, spec.model_dir, "--segmenter onnx:" + spec.model};
   }
   if (!spec.model_dir.empty()) c.model_dir = spec.model_dir;
   if (c.type != "auto") return c;
@@ -92,14 +98,21 @@ SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig
   return c;
 }
 
-std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterChoice& choice, const PipelineConfig& config,
-                                                     bool dataset_has_labels) {
+void record_segmenter_choice(PipelineConfig& c, const SegmenterChoice& choice) {
+  c.segmenter.type = choice.type;
+  c.segmenter.model = choice.model;
+  c.segmenter.model_dir = choice.model_dir;
+}
+
+std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterChoice& choice,
+                                                     const PipelineConfig& config, bool dataset_has_labels) {
   const SegmenterConfig& sc = config.segmenter;
   if (choice.type == "none") return nullptr;
   if (choice.type == "oracle") {
     if (!dataset_has_labels)
-      throw Error("segmenter oracle: the dataset has no ground-truth label images (labels.txt, as the "
-                  "simulator writes); use --segmenter onnx:MODEL or --segmenter none");
+      throw Error(
+          "segmenter oracle: the dataset has no ground-truth label images (labels.txt, as the "
+          "simulator writes); use --segmenter onnx:MODEL or --segmenter none");
     return std::make_unique<semantics::OracleSegmenter>(sc.oracle, sc.top_k);
   }
   require(choice.type == "onnx", "segmenter: unknown type '" + choice.type + "'");

@@ -56,11 +56,16 @@ std::optional<SE3> simulator_T_c_r(const std::string& dataset_dir);
 // `spec` (the command line) wins over the config's segmenter section. Type `auto` (the built-in
 // default) becomes the oracle on a simulator sequence and the shipped real-image model on everything
 // else. sim_sign: simulator_sign() of the source ("" = a real camera).
-SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig& config, const std::string& sim_sign);
+SegmenterChoice choose_segmenter(const SegmenterSpec& spec, const PipelineConfig& config,
+                                 const std::string& sim_sign);
+
+// Writes the choice into c.segmenter (type, model, model_dir), so the effective config says which
+// segmenter ran and a rerun with it makes the same choice.
+void record_segmenter_choice(PipelineConfig& c, const SegmenterChoice& choice);
 
 // nullptr for "none". The oracle needs the dataset's label images (simulator output).
-std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterChoice& choice, const PipelineConfig& config,
-                                                     bool dataset_has_labels);
+std::unique_ptr<semantics::Segmenter> make_segmenter(const SegmenterChoice& choice,
+                                                     const PipelineConfig& config, bool dataset_has_labels);
 
 // Finds the model card for `onnx:PATH`: PATH itself when it is a .yaml file (or PATH.yaml), or the single
 // card (*.yaml with a `model:` key) inside the folder PATH.

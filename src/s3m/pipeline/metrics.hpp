@@ -26,9 +26,10 @@ struct RunInfo {
   std::size_t frames_total = 0;
   std::string loaded_map;  // --map folder ("" = none)
   bool localize_only = false;
-  std::string depth_registration;  // resolve_depth_registration(): what was decided and why
-  double depth_median_m = 0;        // check_depth_scale() over the sample frames (0 = not checked)
-  std::string depth_scale_warning;  // its warning ("" = plausible)
+  std::string depth_registration;     // resolve_depth_registration(): what was decided and why
+  std::vector<std::string> overlays;  // overlays the run's automatic decisions applied (config_overlays.hpp)
+  double depth_median_m = 0;          // check_depth_scale() over the sample frames (0 = not checked)
+  std::string depth_scale_warning;    // its warning ("" = plausible)
   std::vector<SkippedFrame> skipped;  // unreadable frames (dataset.max_unreadable_in_a_row)
   std::string stopped_by;             // why the run stopped before its last frame ("" = it did not)
 };

@@ -1,7 +1,7 @@
 #pragma once
 // Writing a run's products into OUT: trajectories (camera, robot), keyframes, the per-frame tracking
-// states (frames.txt), the semantic map (.ot with full semantics, .ply). Every file is written atomically (temp file + rename), so an
-// interrupted or failing run never leaves a half-written file behind.
+// states (frames.txt), the semantic map (.ot with full semantics, .ply). Every file is written atomically
+// (temp file + rename), so an interrupted or failing run never leaves a half-written file behind.
 #include <string>
 
 #include "s3m/io/trajectory.hpp"
@@ -14,8 +14,9 @@ struct OutputPaths {
   std::string trajectory_camera, trajectory_robot, keyframes;  // TUM format
   std::string frames;                                          // one line per frame: its tracking state
   std::string map_ot, map_ply;                                 // empty when there is no map
-  std::string slam_map, kept_clouds;                           // the session (session_io.hpp); empty: not written
+  std::string slam_map, kept_clouds;  // the session (session_io.hpp); empty: not written
   std::string metrics;
+  std::string config_effective;  // the settings in effect (effective_config.hpp); written by run_dataset
 };
 
 // robot_pose(T_w_c, T_c_r) = T_w_c * T_c_r for every pose (core/se3.hpp).

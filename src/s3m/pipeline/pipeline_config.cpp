@@ -1,43 +1,32 @@
 #include "s3m/pipeline/pipeline_config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include <spdlog/spdlog.h>
 
+#include "s3m/core/config_table.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/shipped_files.hpp"
 #include "s3m/core/yaml_util.hpp"
+#include "s3m/pipeline/config_overlays.hpp"
 
 namespace s3m::pipeline {
 namespace {
 
 std::string num(double v) { return std::to_string(v); }
 
-// Reads an enum given as a string; the message lists the allowed spellings.
-template <typename E>
-void read_enum(const YAML::Node& n, const std::string& key, E& out,
-               const std::vector<std::pair<std::string, E>>& names, const std::string& ctx) {
-  if (!n[key]) return;
-  std::string s;
-  yaml_get(n, key, s, ctx);
-  std::string allowed;
-  for (const auto& [name, value] : names) {
-    if (name == s) {
-      out = value;
-      return;
-    }
-    allowed += (allowed.empty() ? "" : " | ") + name;
+// A top-level section must be a map (a scalar or list there is a typo of the section's keys);
+// unknown keys are left to the reader, which lists the known ones.
+void require_sections_are_maps(const YAML::Node& root, const std::vector<std::string>& sections,
+                               const std::string& ctx) {
+  for (const auto& kv : root) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "";
+    if (std::find(sections.begin(), sections.end(), key) != sections.end() && !kv.second.IsMap())
+      throw ParseError(ctx, kv.second.Mark().line + 1, "section '" + key + "' is not a map",
+                       "key: value pairs");
   }
-  throw ParseError(ctx, n[key].Mark().line + 1, "bad value '" + s + "' for '" + key + "'", allowed);
-}
-
-// A section must be a map; returns an empty node when absent.
-YAML::Node section(const YAML::Node& root, const std::string& key, const std::string& ctx) {
-  const YAML::Node n = root[key];
-  if (n && !n.IsMap())
-    throw ParseError(ctx, n.Mark().line + 1, "section '" + key + "' is not a map", "key: value pairs");
-  return n;
 }
 
 // Wraps validate() so a bad value names the config file (validate() alone cannot know it).
@@ -52,59 +41,72 @@ void validate_in(const C& c, const std::string& ctx, const std::string& sec) {
   }
 }
 
-void load_dataset(const YAML::Node& n, DatasetConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"camera", "max_dt_s", "depth_registration", "max_unreadable_in_a_row"}, ctx);
-  yaml_get(n, "camera", c.camera, ctx);
-  yaml_get(n, "max_dt_s", c.max_dt_s, ctx);
-  yaml_get(n, "depth_registration", c.depth_registration, ctx);
-  yaml_get(n, "max_unreadable_in_a_row", c.max_unreadable_in_a_row, ctx);
-}
-
-void load_cloud(const YAML::Node& n, CloudConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"min_depth_m", "max_depth_m", "pixel_stride", "keyframe_voxel_m", "kept_clouds_budget_mb"}, ctx);
-  yaml_get(n, "min_depth_m", c.min_depth_m, ctx);
-  yaml_get(n, "max_depth_m", c.max_depth_m, ctx);
-  yaml_get(n, "pixel_stride", c.pixel_stride, ctx);
-  yaml_get(n, "keyframe_voxel_m", c.keyframe_voxel_m, ctx);
-  yaml_get(n, "kept_clouds_budget_mb", c.kept_clouds_budget_mb, ctx);
-}
-
-void load_threads(const YAML::Node& n, ThreadingConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"deterministic", "queue_capacity"}, ctx);
-  yaml_get(n, "deterministic", c.deterministic, ctx);
-  yaml_get(n, "queue_capacity", c.queue_capacity, ctx);
-}
-
-void load_flow(const YAML::Node& n, FlowConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"integrate", "segment", "final_reintegration"}, ctx);
-  read_enum(n, "integrate", c.integrate,
-            {{"keyframes", IntegrateMode::kKeyframes}, {"all_frames", IntegrateMode::kAllFrames}}, ctx);
-  read_enum(n, "segment", c.segment,
-            {{"integrated", SegmentMode::kIntegrated}, {"all_frames", SegmentMode::kAllFrames}}, ctx);
-  yaml_get(n, "final_reintegration", c.final_reintegration, ctx);
-}
-
-void load_segmenter(const YAML::Node& n, SegmenterConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"type", "model", "model_dir", "top_k", "oracle"}, ctx);
-  yaml_get(n, "type", c.type, ctx);
-  yaml_get(n, "model", c.model, ctx);
-  yaml_get(n, "model_dir", c.model_dir, ctx);
-  yaml_get(n, "top_k", c.top_k, ctx);
-  if (n["oracle"]) c.oracle = semantics::load_oracle_config(n["oracle"], ctx);
-}
-
-void load_eval(const YAML::Node& n, EvalConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"rpe_delta_s", "gt_max_dt_s", "align", "plots", "reprojection_every_n", "reprojection_max_frames"},
-                   ctx);
-  yaml_get(n, "rpe_delta_s", c.rpe_delta_s, ctx);
-  yaml_get(n, "gt_max_dt_s", c.gt_max_dt_s, ctx);
-  yaml_get(n, "align", c.align, ctx);
-  yaml_get(n, "plots", c.plots, ctx);
-  yaml_get(n, "reprojection_every_n", c.reprojection_every_n, ctx);
-  yaml_get(n, "reprojection_max_frames", c.reprojection_max_frames, ctx);
-}
-
 }  // namespace
+
+void fields(config::FieldVisitor& v, DatasetConfig& c) {
+  v("camera", c.camera);
+  v("max_dt_s", c.max_dt_s);
+  v("depth_registration", c.depth_registration);
+  v("max_unreadable_in_a_row", c.max_unreadable_in_a_row);
+}
+
+void fields(config::FieldVisitor& v, CloudConfig& c) {
+  v("min_depth_m", c.min_depth_m);
+  v("max_depth_m", c.max_depth_m);
+  v("pixel_stride", c.pixel_stride);
+  v("keyframe_voxel_m", c.keyframe_voxel_m);
+  v("kept_clouds_budget_mb", c.kept_clouds_budget_mb);
+}
+
+void fields(config::FieldVisitor& v, ThreadingConfig& c) {
+  v("deterministic", c.deterministic);
+  v("queue_capacity", c.queue_capacity);
+}
+
+void fields(config::FieldVisitor& v, FlowConfig& c) {
+  v("integrate", config::choice(c.integrate, {{"keyframes", IntegrateMode::kKeyframes},
+                                              {"all_frames", IntegrateMode::kAllFrames}}));
+  v("segment", config::choice(c.segment, {{"integrated", SegmentMode::kIntegrated},
+                                          {"all_frames", SegmentMode::kAllFrames}}));
+  v("final_reintegration", c.final_reintegration);
+}
+
+void fields(config::FieldVisitor& v, EvalConfig& c) {
+  v("rpe_delta_s", c.rpe_delta_s);
+  v("gt_max_dt_s", c.gt_max_dt_s);
+  v("align", c.align);
+  v("plots", c.plots);
+  v("reprojection_every_n", c.reprojection_every_n);
+  v("reprojection_max_frames", c.reprojection_max_frames);
+}
+
+void fields(config::FieldVisitor& v, SegmenterConfig& c) {
+  v("type", c.type);
+  v("model", c.model);
+  v("model_dir", c.model_dir);
+  v("top_k", c.top_k);
+  v("oracle", c.oracle);
+}
+
+void fields(config::FieldVisitor& v, PipelineConfig& c) {
+  v("dataset", c.dataset);
+  v("slam", c.slam);
+  v("loop_closing", c.slam.loop_closing);
+  v("cloud", c.cloud);
+  v("threads", c.threads);
+  v("flow", c.flow);
+  v("eval", c.eval);
+  v("map", c.map);
+  v("segmenter", c.segmenter);
+  v("overlays", c.overlays);
+}
+
+void mark_written(PipelineConfig& c, const std::string& key) {
+  const auto all = config::values(c);
+  require(std::any_of(all.begin(), all.end(), [&](const auto& kv) { return kv.first == key; }),
+          "mark_written: '" + key + "' is not a config key");
+  c.written.insert(key);
+}
 
 void SegmenterConfig::validate() const {
   require(type == "auto" || type == "onnx" || type == "oracle" || type == "none",
@@ -118,10 +120,12 @@ void SegmenterConfig::validate() const {
 void DatasetConfig::validate() const {
   require(std::isfinite(max_dt_s) && max_dt_s > 0 && max_dt_s < 1.0,
           "dataset.max_dt_s must be in (0, 1) s (got " + num(max_dt_s) + ")");
-  require(depth_registration == "auto" || depth_registration == "registered" || depth_registration == "unregistered",
-          "dataset.depth_registration must be auto | registered | unregistered (got '" + depth_registration + "')");
-  require(max_unreadable_in_a_row >= 0,
-          "dataset.max_unreadable_in_a_row must be >= 0 (got " + std::to_string(max_unreadable_in_a_row) + ")");
+  require(depth_registration == "auto" || depth_registration == "registered" ||
+              depth_registration == "unregistered",
+          "dataset.depth_registration must be auto | registered | unregistered (got '" + depth_registration +
+              "')");
+  require(max_unreadable_in_a_row >= 0, "dataset.max_unreadable_in_a_row must be >= 0 (got " +
+                                            std::to_string(max_unreadable_in_a_row) + ")");
 }
 
 void CloudConfig::validate() const {
@@ -134,7 +138,8 @@ void CloudConfig::validate() const {
   require(std::isfinite(keyframe_voxel_m) && keyframe_voxel_m >= 0 && keyframe_voxel_m <= 1.0,
           "cloud.keyframe_voxel_m must be in [0, 1] m (got " + num(keyframe_voxel_m) + ")");
   require(std::isfinite(kept_clouds_budget_mb) && kept_clouds_budget_mb >= 0 && kept_clouds_budget_mb <= 1e6,
-          "cloud.kept_clouds_budget_mb must be in [0, 1e6] MB, 0 = unlimited (got " + num(kept_clouds_budget_mb) + ")");
+          "cloud.kept_clouds_budget_mb must be in [0, 1e6] MB, 0 = unlimited (got " +
+              num(kept_clouds_budget_mb) + ")");
 }
 
 void ThreadingConfig::validate() const {
@@ -151,10 +156,11 @@ void EvalConfig::validate() const {
           "eval.gt_max_dt_s must be > 0 s (got " + num(gt_max_dt_s) + ")");
   require(align == "se3" || align == "sim3" || align == "none",
           "eval.align must be se3 | sim3 | none (got '" + align + "')");
-  require(reprojection_every_n >= 1, "eval.reprojection_every_n must be >= 1 frame (got " +
-                                         std::to_string(reprojection_every_n) + ")");
+  require(reprojection_every_n >= 1,
+          "eval.reprojection_every_n must be >= 1 frame (got " + std::to_string(reprojection_every_n) + ")");
   require(reprojection_max_frames >= 0 && reprojection_max_frames <= 10000,
-          "eval.reprojection_max_frames must be in [0, 10000] frames (got " + std::to_string(reprojection_max_frames) + ")");
+          "eval.reprojection_max_frames must be in [0, 10000] frames (got " +
+              std::to_string(reprojection_max_frames) + ")");
 }
 
 void PipelineConfig::validate() const {
@@ -190,26 +196,50 @@ PipelineConfig load_pipeline_config(const std::string& path) {
   return pipeline_config_from_yaml(load_yaml_file(path), path);
 }
 
+namespace {
+
+// The keys root writes, then the overlays it lists (a preset's own choice: their keys count as
+// written too).
+void read_keys(const YAML::Node& root, PipelineConfig& c, const std::string& path) {
+  std::vector<std::string> sections = config::keys(config::table_of(c));
+  sections.erase(std::remove(sections.begin(), sections.end(), "overlays"), sections.end());
+  require_sections_are_maps(root, sections, path);
+  const config::ReadKeys read = config::read(root, config::table_of(c), path);
+  c.written.insert(read.set.begin(), read.set.end());
+  for (const std::string& name : std::vector<std::string>(c.overlays)) {
+    try {
+      const OverlayResult o = apply_overlay(c, name, "listed in " + (path.empty() ? "the config" : path));
+      c.written.insert(o.set.begin(), o.set.end());
+    } catch (const ParseError&) {
+      throw;
+    } catch (const Error& e) {  // an unknown name
+      throw ParseError(path, root["overlays"].Mark().line + 1, e.what());
+    }
+  }
+}
+
+// Camera files, models and the vocabulary named in a preset are relative to the preset (presets
+// live next to their camera files); a camera without ".yaml" is a preset name.
+void resolve_relative_paths(PipelineConfig& c, const std::string& path) {
+  const auto relative = [](const std::string& p) {
+    return !p.empty() && std::filesystem::path(p).is_relative();
+  };
+  if (relative(c.dataset.camera) && c.dataset.camera.find(".yaml") != std::string::npos)
+    c.dataset.camera = preset_relative(path, c.dataset.camera);
+  for (std::string* p : {&c.segmenter.model, &c.segmenter.model_dir, &c.slam.loop_closing.vocabulary})
+    if (relative(*p)) *p = preset_relative(path, *p);
+}
+
+}  // namespace
+
 PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::string& path) {
   PipelineConfig c;
   c.source = path;
   if (!root || root.IsNull()) return c;  // an empty preset means "all defaults"
-  if (!root.IsMap()) throw ParseError(path, 1, "top level is not a map", "sections such as 'cloud:', 'slam:'");
-  check_known_keys(root, {"dataset", "slam", "loop_closing", "cloud", "threads", "flow", "eval", "map", "segmenter"},
-                   path);
-  if (const auto n = section(root, "dataset", path)) load_dataset(n, c.dataset, path);
-  if (const auto n = section(root, "slam", path)) c.slam = slam::slam_config_from_yaml(n, path);
-  if (const auto n = section(root, "loop_closing", path)) slam::read_loop_closing(n, c.slam.loop_closing, path);
-  if (const auto n = section(root, "cloud", path)) load_cloud(n, c.cloud, path);
-  if (const auto n = section(root, "threads", path)) load_threads(n, c.threads, path);
-  if (const auto n = section(root, "flow", path)) load_flow(n, c.flow, path);
-  if (const auto n = section(root, "eval", path)) load_eval(n, c.eval, path);
-  if (const auto n = section(root, "map", path)) c.map = mapping::load_mapping_config(n, path);
-  if (const auto n = section(root, "segmenter", path)) load_segmenter(n, c.segmenter, path);
-  // A relative camera file is relative to the preset (presets live next to their camera files).
-  const auto& cam = c.dataset.camera;
-  if (!cam.empty() && cam.find(".yaml") != std::string::npos && std::filesystem::path(cam).is_relative())
-    c.dataset.camera = preset_relative(path, cam);
+  if (!root.IsMap())
+    throw ParseError(path, 1, "top level is not a map", "sections such as 'cloud:', 'slam:'");
+  read_keys(root, c, path);
+  resolve_relative_paths(c, path);
   validate_in(c.dataset, path, "dataset");
   validate_in(c.slam.loop_closing, path, "loop_closing");
   validate_in(c.slam, path, "slam");
@@ -218,9 +248,6 @@ PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::stri
   validate_in(c.flow, path, "flow");
   validate_in(c.eval, path, "eval");
   validate_in(c.map, path, "map");
-  // Model and vocabulary paths in a preset are relative to the preset, like camera files.
-  for (std::string* p : {&c.segmenter.model, &c.segmenter.model_dir, &c.slam.loop_closing.vocabulary})
-    if (!p->empty() && std::filesystem::path(*p).is_relative()) *p = preset_relative(path, *p);
   validate_in(c.segmenter, path, "segmenter");
   return c;
 }

@@ -3,7 +3,9 @@
 // wires together. Loaded from a YAML preset in config/ (see config/README.md for every key);
 // keys absent from the file keep the defaults below, unknown keys are refused with file and line.
 // The robot trajectory uses the SLAM section's calibration: T_w_r = T_w_c * slam.T_c_r.
+#include <set>
 #include <string>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
@@ -43,9 +45,9 @@ struct DatasetConfig {
 };
 
 struct CloudConfig {
-  double min_depth_m = 0.2;    // pixels closer than this are dropped before back-projection [m]
-  double max_depth_m = 4.0;    // pixels farther than this are dropped (sensor noise grows with z^2) [m]
-  int pixel_stride = 2;        // back-project every n-th pixel in u and v (1 = all) [px]
+  double min_depth_m = 0.2;  // pixels closer than this are dropped before back-projection [m]
+  double max_depth_m = 4.0;  // pixels farther than this are dropped (sensor noise grows with z^2) [m]
+  int pixel_stride = 2;      // back-project every n-th pixel in u and v (1 = all) [px]
   // Keyframe clouds kept for re-integration after loop closure are voxel-downsampled to this size;
   // 0 = the map resolution. What is kept is exactly what was inserted, so a rebuild is exact. [m]
   double keyframe_voxel_m = 0.0;
@@ -71,10 +73,10 @@ struct FlowConfig {
 };
 
 struct EvalConfig {
-  double rpe_delta_s = 1.0;         // RPE over this time delta [s]
-  double gt_max_dt_s = 0.02;        // max timestamp gap estimate <-> ground truth [s]
-  std::string align = "se3";        // trajectory alignment before ATE: se3 | sim3 | none
-  bool plots = true;                // write OUT/report/ (PNG plots + report.html) via tools/*.py
+  double rpe_delta_s = 1.0;   // RPE over this time delta [s]
+  double gt_max_dt_s = 0.02;  // max timestamp gap estimate <-> ground truth [s]
+  std::string align = "se3";  // trajectory alignment before ATE: se3 | sim3 | none
+  bool plots = true;          // write OUT/report/ (PNG plots + report.html) via tools/*.py
   // Map labels projected back into segmented frames with ground truth (reprojection.hpp): every
   // n-th such frame is kept (its argmax, 2 bytes/px), at most max_frames (0 = off) [frames].
   int reprojection_every_n = 10;
@@ -90,9 +92,9 @@ struct SegmenterConfig {
   // auto: the oracle on a simulator sequence, the shipped real-image model on anything else
   // (pipeline::choose_segmenter); onnx | oracle | none: as said.
   std::string type = "auto";
-  std::string model;            // onnx: model card (.yaml) or a folder holding one; relative to the preset
-  std::string model_dir;        // onnx: folder with the model files when the card lives elsewhere
-  int top_k = 3;                // oracle: labels per pixel (an ONNX model card carries its own)
+  std::string model;      // onnx: model card (.yaml) or a folder holding one; relative to the preset
+  std::string model_dir;  // onnx: folder with the model files when the card lives elsewhere
+  int top_k = 3;          // oracle: labels per pixel (an ONNX model card carries its own)
   semantics::OracleNoiseConfig oracle;  // `oracle:` noise model (keys of semantics::OracleNoiseConfig)
   void validate() const;
 };
@@ -108,11 +110,26 @@ struct PipelineConfig {
   slam::SlamConfig slam;
   MapConfig map;
   SegmenterConfig segmenter;
+  // Named overlays (config/overlays/NAME.yaml, config_overlays.hpp) applied beneath the keys this
+  // config writes: those a preset lists under `overlays:`, then those an automatic decision chose.
+  std::vector<std::string> overlays;
   std::string source;  // file the config was loaded from ("" = defaults), for messages
+  // Keys the preset and the command line set, dotted ("slam.features.depth_window_px"), with those
+  // of the overlays the preset lists: automatic decisions leave them as they are.
+  std::set<std::string> written;
   void validate() const;
 };
 
-// Loads and validates a preset. Errors name the file, the line and what was expected.
+// Its YAML keys with the members they fill (core/config_table.hpp): the sections above, each with
+// its own table, and `overlays`.
+void fields(config::FieldVisitor& v, PipelineConfig& c);
+
+// Records that the command line set `key` (dotted; must be a key of the table), so that automatic
+// decisions leave it as set.
+void mark_written(PipelineConfig& c, const std::string& key);
+
+// Loads and validates a preset. Errors name the file, the line and what was expected. The overlays
+// it lists are applied to the keys it does not write.
 PipelineConfig load_pipeline_config(const std::string& path);
 // The same from an already parsed document (e.g. a preset merged with ROS parameters); `path`
 // names it in messages and anchors relative camera/model paths (its folder; "" = the working dir).

@@ -5,6 +5,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "s3m/core/config_table.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/yaml_util.hpp"
 
@@ -39,62 +40,94 @@ ClassId surrounding_class(const cv::Mat& gt, const cv::Mat& region_mask, const c
 
 }  // namespace
 
-OracleNoiseConfig parse_oracle_config(const YAML::Node& node, const std::string& ctx);
-
 std::map<ClassId, std::vector<ClassId>> default_similar() {
   using namespace cls;
-  return {{kWall, {kDoor, kWindow, kCeiling}}, {kFloor, {kOther, kTable}},     {kCeiling, {kWall}},
-          {kDoor, {kWall, kCabinet}},          {kWindow, {kWall, kTvMonitor}}, {kTable, {kCabinet, kShelf}},
-          {kChair, {kSofa, kTable}},           {kSofa, {kChair, kBed}},        {kBed, {kSofa, kTable}},
-          {kCabinet, {kShelf, kTable, kDoor}}, {kShelf, {kCabinet, kTable}},   {kTvMonitor, {kWindow, kOther}},
-          {kPlant, {kOther}},                  {kPerson, {kOther, kChair}},    {kOther, {kCabinet, kTable}}};
+  return {{kWall, {kDoor, kWindow, kCeiling}},
+          {kFloor, {kOther, kTable}},
+          {kCeiling, {kWall}},
+          {kDoor, {kWall, kCabinet}},
+          {kWindow, {kWall, kTvMonitor}},
+          {kTable, {kCabinet, kShelf}},
+          {kChair, {kSofa, kTable}},
+          {kSofa, {kChair, kBed}},
+          {kBed, {kSofa, kTable}},
+          {kCabinet, {kShelf, kTable, kDoor}},
+          {kShelf, {kCabinet, kTable}},
+          {kTvMonitor, {kWindow, kOther}},
+          {kPlant, {kOther}},
+          {kPerson, {kOther, kChair}},
+          {kOther, {kCabinet, kTable}}};
 }
 
 void OracleNoiseConfig::validate() const {
   require(confusion_rate >= 0 && drop_rate >= 0 && confusion_rate + drop_rate <= 0.6,
           "oracle: confusion_rate and drop_rate must be >= 0 with sum <= 0.6");
   require(boundary_width_px >= 0 && boundary_width_px <= 50, "oracle: boundary_width_px must be in 0..50");
-  require(boundary_flip_prob >= 0 && boundary_flip_prob <= 0.5, "oracle: boundary_flip_prob must be in [0, 0.5]");
+  require(boundary_flip_prob >= 0 && boundary_flip_prob <= 0.5,
+          "oracle: boundary_flip_prob must be in [0, 0.5]");
   require(concentration > 0, "oracle: concentration must be > 0");
-  require(min_confidence >= 0.375 && min_confidence <= 1, "oracle: min_confidence must be in [0.375, 1] (rank 1 >= rank 2)");
+  require(min_confidence >= 0.375 && min_confidence <= 1,
+          "oracle: min_confidence must be in [0.375, 1] (rank 1 >= rank 2)");
+}
+
+namespace {
+
+// `similar: {wall: [door, window], ...}`: entries replace those of default_similar().
+void read_similar(const YAML::Node& node, std::map<ClassId, std::vector<ClassId>>& similar,
+                  const std::string& ctx) {
+  const auto& classes = indoor_classes();
+  auto id_of = [&](const YAML::Node& n) {
+    const int id = classes.find(n.as<std::string>());
+    if (id < 0)
+      throw ParseError(ctx, n.Mark().line + 1, "unknown class '" + n.as<std::string>() + "'",
+                       "a project class name");
+    return static_cast<ClassId>(id);
+  };
+  if (similar.empty()) similar = default_similar();
+  try {
+    for (const auto& kv : node) {
+      std::vector<ClassId> to;
+      for (const auto& v : kv.second) to.push_back(id_of(v));
+      similar[id_of(kv.first)] = to;
+    }
+  } catch (const YAML::Exception& e) {
+    throw ParseError(ctx, e.mark.line + 1, "bad oracle entry: " + e.msg, "similar: {class: [classes]}");
+  }
+}
+
+YAML::Node similar_node(const std::map<ClassId, std::vector<ClassId>>& similar) {
+  YAML::Node n(YAML::NodeType::Map);
+  for (const auto& [from, to] : similar.empty() ? default_similar() : similar) {  // empty: the defaults apply
+    YAML::Node list(YAML::NodeType::Sequence);
+    for (const ClassId c : to) list.push_back(indoor_classes().at(c).name);
+    list.SetStyle(YAML::EmitterStyle::Flow);
+    n[indoor_classes().at(from).name] = list;
+  }
+  return n;
+}
+
+}  // namespace
+
+void fields(config::FieldVisitor& v, OracleNoiseConfig& c) {
+  v("enabled", c.enabled);
+  v("confusion_rate", c.confusion_rate);
+  v("drop_rate", c.drop_rate);
+  v("boundary_width_px", c.boundary_width_px);
+  v("boundary_flip_prob", c.boundary_flip_prob);
+  v("concentration", c.concentration);
+  v("min_confidence", c.min_confidence);
+  v("seed", c.seed);
+  v("similar", config::Custom{[&c](const YAML::Node& n, const std::string&, const std::string& ctx) {
+                                read_similar(n, c.similar, ctx);
+                              },
+                              [&c] { return similar_node(c.similar); }});
 }
 
 OracleNoiseConfig load_oracle_config(const YAML::Node& node, const std::string& ctx) {
-  try {
-    return parse_oracle_config(node, ctx);
-  } catch (const YAML::Exception& e) {
-    throw ParseError(ctx, e.mark.line + 1, "bad oracle entry: " + e.msg, "oracle: {enabled, confusion_rate, ..., similar: {class: [classes]}}");
-  }
-}
-
-OracleNoiseConfig parse_oracle_config(const YAML::Node& node, const std::string& ctx) {
   OracleNoiseConfig c;
   c.similar = default_similar();
   if (!node) return c;
-  check_known_keys(node, {"enabled", "confusion_rate", "drop_rate", "boundary_width_px", "boundary_flip_prob",
-                          "concentration", "min_confidence", "seed", "similar"},
-                   ctx);
-  yaml_get(node, "enabled", c.enabled, ctx);
-  yaml_get(node, "confusion_rate", c.confusion_rate, ctx);
-  yaml_get(node, "drop_rate", c.drop_rate, ctx);
-  yaml_get(node, "boundary_width_px", c.boundary_width_px, ctx);
-  yaml_get(node, "boundary_flip_prob", c.boundary_flip_prob, ctx);
-  yaml_get(node, "concentration", c.concentration, ctx);
-  yaml_get(node, "min_confidence", c.min_confidence, ctx);
-  yaml_get(node, "seed", c.seed, ctx);
-  if (const YAML::Node sim = node["similar"]) {
-    const auto& classes = indoor_classes();
-    auto id_of = [&](const YAML::Node& n) {
-      const int id = classes.find(n.as<std::string>());
-      if (id < 0) throw ParseError(ctx, n.Mark().line + 1, "unknown class '" + n.as<std::string>() + "'", "a project class name");
-      return static_cast<ClassId>(id);
-    };
-    for (const auto& kv : sim) {
-      std::vector<ClassId> to;
-      for (const auto& v : kv.second) to.push_back(id_of(v));
-      c.similar[id_of(kv.first)] = to;
-    }
-  }
+  config::read(node, config::table_of(c), ctx);
   c.validate();
   return c;
 }
@@ -116,10 +149,12 @@ LabelMap OracleSegmenter::segment(const RgbdFrame& frame) {
 }
 
 LabelMap OracleSegmenter::segment_labels(const cv::Mat& gt, int frame_index) const {
-  require(gt.type() == CV_16UC1 && !gt.empty(), "OracleSegmenter: ground truth must be a CV_16UC1 class-id image");
+  require(gt.type() == CV_16UC1 && !gt.empty(),
+          "OracleSegmenter: ground truth must be a CV_16UC1 class-id image");
   const OracleNoiseConfig& cfg = config_;
   // Seed per frame so the noise does not depend on the order frames are processed in.
-  Rng rng(cfg.seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(frame_index) * 0xBF58476D1CE4E5B9ull + 1);
+  Rng rng(cfg.seed * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(frame_index) * 0xBF58476D1CE4E5B9ull +
+          1);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   cv::Mat noisy = gt.clone();
   cv::Mat conf(gt.size(), CV_32FC1, cv::Scalar(1.0f));
@@ -147,8 +182,8 @@ LabelMap OracleSegmenter::segment_labels(const cv::Mat& gt, int frame_index) con
           to = surrounding_class(gt, comp == r, box, static_cast<ClassId>(cid));
         } else {
           const auto it = cfg.similar.find(static_cast<ClassId>(cid));
-          const std::vector<ClassId> cand = it != cfg.similar.end() && !it->second.empty() ? it->second
-                                                                                           : std::vector<ClassId>{cls::kOther};
+          const std::vector<ClassId> cand =
+              it != cfg.similar.end() && !it->second.empty() ? it->second : std::vector<ClassId>{cls::kOther};
           to = cand[std::uniform_int_distribution<std::size_t>(0, cand.size() - 1)(rng)];
         }
         noisy(box).setTo(to, region);

@@ -26,6 +26,10 @@
 
 #include "s3m/semantics/segmenter.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::semantics {
 
 struct OracleNoiseConfig {
@@ -47,6 +51,8 @@ std::map<ClassId, std::vector<ClassId>> default_similar();
 
 // Reads an `oracle:` YAML section (keys as in OracleNoiseConfig; similar: {wall: [door, window]}).
 OracleNoiseConfig load_oracle_config(const YAML::Node& node, const std::string& ctx);
+// Its YAML keys with the members they fill (core/config_table.hpp).
+void fields(config::FieldVisitor& v, OracleNoiseConfig& c);
 
 class OracleSegmenter : public Segmenter {
  public:

@@ -13,25 +13,29 @@
 
 #include "s3m/core/camera.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::sim {
 
 struct SensorConfig {
-  PinholeCamera camera;                // intrinsics and size; depth_factor for the PNGs
-  double min_depth_m = 0.3;            // closer surfaces give no depth
-  double max_depth_m = 8.0;            // farther surfaces give no depth
-  bool noise = true;                   // master switch for every random imperfection below
-  double depth_sigma0_m = 0.001;       // depth noise at z = 0 [m]
-  double depth_sigma_k = 0.0015;       // depth noise growth [1/m]: sigma(z) = sigma0 + k z^2
-  double edge_jump_rel = 0.04;         // a neighbour deeper by more than this fraction of z marks an edge
-  double edge_dropout = 0.5;           // probability that an edge pixel has no depth
-  double dark_albedo = 0.06;           // surfaces darker than this (luminance of albedo) ...
-  double dark_dropout = 0.7;           // ... lose depth with this probability
-  double grazing_cos = 0.08;           // cos(incidence) below this: no depth
-  double random_dropout = 0.002;       // per-pixel probability of a missing depth value
-  double rgb_sigma = 2.0;              // colour noise [8-bit levels]
-  double optics_blur_px = 0.6;         // Gaussian blur sigma of the lens [px]; 0 = off
-  int motion_blur_samples = 1;         // > 1: average this many poses over the exposure
-  double exposure_s = 0.012;           // exposure time for motion blur [s]
+  PinholeCamera camera;           // intrinsics and size; depth_factor for the PNGs
+  double min_depth_m = 0.3;       // closer surfaces give no depth
+  double max_depth_m = 8.0;       // farther surfaces give no depth
+  bool noise = true;              // master switch for every random imperfection below
+  double depth_sigma0_m = 0.001;  // depth noise at z = 0 [m]
+  double depth_sigma_k = 0.0015;  // depth noise growth [1/m]: sigma(z) = sigma0 + k z^2
+  double edge_jump_rel = 0.04;    // a neighbour deeper by more than this fraction of z marks an edge
+  double edge_dropout = 0.5;      // probability that an edge pixel has no depth
+  double dark_albedo = 0.06;      // surfaces darker than this (luminance of albedo) ...
+  double dark_dropout = 0.7;      // ... lose depth with this probability
+  double grazing_cos = 0.08;      // cos(incidence) below this: no depth
+  double random_dropout = 0.002;  // per-pixel probability of a missing depth value
+  double rgb_sigma = 2.0;         // colour noise [8-bit levels]
+  double optics_blur_px = 0.6;    // Gaussian blur sigma of the lens [px]; 0 = off
+  int motion_blur_samples = 1;    // > 1: average this many poses over the exposure
+  double exposure_s = 0.012;      // exposure time for motion blur [s]
 
   void validate() const;  // throws s3m::Error naming the bad field
   double depth_sigma_m(double z_m) const { return depth_sigma0_m + depth_sigma_k * z_m * z_m; }
@@ -39,6 +43,8 @@ struct SensorConfig {
 
 // Reads the keys of SensorConfig (plus fx, fy, cx, cy, width, height) from a YAML map.
 void load_sensor_config(const YAML::Node& node, SensorConfig& cfg, const std::string& ctx);
+// Its YAML keys with the members they fill (core/config_table.hpp).
+void fields(config::FieldVisitor& v, SensorConfig& c);
 
 // Named intrinsics: "kinect" (fx = fy = 525, TUM-like), "d455" (fx = fy = 382.6 at 640x480).
 // Scaled to width x height (keeping the field of view). Throws s3m::Error for an unknown name.

@@ -7,6 +7,7 @@
 
 #include "s3m/core/bounded_queue.hpp"
 #include "s3m/core/classes.hpp"
+#include "s3m/core/config_table.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
 #include "s3m/core/yaml_util.hpp"
@@ -75,23 +76,31 @@ void SimConfig::validate() const {
   trajectory.validate();
   sensor.validate();
   require(drop_frames >= 0, "sim: drop_frames must be >= 0");
-  require(voxel_resolution_m > 0.005 && voxel_resolution_m <= 1.0, "sim: voxel_resolution_m must be in (0.005, 1] m");
+  require(voxel_resolution_m > 0.005 && voxel_resolution_m <= 1.0,
+          "sim: voxel_resolution_m must be in (0.005, 1] m");
   make_scene(scene, layout());  // throws for an unknown preset
 }
 
+void fields(config::FieldVisitor& v, SimConfig& c) {
+  v("scene", c.scene);
+  v("seed", c.seed);
+  std::optional<std::uint64_t>& layout = c.layout_seed;  // absent: the seed's
+  v("layout_seed",
+    config::Custom{[&layout](const YAML::Node& n, const std::string& key, const std::string& ctx) {
+                     if (n.IsNull())
+                       layout.reset();  // written as ~ when absent
+                     else
+                       layout = yaml_as<std::uint64_t>(n, key, ctx);
+                   },
+                   [&layout] { return layout ? YAML::Node(std::to_string(*layout)) : YAML::Node(); }});
+  v("drop_frames", c.drop_frames);
+  v("voxel_resolution_m", c.voxel_resolution_m);
+  v("trajectory", c.trajectory);
+  v("sensor", c.sensor);
+}
+
 void load_sim_config(const YAML::Node& n, SimConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"scene", "seed", "layout_seed", "drop_frames", "voxel_resolution_m", "trajectory", "sensor"}, ctx);
-  yaml_get(n, "scene", c.scene, ctx);
-  yaml_get(n, "seed", c.seed, ctx);
-  if (n["layout_seed"]) {
-    std::uint64_t layout = 0;
-    yaml_get(n, "layout_seed", layout, ctx);
-    c.layout_seed = layout;
-  }
-  yaml_get(n, "drop_frames", c.drop_frames, ctx);
-  yaml_get(n, "voxel_resolution_m", c.voxel_resolution_m, ctx);
-  if (n["trajectory"]) load_trajectory_config(n["trajectory"], c.trajectory, ctx);
-  if (n["sensor"]) load_sensor_config(n["sensor"], c.sensor, ctx);
+  config::read(n, config::table_of(c), ctx);
 }
 
 SimConfig load_sim_config(const std::string& path) {
@@ -116,9 +125,10 @@ RgbdFrame Simulation::frame(std::size_t i) const {
     f.depth_m = cv::Mat::zeros(c.height, c.width, CV_32FC1);
     f.labels = cv::Mat::zeros(c.height, c.width, CV_16UC1);
   } else {
-    const SE3 T_open = i > 0 ? interpolate(trajectory_.samples[i - 1].T_w_c, s.T_w_c,
-                                           std::clamp(1.0 - cfg_.sensor.exposure_s * cfg_.trajectory.fps, 0.0, 1.0))
-                             : s.T_w_c;
+    const SE3 T_open =
+        i > 0 ? interpolate(trajectory_.samples[i - 1].T_w_c, s.T_w_c,
+                            std::clamp(1.0 - cfg_.sensor.exposure_s * cfg_.trajectory.fps, 0.0, 1.0))
+              : s.T_w_c;
     f = renderer_.render(s.T_w_c, hash3(cfg_.seed, i, 0xF4A3Eull), &T_open);
   }
   f.index = static_cast<int>(i);

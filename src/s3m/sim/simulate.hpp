@@ -5,7 +5,8 @@
 //   sim::Simulation sim(cfg);                 // scene + trajectory + renderer
 //   RgbdFrame f = sim.frame(i);               // rgb, depth_m, labels, t_s, index
 //   SE3 T_w_c = sim.trajectory().samples[i].T_w_c;
-//   sim::simulate_sequence(cfg, "out/");      // rgb/ depth/ labels/ *.txt camera.yaml classes.txt gt_voxels.txt
+//   sim::simulate_sequence(cfg, "out/");      // rgb/ depth/ labels/ *.txt camera.yaml classes.txt
+//   gt_voxels.txt
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -19,6 +20,10 @@
 #include "s3m/sim/sensor.hpp"
 #include "s3m/sim/trajectory.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::sim {
 
 struct SimConfig {
@@ -31,8 +36,8 @@ struct SimConfig {
   std::optional<std::uint64_t> layout_seed;
   TrajectoryConfig trajectory;
   SensorConfig sensor;
-  int drop_frames = 0;              // this many frames (never the first 10) come out blank: black, no depth
-  double voxel_resolution_m = 0.05; // ground-truth voxel map resolution
+  int drop_frames = 0;               // this many frames (never the first 10) come out blank: black, no depth
+  double voxel_resolution_m = 0.05;  // ground-truth voxel map resolution
   std::uint64_t layout() const { return layout_seed.value_or(seed); }
   void validate() const;
 };
@@ -41,6 +46,8 @@ struct SimConfig {
 // Unknown keys are errors (ParseError with file and line).
 SimConfig load_sim_config(const std::string& path);
 void load_sim_config(const YAML::Node& node, SimConfig& cfg, const std::string& ctx);
+// Its YAML keys with the members they fill (core/config_table.hpp).
+void fields(config::FieldVisitor& v, SimConfig& c);
 
 class Simulation {
  public:

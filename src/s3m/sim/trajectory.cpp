@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "s3m/core/config_table.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/yaml_util.hpp"
 #include "s3m/sim/trajectory_shapes.hpp"
@@ -10,9 +11,9 @@
 namespace s3m::sim {
 namespace {
 
-constexpr double kGravity = 9.81;        // [m/s^2]
-constexpr double kMaxSpeed = 1.5;        // [m/s] shapes shrink until they respect it
-constexpr double kMinClearance = 0.2;    // [m] robot centre to furniture
+constexpr double kGravity = 9.81;      // [m/s^2]
+constexpr double kMaxSpeed = 1.5;      // [m/s] shapes shrink until they respect it
+constexpr double kMinClearance = 0.2;  // [m] robot centre to furniture
 constexpr double kDeg = M_PI / 180.0;
 
 Mat3 rot(const Vec3& axis, double angle_rad) { return Eigen::AngleAxisd(angle_rad, axis).toRotationMatrix(); }
@@ -38,7 +39,8 @@ SE3 robot_pose_on_path(const detail::PathFn& path, double s, double duration_s, 
     const Vec3 acc = (path(s + ds).p_w - 2.0 * k.p_w + path(s - ds).p_w) / (0.01 * 0.01);
     T.linear() = uav_attitude(acc, k.yaw_rad);
   } else {
-    T.linear() = rot(Vec3::UnitZ(), k.yaw_rad) * rot(Vec3::UnitY(), k.pitch_rad) * rot(Vec3::UnitX(), k.roll_rad);
+    T.linear() =
+        rot(Vec3::UnitZ(), k.yaw_rad) * rot(Vec3::UnitY(), k.pitch_rad) * rot(Vec3::UnitX(), k.roll_rad);
   }
   return T;
 }
@@ -83,23 +85,32 @@ std::vector<std::string> trajectory_types() {
   return {"uav_sweep", "figure8", "loop", "lawnmower", "handheld", "hover", "forward"};
 }
 
+void fields(config::FieldVisitor& v, TrajectoryConfig& c) {
+  v("type", c.type);
+  v("frames", c.frames);
+  v("fps", c.fps);
+  v("start_time_s", c.start_time_s);
+  // The camera mount's keys sit flat in `trajectory:` (camera_*).
+  Vec3& pos = c.mount.position_r_m;
+  v("camera_position_r_m",
+    config::Custom{[&pos](const YAML::Node& n, const std::string& key, const std::string& ctx) {
+                     const auto xyz = yaml_as<std::vector<double>>(n, key, ctx);
+                     if (xyz.size() != 3) throw ParseError(ctx, n.Mark().line + 1, "bad " + key, "[x, y, z]");
+                     pos = Vec3(xyz[0], xyz[1], xyz[2]);
+                   },
+                   [&pos] {
+                     YAML::Node n(YAML::NodeType::Sequence);
+                     for (int i = 0; i < 3; ++i) n.push_back(config::format_number(pos[i]));
+                     n.SetStyle(YAML::EmitterStyle::Flow);
+                     return n;
+                   }});
+  v("camera_pitch_down_deg", c.mount.pitch_down_deg);
+  v("camera_yaw_deg", c.mount.yaw_deg);
+  v("camera_roll_deg", c.mount.roll_deg);
+}
+
 void load_trajectory_config(const YAML::Node& n, TrajectoryConfig& c, const std::string& ctx) {
-  check_known_keys(n, {"type", "frames", "fps", "start_time_s", "camera_position_r_m", "camera_pitch_down_deg",
-                       "camera_yaw_deg", "camera_roll_deg"},
-                   ctx);
-  yaml_get(n, "type", c.type, ctx);
-  yaml_get(n, "frames", c.frames, ctx);
-  yaml_get(n, "fps", c.fps, ctx);
-  yaml_get(n, "start_time_s", c.start_time_s, ctx);
-  std::vector<double> pos;
-  yaml_get(n, "camera_position_r_m", pos, ctx);
-  if (!pos.empty()) {
-    if (pos.size() != 3) throw ParseError(ctx, n["camera_position_r_m"].Mark().line + 1, "bad camera_position_r_m", "[x, y, z]");
-    c.mount.position_r_m = Vec3(pos[0], pos[1], pos[2]);
-  }
-  yaml_get(n, "camera_pitch_down_deg", c.mount.pitch_down_deg, ctx);
-  yaml_get(n, "camera_yaw_deg", c.mount.yaw_deg, ctx);
-  yaml_get(n, "camera_roll_deg", c.mount.roll_deg, ctx);
+  config::read(n, config::table_of(c), ctx);
 }
 
 double Trajectory::max_speed_mps() const {
@@ -147,9 +158,9 @@ Trajectory make_trajectory(const Scene& scene, const TrajectoryConfig& cfg, std:
     const double clearance = scene.clearance_m(p);
     if (clearance < kMinClearance)
       throw Error("trajectory '" + cfg.type + "' in scene '" + scene.name + "': frame " + std::to_string(i) +
-                  " at (" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) +
-                  ") is only " + std::to_string(clearance) + " m from an obstacle (need " +
-                  std::to_string(kMinClearance) + " m)");
+                  " at (" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " +
+                  std::to_string(p.z()) + ") is only " + std::to_string(clearance) +
+                  " m from an obstacle (need " + std::to_string(kMinClearance) + " m)");
     traj.samples.push_back(smp);
   }
   return traj;

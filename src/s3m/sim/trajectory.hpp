@@ -11,6 +11,10 @@
 #include "s3m/core/se3.hpp"
 #include "s3m/sim/scene.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::sim {
 
 // Camera mounting on the robot: position [m] in the robot frame and a downward pitch [deg]
@@ -18,7 +22,7 @@ namespace s3m::sim {
 struct CameraMount {
   Eigen::Vector3d position_r_m{0.10, 0.0, -0.03};
   double pitch_down_deg = 12.0;
-  double yaw_deg = 0.0;   // positive: camera turned to the left
+  double yaw_deg = 0.0;  // positive: camera turned to the left
   double roll_deg = 0.0;
 };
 SE3 camera_to_robot(const CameraMount& mount);  // returns T_c_r
@@ -38,6 +42,8 @@ struct TrajectoryConfig {
 };
 std::vector<std::string> trajectory_types();
 void load_trajectory_config(const YAML::Node& node, TrajectoryConfig& cfg, const std::string& ctx);
+// Its YAML keys with the members they fill (core/config_table.hpp).
+void fields(config::FieldVisitor& v, TrajectoryConfig& c);
 
 struct TrajectorySample {
   double t_s = 0;

@@ -11,6 +11,10 @@
 #include "s3m/slam/reloc.hpp"
 #include "s3m/slam/tracker.hpp"
 
+namespace s3m::config {
+class FieldVisitor;
+}
+
 namespace s3m::slam {
 
 // Place recognition: loop closing and relocalisation. Both need a bag-of-words vocabulary, which
@@ -30,8 +34,8 @@ struct SlamConfig {
   TrackerConfig tracker;
   MapperConfig mapper;
   LoopClosingConfig loop_closing;  // a pipeline preset's `loop_closing:` section
-  SE3 T_c_r = SE3::Identity();  // robot (body) frame to camera frame: T_w_r = T_w_c * T_c_r
-  bool threaded = false;        // tracking and local mapping in separate threads
+  SE3 T_c_r = SE3::Identity();     // robot (body) frame to camera frame: T_w_r = T_w_c * T_c_r
+  bool threaded = false;           // tracking and local mapping in separate threads
   // Bound of the two queues between tracking and local mapping (threaded mode). Tracking keeps at
   // most tracker.max_pending_keyframes + 1 keyframes unanswered, plus one relocalisation query:
   // validate() requires room for that, so neither thread can block the other for good.
@@ -47,6 +51,11 @@ struct SlamConfig {
 
   void validate() const;
 };
+
+// The YAML keys of the `slam:` and `loop_closing:` sections, with the members they fill
+// (core/config_table.hpp; the tables of the member structs are in slam_config.cpp).
+void fields(config::FieldVisitor& v, SlamConfig& c);
+void fields(config::FieldVisitor& v, LoopClosingConfig& c);
 
 // Reads a SlamConfig from a YAML node (sections: features/orb, tracker, mapper/ba, calibration,
 // threaded). Absent keys keep their defaults; unknown keys are errors naming the file and line.
