@@ -37,14 +37,14 @@ Outcome run(const io::TumDataset& data, std::shared_ptr<const features::Vocabula
       f.depth_m.setTo(0);
     }
     const auto r = system.track(f);
-    o.lost += r.state == slam::TrackState::kLost;
-    if (i % 100 == 0) std::fprintf(stderr, "  frame %zu/%zu %s\n", i, data.size(), slam::to_string(r.state));
+    o.lost += r.state == FrameState::kLost;
+    if (i % 100 == 0) std::fprintf(stderr, "  frame %zu/%zu %s\n", i, data.size(), to_string(r.state));
   }
   system.finish();
   o.wall_s = wall.elapsed_ms() / 1000.0;
   eval::MatchedPoses m;
   for (const auto& p : system.camera_trajectory()) {
-    if (p.state == slam::TrackState::kLost) continue;
+    if (p.state == FrameState::kLost) continue;
     if (const auto gt = data.groundtruth_at(p.t_s)) {
       m.t_s.push_back(p.t_s);
       m.T_w_gt.push_back(*gt);

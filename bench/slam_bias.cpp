@@ -139,7 +139,7 @@ void run_slam(const Args& a, const sim::Simulation& simu) {
   std::map<int, SE3> kf_track;
   for (std::size_t i = 0; i < simu.size(); ++i) {
     const auto r = sys.track(simu.frame(i));
-    if (r.state != slam::TrackState::kOk) continue;
+    if (r.state != FrameState::kOk) continue;
     track_est.push_back(r.T_w_c.translation());
     track_gt.push_back(simu.trajectory().samples[i].T_w_c.translation());
     if (r.keyframe) kf_track[r.frame_index] = r.T_w_c;

@@ -88,10 +88,10 @@ RunStats run(slam::System& slam, const io::TumDataset& ds, bool realtime) {
     st.track_ms.push_back(r.track_ms);
     st.cpu_ms.push_back(r.track_cpu_ms);
     st.total_ms.push_back(r.track_ms + r.mapping_ms);
-    st.lost += r.state != slam::TrackState::kOk;
+    st.lost += r.state != FrameState::kOk;
     st.keyframes += r.keyframe;
     if (i % 100 == 0 || std::getenv("S3M_SLAM_VERBOSE"))
-      std::fprintf(stderr, "frame %zu/%zu state %s inliers %d kfs %d\n", i, ds.size(), slam::to_string(r.state),
+      std::fprintf(stderr, "frame %zu/%zu state %s inliers %d kfs %d\n", i, ds.size(), to_string(r.state),
                    r.n_inliers, st.keyframes);
   }
   slam.finish();

@@ -28,7 +28,7 @@ GapRun fly_every(const sim::Simulation& sim, int stride, const slam::SlamConfig&
     RgbdFrame frame = sim.frame(i);
     frame.labels.release();
     const auto r = slam.track(frame);
-    run.lost += r.state != slam::TrackState::kOk && r.state != slam::TrackState::kOdometry;
+    run.lost += r.state != FrameState::kOk && r.state != FrameState::kOdometry;
   }
   slam.finish();
   eval::MatchedPoses matched;

@@ -309,8 +309,8 @@ double worst_error_m(const SessionB& b) {
 TEST(SlamSession, LocalizeOnlyTracksInTheLoadedWorldAndLeavesTheMapAsItWas) {
   const fs::path again = temp_file("localized");
   const SessionB b = run_session_b(true, false, again.string());
-  EXPECT_EQ(b.results.front().state, TrackState::kRelocalised) << "the first frame relocalises in the map";
-  for (const auto& r : b.results) EXPECT_NE(r.state, TrackState::kLost) << "frame " << r.frame_index;
+  EXPECT_EQ(b.results.front().state, FrameState::kRelocalised) << "the first frame relocalises in the map";
+  for (const auto& r : b.results) EXPECT_NE(r.state, FrameState::kLost) << "frame " << r.frame_index;
   EXPECT_EQ(b.keyframes_made, 0);
   EXPECT_EQ(b.keyframes_after, b.keyframes_before);
   EXPECT_EQ(slurp(again), slurp(session_a_file())) << "the frozen map saves to the bytes it was loaded from";
@@ -323,7 +323,7 @@ TEST(SlamSession, LocalizeOnlyTracksInTheLoadedWorldAndLeavesTheMapAsItWas) {
 
 TEST(SlamSession, ThreadedLocalizeOnlyAlsoAddsNothing) {
   const SessionB b = run_session_b(true, true);
-  EXPECT_EQ(b.results.front().state, TrackState::kRelocalised);
+  EXPECT_EQ(b.results.front().state, FrameState::kRelocalised);
   EXPECT_EQ(b.keyframes_made, 0);
   EXPECT_EQ(b.keyframes_after, b.keyframes_before);
   EXPECT_LT(worst_error_m(b), 0.03);
@@ -331,8 +331,8 @@ TEST(SlamSession, ThreadedLocalizeOnlyAlsoAddsNothing) {
 
 TEST(SlamSession, ExtendingContinuesTheLoadedMapInItsWorld) {
   const SessionB b = run_session_b(false, false);
-  EXPECT_EQ(b.results.front().state, TrackState::kRelocalised);
-  for (const auto& r : b.results) EXPECT_NE(r.state, TrackState::kLost) << "frame " << r.frame_index;
+  EXPECT_EQ(b.results.front().state, FrameState::kRelocalised);
+  for (const auto& r : b.results) EXPECT_NE(r.state, FrameState::kLost) << "frame " << r.frame_index;
   ASSERT_EQ(b.traj.size(), std::size_t(kFrames));
   // New keyframes continue the loaded ids.
   for (const auto& r : b.results)

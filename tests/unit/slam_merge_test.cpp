@@ -118,7 +118,7 @@ double worst_error_m(const std::vector<FramePose>& traj, int from = 0, int to = 
 void expect_merged_into_a(const SessionB& b, const SlamConfig& cfg, const char* mode, double world_bound, double bound) {
   // merge.start_frames frames fail to relocalise; the last of them starts the sub-map.
   const int start = cfg.loop_closing.loop.merge.start_frames - 1;
-  for (int j = 0; j < start; ++j) EXPECT_EQ(b.results[j].state, TrackState::kLost) << "frame " << j;
+  for (int j = 0; j < start; ++j) EXPECT_EQ(b.results[j].state, FrameState::kLost) << "frame " << j;
   EXPECT_TRUE(b.results[start].keyframe) << "the sub-map starts at once";
   EXPECT_EQ(b.results[start].submap, 1);
   EXPECT_EQ(b.new_submaps, 1);
@@ -130,7 +130,7 @@ void expect_merged_into_a(const SessionB& b, const SlamConfig& cfg, const char* 
   EXPECT_EQ(m.merged_into, 0);
   int first_world = -1;
   for (const auto& r : b.results)
-    if (r.submap == 0 && r.state != TrackState::kLost && first_world < 0) first_world = r.frame_index;
+    if (r.submap == 0 && r.state != FrameState::kLost && first_world < 0) first_world = r.frame_index;
   // Every frame from the sub-map's start on is in the trajectory, in A's world.
   ASSERT_EQ(b.traj.size(), std::size_t(kBFrames - start));
   EXPECT_EQ(b.traj.front().frame_index, start);
@@ -173,7 +173,7 @@ TEST(SlamMerge, WithoutMergingASessionStaysLostUntilItRelocalises) {
   const SessionB b = run_b(cfg);
   EXPECT_EQ(b.new_submaps, 0);
   int lost = 0;
-  for (const auto& r : b.results) lost += r.state == TrackState::kLost;
+  for (const auto& r : b.results) lost += r.state == FrameState::kLost;
   EXPECT_GT(lost, 60) << "the unmapped half of the lap";
   EXPECT_LT(lost, kBFrames) << "it relocalises in A's quarter";
 }
@@ -231,8 +231,8 @@ TEST(SlamMerge, ASessionThatStartedLookingElsewhereEndsInTheMapOfItsOtherFrames)
   // relocalise (not lost_frames), the last of them starts the sub-map that tracks the rest.
   const int start = cfg.loop_closing.loop.merge.start_frames;
   ASSERT_LT(start, cfg.loop_closing.loop.merge.lost_frames);
-  EXPECT_EQ(e.results[0].state, TrackState::kOk);
-  for (int i = 1; i < start; ++i) EXPECT_EQ(e.results[std::size_t(i)].state, TrackState::kLost) << "frame " << i;
+  EXPECT_EQ(e.results[0].state, FrameState::kOk);
+  for (int i = 1; i < start; ++i) EXPECT_EQ(e.results[std::size_t(i)].state, FrameState::kLost) << "frame " << i;
   EXPECT_TRUE(e.results[std::size_t(start)].keyframe);
   EXPECT_EQ(e.results[std::size_t(start)].submap, 1);
   EXPECT_EQ(e.new_submaps, 1);
@@ -269,7 +269,7 @@ TEST(SlamMerge, TheFirstMapStaysTheWorldWhenAskedTo) {
   // Frame 0, then the LOST frames 1-4 (System's trajectory lists them with their state).
   ASSERT_EQ(e.traj.size(), std::size_t(cfg.loop_closing.loop.merge.start_frames));
   EXPECT_EQ(e.traj.front().frame_index, 0);
-  for (std::size_t i = 1; i < e.traj.size(); ++i) EXPECT_EQ(e.traj[i].state, TrackState::kLost);
+  for (std::size_t i = 1; i < e.traj.size(); ++i) EXPECT_EQ(e.traj[i].state, FrameState::kLost);
   EXPECT_EQ(e.frames_outside_world, kElsewhereFrames - cfg.loop_closing.loop.merge.start_frames);
   cfg.loop_closing.loop.merge.world = "biggest";
   EXPECT_THROW(cfg.validate(), Error);
@@ -290,9 +290,9 @@ TEST(SlamMerge, ABlackoutLongerThanLostFramesStartsNoSubMap) {
     results.push_back(slam.track(f));
   }
   slam.finish();
-  for (int i = 40; i < back; ++i) EXPECT_EQ(results[std::size_t(i)].state, TrackState::kLost) << "frame " << i;
+  for (int i = 40; i < back; ++i) EXPECT_EQ(results[std::size_t(i)].state, FrameState::kLost) << "frame " << i;
   // Back in the map at once (the tracker's reference keyframe or relocalisation finds it).
-  EXPECT_NE(results[std::size_t(back)].state, TrackState::kLost);
+  EXPECT_NE(results[std::size_t(back)].state, FrameState::kLost);
   EXPECT_EQ(results[std::size_t(back)].submap, 0);
   EXPECT_EQ(slam.n_new_submaps(), 0) << "black frames are no evidence that the camera is elsewhere";
   double worst = 0;

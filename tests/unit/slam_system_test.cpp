@@ -40,7 +40,7 @@ RunResult run(const SlamConfig& cfg, MappingObserver observer = {}, std::atomic<
   RunResult r;
   for (const auto& f : room_frames()) {
     r.results.push_back(slam.track(f));
-    r.lost += r.results.back().state != TrackState::kOk;
+    r.lost += r.results.back().state != FrameState::kOk;
     if (progress) progress->store(static_cast<int>(r.results.size()));
   }
   slam.finish();
@@ -201,8 +201,8 @@ TEST(SlamTracker, FewCloseTrackedPointsMakeNoKeyframeWhileOneIsPending) {
   Tracker idle = tracker, busy = tracker;
   const TrackerOutput a = idle.process(room_frames(3)[2], /*pending_keyframes=*/0);
   const TrackerOutput b = busy.process(room_frames(3)[2], /*pending_keyframes=*/1);
-  ASSERT_EQ(a.state, TrackState::kOk);
-  ASSERT_EQ(b.state, TrackState::kOk);
+  ASSERT_EQ(a.state, FrameState::kOk);
+  ASSERT_EQ(b.state, FrameState::kOk);
   EXPECT_TRUE(a.keyframe.has_value());
   EXPECT_FALSE(b.keyframe.has_value());
 }

@@ -18,7 +18,7 @@ io::Trajectory without_lost(const std::vector<slam::FramePose>& frames) {
   io::Trajectory out;
   out.reserve(frames.size());
   for (const slam::FramePose& p : frames)
-    if (p.state != slam::TrackState::kLost) out.push_back(p);  // its StampedPose
+    if (p.state != FrameState::kLost) out.push_back(p);  // its StampedPose
   return out;
 }
 
@@ -40,11 +40,11 @@ class SlamPoses final : public PoseSource {
     out.T_w_c = r.T_w_c;
     // An ODOMETRY frame has a measured pose but images feature tracking could not use (blank,
     // plain, blurred): it goes into the map only when it became a keyframe (enough texture).
-    out.ok = r.state == slam::TrackState::kOk || r.state == slam::TrackState::kRelocalised ||
-             (r.state == slam::TrackState::kOdometry && r.keyframe);
+    out.ok = r.state == FrameState::kOk || r.state == FrameState::kRelocalised ||
+             (r.state == FrameState::kOdometry && r.keyframe);
     out.detached = r.submap != 0;
     // Tracked in a sub-map that has not joined the world (yet): said as such in frames.txt.
-    out.state = out.detached && out.ok ? "SUBMAP" : slam::to_string(r.state);
+    out.state = out.detached && out.ok ? "SUBMAP" : to_string(r.state);
     out.keyframe = r.keyframe;
     out.anchor = r.anchor;
     out.corrections = corrected_poses(r.corrections);

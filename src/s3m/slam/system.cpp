@@ -198,7 +198,7 @@ bool System::relocalise(const features::FrameFeatures& f, int frame_index, Track
   else
     tracker_.set_snapshot(std::move(snapshot));
   tracker_.set_pose(reloc.T_w_c);
-  r.state = TrackState::kRelocalised;
+  r.state = FrameState::kRelocalised;
   r.T_w_c = reloc.T_w_c;
   r.T_w_r = robot_pose(reloc.T_w_c, config_.T_c_r);
   r.n_inliers = reloc.n_inliers;
@@ -249,7 +249,7 @@ TrackResult System::track(const RgbdFrame& frame) {
   take_tracking(out, r);
   // 3. Relocalise a LOST frame against the map (with the features tracking computed); when that
   //    keeps failing, start a new sub-map, merged later when place recognition finds the old one.
-  if (out.state == TrackState::kLost && relocalises())
+  if (out.state == FrameState::kLost && relocalises())
     recover(frame, out, r);
   else
     n_failed_relocalisations_ = 0;
@@ -273,9 +273,9 @@ TrackResult System::track(const RgbdFrame& frame) {
   }
   // 5. Record the pose relative to its keyframe for the final trajectory; hand over the loop
   //    corrections received meanwhile.
-  n_lost_ += r.state == TrackState::kLost;
-  n_relocalised_ += r.state == TrackState::kRelocalised;
-  frames_in_submap_ += r.state != TrackState::kLost && r.anchor.keyframe != kNoKeyframe;
+  n_lost_ += r.state == FrameState::kLost;
+  n_relocalised_ += r.state == FrameState::kRelocalised;
+  frames_in_submap_ += r.state != FrameState::kLost && r.anchor.keyframe != kNoKeyframe;
   if (r.anchor.keyframe != kNoKeyframe)
     records_.push_back({frame.index, frame.t_s, r.state, r.anchor, std::move(out.anchors)});  // empty unless tracked
   r.corrections = std::move(corrections_);
@@ -335,7 +335,7 @@ std::vector<FramePose> System::robot_trajectory() const {
 std::vector<FramePose> System::keyframe_trajectory() const {
   std::vector<FramePose> out;
   for (const auto& [id, kf] : map_.keyframes())
-    if (kf.submap == 0) out.push_back({{kf.t_s, kf.T_w_c}, kf.frame_index, TrackState::kOk});
+    if (kf.submap == 0) out.push_back({{kf.t_s, kf.T_w_c}, kf.frame_index, FrameState::kOk});
   return out;
 }
 

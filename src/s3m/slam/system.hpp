@@ -29,6 +29,7 @@
 #include "s3m/core/bounded_queue.hpp"
 #include "s3m/core/camera.hpp"
 #include "s3m/core/rgbd_frame.hpp"
+#include "s3m/core/frame_state.hpp"
 #include "s3m/slam/local_mapper.hpp"
 #include "s3m/slam/loop_closer.hpp"
 #include "s3m/slam/map.hpp"
@@ -41,7 +42,7 @@ namespace s3m::slam {
 struct TrackResult {
   int frame_index = 0;
   double t_s = 0;
-  TrackState state = TrackState::kNotInitialized;
+  FrameState state = FrameState::kNotInitialized;
   SE3 T_w_c = SE3::Identity();  // camera-to-world at tracking time
   SE3 T_w_r = SE3::Identity();  // robot-to-world: robot_pose(T_w_c, T_c_r)
   bool keyframe = false;
@@ -75,7 +76,7 @@ using MappingObserver = std::function<void(const Map&, KeyframeId)>;
 // tracking went.
 struct FramePose : StampedPose {
   int frame_index = 0;
-  TrackState state = TrackState::kOk;
+  FrameState state = FrameState::kOk;
 };
 
 class System {
@@ -153,7 +154,7 @@ class System {
   struct FrameRecord {
     int frame_index;
     double t_s;
-    TrackState state;
+    FrameState state;
     KeyframeAnchor anchor;
     std::vector<std::pair<KeyframeAnchor, double>> anchors;  // TrackerOutput::anchors
   };

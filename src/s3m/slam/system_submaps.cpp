@@ -58,7 +58,7 @@ void System::choose_world() {
 std::map<int, int> System::tracked_frames_per_submap() const {
   std::map<int, int> frames;
   for (const auto& rec : records_)
-    if (rec.state != TrackState::kLost) ++frames[map_.submap_of(rec.anchor.keyframe)];
+    if (rec.state != FrameState::kLost) ++frames[map_.submap_of(rec.anchor.keyframe)];
   return frames;
 }
 

@@ -81,15 +81,15 @@ void Tracker::set_pose(const SE3& T_w_c) {
   velocity_.reset();
   coast_velocity_.reset();
   last_frame_ = RgbdFrame{};  // no odometry from images of before the new pose
-  state_ = TrackState::kLost;  // the next frame tracks against the local map from this pose
+  state_ = FrameState::kLost;  // the next frame tracks against the local map from this pose
   resume_from_pose_ = true;
 }
 
 void Tracker::continue_map(KeyframeId next_keyframe_id) {
-  require(state_ == TrackState::kNotInitialized && n_requests_ == 0,
+  require(state_ == FrameState::kNotInitialized && n_requests_ == 0,
           "Tracker::continue_map: only before the first frame");
   n_requests_ = next_keyframe_id;
-  state_ = TrackState::kLost;
+  state_ = FrameState::kLost;
 }
 
 // Moves everything tracking holds in world coordinates by T_new_old when this sub-map was merged
@@ -117,7 +117,7 @@ bool Tracker::follow_merges(const LocalMapSnapshot& snapshot) {
 
 void Tracker::start_new_map(int submap) {
   require(!localize_only_, "Tracker::start_new_map: not in localisation only");
-  state_ = TrackState::kNotInitialized;
+  state_ = FrameState::kNotInitialized;
   submap_ = submap;
   snapshot_.reset();
   pending_.clear();
@@ -152,7 +152,7 @@ std::shared_ptr<const features::FrameFeatures> Tracker::extract(const RgbdFrame&
 TrackerOutput Tracker::retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
                                int pending_keyframes) {
   TrackerOutput out = track(frame, std::move(features), pending_keyframes);
-  if (!out.deferred && out.state != TrackState::kLost) keep_images(frame, last_.T_c_w);
+  if (!out.deferred && out.state != FrameState::kLost) keep_images(frame, last_.T_c_w);
   return out;
 }
 
@@ -171,7 +171,7 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   Frame cur = Frame::unmatched(std::move(features), SE3::Identity());
   const int n = cur.f->size();
   // 2. The first frame with enough depth starts the map.
-  if (state_ == TrackState::kNotInitialized) {
+  if (state_ == FrameState::kNotInitialized) {
     initialize(cur, frame, out);
     return out;
   }
@@ -179,7 +179,7 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   bool ok = false;
   // Right after the first keyframe there is no velocity yet: predict no motion (a guided search
   // around the last pose; a UAV starts at rest) before falling back to the reference keyframe.
-  if (state_ == TrackState::kOk) ok = track_motion_model(cur, velocity_.value_or(SE3::Identity()));
+  if (state_ == FrameState::kOk) ok = track_motion_model(cur, velocity_.value_or(SE3::Identity()));
   if (!ok) {
     cur = Frame::unmatched(cur.f, last_.T_c_w);
     // After relocalisation the pose prior is good while the reference keyframe's view may be too
@@ -195,12 +195,12 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
     return out;
   }
   if (!ok) {
-    const bool from_rest = state_ == TrackState::kOk && !velocity_;
-    if (state_ == TrackState::kOk) coast_velocity_ = velocity_, coasted_ = 0;
+    const bool from_rest = state_ == FrameState::kOk && !velocity_;
+    if (state_ == FrameState::kOk) coast_velocity_ = velocity_, coasted_ = 0;
     track_lost(cur, frame, from_rest, out);
     return out;
   }
-  state_ = TrackState::kOk;
+  state_ = FrameState::kOk;
   velocity_ = cur.T_c_w * last_.T_c_w.inverse();
   out.state = state_;
   out.T_w_c = cur.T_c_w.inverse();
@@ -249,10 +249,10 @@ std::vector<std::pair<KeyframeAnchor, double>> Tracker::weighted_anchors(const F
 }
 
 bool Tracker::initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out) {
-  out.state = TrackState::kNotInitialized;
+  out.state = FrameState::kNotInitialized;
   if (cur.n_with_depth() < config_.min_init_depth_points) return false;
   cur.T_c_w = SE3::Identity();  // the first keyframe defines the world frame
-  state_ = TrackState::kOk;
+  state_ = FrameState::kOk;
   out.state = state_;
   out.T_w_c = SE3::Identity();
   out.keyframe = make_request(cur, frame, /*first_of_map=*/true);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "s3m/core/camera.hpp"
+#include "s3m/core/frame_state.hpp"
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/features/frame_features.hpp"
 #include "s3m/features/orb_extractor.hpp"
@@ -103,7 +104,7 @@ struct TrackerConfig {
 };
 
 struct TrackerOutput {
-  TrackState state = TrackState::kNotInitialized;
+  FrameState state = FrameState::kNotInitialized;
   SE3 T_w_c = SE3::Identity();
   int n_inliers = 0;                       // map-point inliers after local-map tracking
   std::optional<KeyFrameRequest> keyframe;  // set when this frame becomes a keyframe
@@ -162,7 +163,7 @@ class Tracker {
   // as if that keyframe had just been made at frame_index (after relocalisation in a loaded map,
   // and for wants_local_map).
   void set_local_map(std::shared_ptr<const LocalMapSnapshot> snapshot, int frame_index);
-  TrackState state() const { return state_; }
+  FrameState state() const { return state_; }
   const features::OrbExtractor& extractor() const { return extractor_; }
 
  private:
@@ -220,7 +221,7 @@ class Tracker {
   bool odometry_keyframe(Frame& cur, const RgbdFrame& frame, const SE3& T_c_w, TrackerOutput& out);
   // cur (at its pose) becomes a keyframe with every keypoint with depth, as the first of a map, so
   // that the next frames have points to track in its view; tracking goes on from it with velocity.
-  void restart_from(Frame& cur, const RgbdFrame& frame, TrackState reported, const SE3& velocity, TrackerOutput& out);
+  void restart_from(Frame& cur, const RgbdFrame& frame, FrameState reported, const SE3& velocity, TrackerOutput& out);
   bool track_motion_model(Frame& cur, const SE3& velocity);  // velocity: T_c_w(cur) = velocity * T_c_w(last)
   bool track_reference_keyframe(Frame& cur);
   bool track_reference_keyframe_wide(Frame& cur, const SE3& T_c_w_last);  // PnP RANSAC, no prior
@@ -258,7 +259,7 @@ class Tracker {
   RgbdFrame last_frame_;
   SE3 T_c_w_last_frame_ = SE3::Identity();
   std::shared_ptr<const LocalMapSnapshot> snapshot_;
-  TrackState state_ = TrackState::kNotInitialized;
+  FrameState state_ = FrameState::kNotInitialized;
   Frame last_;
   bool resume_from_pose_ = false;  // set_pose() was called: the next frame tracks the local map from it
   bool localize_only_ = false;

@@ -22,7 +22,7 @@ void Tracker::track_lost(Frame& cur, const RgbdFrame& frame, bool from_rest, Tra
   //    pose, as the first of a map, so that the next frames track against its points.
   if (measured && odometry_keyframe(cur, frame, *guess, out)) return;
   // 4. ODOMETRY at the measured pose, else LOST at the best guess (the next frame searches from it).
-  state_ = measured ? TrackState::kOdometry : TrackState::kLost;
+  state_ = measured ? FrameState::kOdometry : FrameState::kLost;
   if (velocity_) cur.T_c_w = *velocity_ * last_.T_c_w;
   if (guess) {
     cur.T_c_w = *guess;
@@ -162,13 +162,13 @@ double Tracker::odometry_step_scale(const RgbdFrame& frame) const {
 bool Tracker::odometry_keyframe(Frame& cur, const RgbdFrame& frame, const SE3& T_c_w, TrackerOutput& out) {
   if (localize_only_ || !snapshot_ || cur.n_with_depth() < config_.min_init_depth_points) return false;
   cur = Frame::unmatched(cur.f, T_c_w);
-  restart_from(cur, frame, TrackState::kOdometry, *coast_velocity_, out);  // reported as what gave the pose
+  restart_from(cur, frame, FrameState::kOdometry, *coast_velocity_, out);  // reported as what gave the pose
   return true;
 }
 
-void Tracker::restart_from(Frame& cur, const RgbdFrame& frame, TrackState reported, const SE3& velocity,
+void Tracker::restart_from(Frame& cur, const RgbdFrame& frame, FrameState reported, const SE3& velocity,
                            TrackerOutput& out) {
-  state_ = TrackState::kOk;  // the next frame tracks with the motion model again
+  state_ = FrameState::kOk;  // the next frame tracks with the motion model again
   velocity_ = velocity;
   out.state = reported;
   out.T_w_c = cur.T_c_w.inverse();
@@ -193,7 +193,7 @@ bool Tracker::bridge(Frame& cur, const RgbdFrame& frame, const SE3& guess, Track
   }
   // 2. Tracked.
   out.n_inliers = n_inliers;
-  restart_from(cur, frame, TrackState::kOk, cur.T_c_w * last_.T_c_w.inverse(), out);
+  restart_from(cur, frame, FrameState::kOk, cur.T_c_w * last_.T_c_w.inverse(), out);
   return true;
 }
 

@@ -75,7 +75,7 @@ bool Tracker::track_reference_keyframe(Frame& cur) {
   //    the camera moved meanwhile. The pose from PnP RANSAC first, no prior trusted: optimised from
   //    the held pose, a frame can be re-acquired with an offset that the rest of the run keeps
   //    (see docs/DECISIONS.md, "Tracking: frames after a wide gap").
-  const bool after_lost = state_ == TrackState::kLost;
+  const bool after_lost = state_ == FrameState::kLost;
   if (after_lost && track_reference_keyframe_wide(cur, T_c_w_last)) return true;
   // 2. Brute-force matches of the keyframe's mapped keypoints, optimised from the last pose: right
   //    after the first keyframe or a short gap the last pose is close enough for the robust optimiser.
