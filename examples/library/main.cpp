@@ -46,7 +46,7 @@ int run(const std::string& dataset, const std::string& preset) {
     if (!f.keyframe) return;
     const Eigen::Vector3d t = f.T_w_c.translation();
     std::printf("keyframe at frame %d: camera at (%.3f, %.3f, %.3f) m, %s\n", f.index, t.x(), t.y(), t.z(),
-                f.state.c_str());
+                s3m::to_string(f.state));
   });
   for (std::size_t i = 0; i < source->size(); ++i) pipeline.process(source->load(i));
   pipeline.finish();

@@ -250,7 +250,7 @@ void S3mNode::on_outcome(const pipeline::FrameOutcome& o, const semantics::Label
     if (labels_.getNumSubscribers() > 0) labels_.publish(label_image(labels, s));
   }
   if (!o.tracked) {
-    ROS_WARN_THROTTLE(2.0, "s3m_node: frame %d not tracked (%s)", o.index, o.state.c_str());
+    ROS_WARN_THROTTLE(2.0, "s3m_node: frame %d not tracked (%s)", o.index, to_string(o.state));
     return;
   }
   if (o.detached) {  // a SLAM sub-map's own frame, not the map's: nothing to publish until it merges

@@ -110,7 +110,7 @@ class SplitWorldPoses final : public pipeline::PoseSource {
     const bool sub = frame.index >= split_;
     out.T_w_c = sub ? T_sub_ * gt_.at(std::size_t(frame.index)).T_w_x : gt_.at(std::size_t(frame.index)).T_w_x;
     out.ok = out.keyframe = true;
-    out.state = "OK";
+    out.state = FrameState::kOk;
     out.detached = sub && detach_;
     out.anchor = {frame.index, SE3::Identity()};
     (sub ? sub_ : first_).emplace(frame.index, out.T_w_c);

@@ -124,7 +124,7 @@ TEST(TrackingFailure, FramesWhileLostAreNotIntegratedAndTrackingRecovers) {
   ASSERT_EQ(a->frames().size(), static_cast<std::size_t>(kLength));
   for (int i = 30; i < 35; ++i) {
     const auto& f = outcome(*a, i);
-    EXPECT_EQ(f.state, "LOST") << "frame " << i;
+    EXPECT_EQ(f.state, FrameState::kLost) << "frame " << i << " " << to_string(f.state);
     EXPECT_FALSE(f.tracked) << "frame " << i;
     EXPECT_FALSE(f.integrated) << "frame " << i;
   }
@@ -158,7 +158,7 @@ TEST(TrackingFailure, BlackFramesWithDepthArePosedByOdometryAndKeptOutOfTheMap) 
   const SE3 T_slam_sim = samples[0].T_w_c.inverse();
   for (int i = 30; i < 35; ++i) {
     const auto& f = outcome(*a, i);
-    EXPECT_EQ(f.state, "ODOMETRY") << "frame " << i;
+    EXPECT_EQ(f.state, FrameState::kOdometry) << "frame " << i << " " << to_string(f.state);
     EXPECT_FALSE(f.tracked) << "frame " << i;
     EXPECT_FALSE(f.integrated) << "frame " << i;
     EXPECT_LT((f.T_w_c.translation() - (T_slam_sim * samples[std::size_t(i)].T_w_c).translation()).norm(), 0.05)

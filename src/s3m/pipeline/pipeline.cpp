@@ -193,7 +193,7 @@ void Pipeline::finish() {
   }
 }
 
-std::string Pipeline::last_state() const {
+std::optional<FrameState> Pipeline::last_state() const {
   std::lock_guard lock(state_mutex_);
   return last_state_;
 }

@@ -16,12 +16,14 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "s3m/core/bounded_queue.hpp"
 #include "s3m/core/camera.hpp"
+#include "s3m/core/frame_state.hpp"
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
 #include "s3m/pipeline/map_integrator.hpp"
@@ -39,7 +41,7 @@ struct FrameOutcome {
   int index = 0;
   double t_s = 0;
   SE3 T_w_c = SE3::Identity();
-  std::string state;
+  FrameState state = FrameState::kNotInitialized;
   bool tracked = false;     // pose usable
   bool keyframe = false;
   bool segmented = false;
@@ -80,9 +82,10 @@ class Pipeline {
   // first error a worker thread hit. Idempotent.
   void finish();
 
-  // Live (any thread): frames through all five steps, and the latest tracking state.
+  // Live (any thread): frames through all five steps, and the latest tracking state (none before
+  // the first frame is tracked).
   std::size_t frames_done() const { return frames_done_.load(); }
-  std::string last_state() const;
+  std::optional<FrameState> last_state() const;
 
   // After finish():
   const std::vector<FrameOutcome>& frames() const { return outcomes_; }
@@ -130,7 +133,7 @@ class Pipeline {
   std::atomic<std::size_t> frames_done_{0};
 
   mutable std::mutex state_mutex_;
-  std::string last_state_;
+  std::optional<FrameState> last_state_;
   KeyframePoses pending_corrections_;  // received with the frames, applied by step 4 (mapping step only)
 
   // Threaded mode.

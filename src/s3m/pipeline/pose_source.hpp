@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/frame_state.hpp"
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
@@ -20,7 +21,7 @@ using KeyframePoses = std::map<KeyframeId, SE3>;
 
 struct TrackOutput {
   SE3 T_w_c = SE3::Identity();  // camera -> world
-  std::string state;            // tracking state as SLAM names it ("OK", "LOST", "RELOCALISED", ...)
+  FrameState state = FrameState::kNotInitialized;  // how the pose came about
   bool ok = false;              // pose usable for mapping
   bool keyframe = false;        // this frame became a keyframe
   // The keyframe this frame's pose is relative to (this frame's own when keyframe; kNoKeyframe:
@@ -76,7 +77,7 @@ class PoseSource {
 
 // Ground-truth poses (T_w_c from the dataset). Keyframes are chosen by motion, like a SLAM
 // system would: when the camera moved more than keyframe_dist_m or turned more than keyframe_angle_rad
-// since the last keyframe. Frames without a ground-truth pose within max_dt_s are reported "NO_GT".
+// since the last keyframe. Frames without a ground-truth pose within max_dt_s are kNoGroundTruth.
 struct GroundTruthPosesConfig {
   double keyframe_dist_m = 0.10;   // [m]
   double keyframe_angle_rad = 0.17;  // [rad] (~10 deg)

@@ -162,6 +162,9 @@ bool stop_requested(const RunOptions& o, std::size_t done) {
   return o.stop_after_frames >= 0 && static_cast<long>(done) >= o.stop_after_frames;
 }
 
+// The progress line's state: the latest tracked frame's, nothing before the first.
+std::string state_text(const std::optional<FrameState>& state) { return state ? to_string(*state) : ""; }
+
 // Feeds frames 0, 1, ... to the pipeline until the last, a stop request or more unreadable frames in
 // a row than the config allows (c.info.stopped_by says why). Returns the index it stopped at.
 std::size_t process_frames(const RunOptions& o, Components& c, RunResult& r, ProgressLine& progress) {
@@ -182,7 +185,7 @@ std::size_t process_frames(const RunOptions& o, Components& c, RunResult& r, Pro
       r.interrupted = true;
       break;
     }
-    progress.update(c.pipeline->frames_done(), c.pipeline->last_state());
+    progress.update(c.pipeline->frames_done(), state_text(c.pipeline->last_state()));
   }
   return i;
 }
@@ -219,7 +222,7 @@ RunResult run_dataset(const RunOptions& o) {
   c.info.frames_total = r.frames_total;
   r.frames_done = c.pipeline->frames_done();
   r.frames_skipped = c.info.skipped.size();
-  progress.finish(r.frames_done, r.interrupted ? "interrupted" : c.pipeline->last_state());
+  progress.finish(r.frames_done, r.interrupted ? "interrupted" : state_text(c.pipeline->last_state()));
   if (!c.info.skipped.empty())
     spdlog::warn("run: {} unreadable frame(s) skipped (listed in metrics.json, skipped_frames)", c.info.skipped.size());
   if (r.interrupted) spdlog::warn("run: stopped after {} of {} frames; writing what was processed", r.frames_done, r.frames_total);

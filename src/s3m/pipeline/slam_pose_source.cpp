@@ -44,7 +44,7 @@ class SlamPoses final : public PoseSource {
              (r.state == FrameState::kOdometry && r.keyframe);
     out.detached = r.submap != 0;
     // Tracked in a sub-map that has not joined the world (yet): said as such in frames.txt.
-    out.state = out.detached && out.ok ? "SUBMAP" : to_string(r.state);
+    out.state = out.detached && out.ok ? FrameState::kSubmap : r.state;
     out.keyframe = r.keyframe;
     out.anchor = r.anchor;
     out.corrections = corrected_poses(r.corrections);
