@@ -208,7 +208,8 @@ void S3mNode::start(const CameraInfo& info, const std::string& camera_frame, con
   auto map = std::make_unique<pipeline::MapIntegrator>(c.map);
   auto poses = pipeline::make_slam_poses(camera, c);
   const std::filesystem::path saved(params_.map);
-  if (!params_.map.empty()) poses->load_map((saved / pipeline::kSlamMapFile).string(), params_.localize_only);
+  if (!params_.map.empty())
+    pipeline::load_session_map(*poses, (saved / pipeline::kSlamMapFile).string(), params_.localize_only);
   pipeline_ = std::make_unique<pipeline::Pipeline>(c, camera, std::move(poses), std::move(segmenter), std::move(map));
   if (!params_.map.empty()) {
     if (std::filesystem::exists(saved / pipeline::kKeptCloudsFile))

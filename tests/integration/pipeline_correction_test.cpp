@@ -100,7 +100,7 @@ TEST(PipelineCorrection, MapIsReintegratedWithCorrectedKeyframePoses) {
 // keyframe. detach: the sub-map is outside the world while frames come, and becomes the world at
 // finish() (slam::System::choose_world); without, its frames are in the world from the start (the
 // reference: a run that only ever saw the sub-map).
-class SplitWorldPoses final : public pipeline::PoseSource {
+class SplitWorldPoses final : public pipeline::PoseSource, public pipeline::SessionMap {
  public:
   SplitWorldPoses(const io::Trajectory& gt, int split, const SE3& T_sub, bool detach)
       : gt_(gt), split_(split), T_sub_(T_sub), detach_(detach) {}
@@ -123,10 +123,16 @@ class SplitWorldPoses final : public pipeline::PoseSource {
   io::Trajectory camera_trajectory() const override { return {}; }
   io::Trajectory keyframe_trajectory() const override { return {}; }
   pipeline::KeyframePoses keyframe_poses() const override { return moved_ || !detach_ ? sub_ : first_; }
+  std::string name() const override { return "split ground truth"; }
+  pipeline::SessionMap* session_map() override { return this; }
+  const pipeline::SessionMap* session_map() const override { return this; }
+  // Only the moved world matters here: nothing to load or save, no sub-map counts.
+  void load_map(const std::string&, bool) override {}
+  bool save_map(const std::string&) const override { return false; }
+  Submaps submaps() const override { return {}; }
   std::optional<pipeline::KeyframePoses> moved_world() const override {
     return moved_ ? std::optional(sub_) : std::nullopt;
   }
-  std::string name() const override { return "split ground truth"; }
 
  private:
   io::Trajectory gt_;

@@ -191,7 +191,8 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   m["wall_time_s"] = info.wall_time_s;
   m["fps"] = info.wall_time_s > 0 ? c.frames / info.wall_time_s : 0.0;
   m["tracking"] = tracking_json(p.frames());
-  const PoseSource::Submaps sub = p.poses().submaps();
+  const SessionMap* session = p.poses().session_map();
+  const SessionMap::Submaps sub = session ? session->submaps() : SessionMap::Submaps{};
   m["tracking"]["submaps"] = {{"started", sub.started}, {"merges", sub.merges},
                               {"keyframes_outside_world", sub.keyframes_outside_world},
                               {"frames_outside_world", sub.frames_outside_world}, {"world_moved", sub.world_moved}};

@@ -53,7 +53,8 @@ OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config
     map->save(p.map_ot, p.map_ply);
   }
   if (write_session) {
-    if (pipeline.poses().save_map(out_dir + "/" + kSlamMapFile)) p.slam_map = out_dir + "/" + kSlamMapFile;
+    const SessionMap* session = pipeline.poses().session_map();
+    if (session && session->save_map(out_dir + "/" + kSlamMapFile)) p.slam_map = out_dir + "/" + kSlamMapFile;
     if (pipeline.map() && !p.slam_map.empty()) {
       p.kept_clouds = out_dir + "/" + kKeptCloudsFile;
       save_kept_clouds(p.kept_clouds, pipeline.keyframe_store());

@@ -182,7 +182,8 @@ void Pipeline::finish() {
   }
   apply_pending_corrections();
   // The world moved to another sub-map: what was mapped so far is in the old one's frame.
-  const std::optional<KeyframePoses> world = poses_->moved_world();
+  const SessionMap* session = poses_->session_map();
+  const std::optional<KeyframePoses> world = session ? session->moved_world() : std::nullopt;
   if (world) store_.set_world(*world);
   if (map_ && (config_.flow.final_reintegration || world) && store_.size() > 0) {
     Stopwatch sw;

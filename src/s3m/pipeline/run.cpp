@@ -94,7 +94,7 @@ Components build(const RunOptions& o) {
   if (!scale.warning.empty()) spdlog::warn("run: {}", scale.warning);
   auto poses = make_pose_source(o.poses, *c.source, cam, c.config);
   const SessionFiles session = session_files(o);
-  if (!session.slam_map.empty()) poses->load_map(session.slam_map, o.localize_only);
+  if (!session.slam_map.empty()) load_session_map(*poses, session.slam_map, o.localize_only);
   c.info.poses = poses->name();
   c.info.loaded_map = o.map_dir;
   c.info.localize_only = o.localize_only;

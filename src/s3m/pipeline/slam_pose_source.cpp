@@ -28,7 +28,7 @@ std::vector<KeyframePoses> corrected_poses(const std::vector<slam::LoopCorrectio
   return out;
 }
 
-class SlamPoses final : public PoseSource {
+class SlamPoses final : public PoseSource, public SessionMap {
  public:
   SlamPoses(const PinholeCamera& camera, const slam::SlamConfig& config,
             std::shared_ptr<const features::Vocabulary> vocabulary)
@@ -70,6 +70,15 @@ class SlamPoses final : public PoseSource {
       if (kf.submap == 0) out.emplace(id, kf.T_w_c);  // the world only
     return out;
   }
+  std::string name() const override {
+    if (system_.localize_only()) return "s3m SLAM, localisation only in a loaded map";
+    if (system_.closes_loops()) return "s3m SLAM + loop closing";
+    return system_.relocalises() ? "s3m SLAM + relocalisation" : "s3m SLAM";
+  }
+  SessionMap* session_map() override { return this; }
+  const SessionMap* session_map() const override { return this; }
+
+  // SessionMap
   void load_map(const std::string& path, bool localize_only) override {
     if (!system_.relocalises())
       throw Error("--map: continuing in a saved map needs relocalisation (drop --no-loop-closing, or set "
@@ -93,11 +102,6 @@ class SlamPoses final : public PoseSource {
     KeyframePoses world = keyframe_poses();
     world.merge(system_.map().culled_poses_in(0));  // culled ones anchor clouds too
     return world;
-  }
-  std::string name() const override {
-    if (system_.localize_only()) return "s3m SLAM, localisation only in a loaded map";
-    if (system_.closes_loops()) return "s3m SLAM + loop closing";
-    return system_.relocalises() ? "s3m SLAM + relocalisation" : "s3m SLAM";
   }
 
  private:
