@@ -18,32 +18,37 @@ namespace {
 
 struct RunArgs {
   std::string dataset, config, out, segmenter, model_dir, poses = "slam", vocab, map;
-  bool localize_only = false, slam_only = false, deterministic = false, no_report = false, no_loop_closing = false,
-       force = false;
+  bool localize_only = false, slam_only = false, deterministic = false, no_report = false,
+       no_loop_closing = false, force = false;
   long max_frames = -1;
   RosbagArgs bag;
 };
 
 void print_summary(const pipeline::RunResult& r, const std::string& out) {
   const auto& m = r.metrics;
-  std::cout << "frames: " << r.frames_done << "/" << r.frames_total << (r.interrupted ? " (interrupted)" : "");
-  if (r.frames_skipped > 0) std::cout << " (" << r.frames_skipped << " unreadable, skipped: metrics.json skipped_frames)";
-  std::cout            << ", keyframes: " << m.value("keyframes", 0) << ", " << m.value("fps", 0.0) << " frames/s\n";
+  std::cout << "frames: " << r.frames_done << "/" << r.frames_total
+            << (r.interrupted ? " (interrupted)" : "");
+  if (r.frames_skipped > 0)
+    std::cout << " (" << r.frames_skipped << " unreadable, skipped: metrics.json skipped_frames)";
+  std::cout << ", keyframes: " << m.value("keyframes", 0) << ", " << m.value("fps", 0.0) << " frames/s\n";
   if (m.contains("tracking")) {
     const auto& t = m["tracking"];
     const auto frames_in = [&t](FrameState s) { return t["states"].value(to_string(s), 0); };
-    std::cout << "tracking: " << frames_in(FrameState::kLost) << " frames LOST, " << t["relocalised_frames"].size()
-              << " RELOCALISED, ";
-    if (const int n = frames_in(FrameState::kOdometry); n > 0) std::cout << n << " ODOMETRY (posed by depth odometry), ";
+    std::cout << "tracking: " << frames_in(FrameState::kLost) << " frames LOST, "
+              << t["relocalised_frames"].size() << " RELOCALISED, ";
+    if (const int n = frames_in(FrameState::kOdometry); n > 0)
+      std::cout << n << " ODOMETRY (posed by depth odometry), ";
     std::cout << m.value("corrections", 0) << " loop corrections applied to the map\n";
     if (t.contains("submaps") && t["submaps"].value("started", 0) > 0) {
       const auto& sub = t["submaps"];
       std::cout << "sub-maps: " << sub["started"] << " started after relocalisation failed ("
-                << frames_in(FrameState::kSubmap) << " frames tracked in them), " << sub["merges"] << " merged, "
-                << sub["keyframes_outside_world"] << " keyframes never met the map\n";
+                << frames_in(FrameState::kSubmap) << " frames tracked in them), " << sub["merges"]
+                << " merged, " << sub["keyframes_outside_world"] << " keyframes never met the map\n";
       if (sub.value("world_moved", false))
-        std::cout << "world: the sub-map with the most tracked frames (loop_closing.merge.world); left out of the "
-                  << "trajectory and the map: " << sub.value("frames_outside_world", 0) << " tracked frame(s) of the others\n";
+        std::cout
+            << "world: the sub-map with the most tracked frames (loop_closing.merge.world); left out of the "
+            << "trajectory and the map: " << sub.value("frames_outside_world", 0)
+            << " tracked frame(s) of the others\n";
     }
   }
   if (m.contains("trajectory") && m["trajectory"].contains("ate_rmse_m"))
@@ -63,29 +68,37 @@ void print_summary(const pipeline::RunResult& r, const std::string& out) {
 
 void register_run(CLI::App& app) {
   auto args = std::make_shared<RunArgs>();
-  auto* cmd = app.add_subcommand("run", "Run SLAM + segmentation + semantic mapping on an RGB-D dataset folder (TUM "
-                                        "layout, ETH3D, 7-Scenes, ScanNet, Replica)");
-  cmd->add_option("dataset", args->dataset,
-                  "TUM-layout directory (rgb.txt, depth.txt, ...; ETH3D too), a 7-Scenes folder as downloaded "
-                  "(frame-NNNNNN.color.png, ...), a ScanNet export (color/, depth/, ...) or a Replica scene "
-                  "(results/, traj.txt); omit with --rosbag");
-  cmd->add_option("--config", args->config, "pipeline preset, e.g. config/tum_fr1.yaml (default: built-in defaults)");
+  auto* cmd = app.add_subcommand("run",
+                                 "Run SLAM + segmentation + semantic mapping on an RGB-D dataset folder (TUM "
+                                 "layout, ETH3D, 7-Scenes, ScanNet, Replica)");
+  cmd->add_option(
+      "dataset", args->dataset,
+      "TUM-layout directory (rgb.txt, depth.txt, ...; ETH3D too), a 7-Scenes folder as downloaded "
+      "(frame-NNNNNN.color.png, ...), a ScanNet export (color/, depth/, ...) or a Replica scene "
+      "(results/, traj.txt); omit with --rosbag");
+  cmd->add_option("--config", args->config,
+                  "pipeline preset, e.g. config/tum_fr1.yaml (default: built-in defaults)");
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_option("--segmenter", args->segmenter,
                   "onnx:MODEL_DIR_OR_CARD | oracle | none (default: the config's segmenter section)");
-  cmd->add_option("--model-dir", args->model_dir, "with onnx: folder holding the model files (card elsewhere)");
-  cmd->add_option("--poses", args->poses, "slam (default) | gt: ground-truth poses, to evaluate mapping alone")
+  cmd->add_option("--model-dir", args->model_dir,
+                  "with onnx: folder holding the model files (card elsewhere)");
+  cmd->add_option("--poses", args->poses,
+                  "slam (default) | gt: ground-truth poses, to evaluate mapping alone")
       ->check(CLI::IsMember({"slam", "gt"}));
   cmd->add_flag("--slam-only", args->slam_only, "trajectories only (no segmentation, no map)");
   cmd->add_flag("--deterministic", args->deterministic, "single thread, identical output run to run");
   cmd->add_flag("--no-loop-closing", args->no_loop_closing,
                 "SLAM without loop closing and relocalisation (preset: loop_closing.enabled/relocalisation)");
-  cmd->add_option("--vocab", args->vocab, "bag-of-words vocabulary (default: the preset's, else vocab/orb_k10_l5.bin)");
-  cmd->add_option("--map", args->map,
-                  "continue in the session a previous run wrote into this folder (slam_map.bin, kept_clouds.bin): "
-                  "relocalise in it, report poses in its world, extend it");
-  cmd->add_flag("--localize-only", args->localize_only,
-                "with --map: localise only, the SLAM map stays as loaded (the semantic map still fuses this run)");
+  cmd->add_option("--vocab", args->vocab,
+                  "bag-of-words vocabulary (default: the preset's, else vocab/orb_k10_l5.bin)");
+  cmd->add_option(
+      "--map", args->map,
+      "continue in the session a previous run wrote into this folder (slam_map.bin, kept_clouds.bin): "
+      "relocalise in it, report poses in its world, extend it");
+  cmd->add_flag(
+      "--localize-only", args->localize_only,
+      "with --map: localise only, the SLAM map stays as loaded (the semantic map still fuses this run)");
   cmd->add_option("--max-frames", args->max_frames, "process at most N frames");
   cmd->add_flag("--no-report", args->no_report, "skip the plots and report.html");
   cmd->add_flag("--force", args->force,
@@ -99,7 +112,8 @@ void register_run(CLI::App& app) {
     o.dataset_dir = args->dataset;
     if (!args->bag.bag.empty()) o.open_source = rosbag_source(args->bag);
     o.out_dir = args->out;
-    o.config = args->config.empty() ? pipeline::PipelineConfig{} : pipeline::load_pipeline_config(args->config);
+    o.config =
+        args->config.empty() ? pipeline::PipelineConfig{} : pipeline::load_pipeline_config(args->config);
     if (args->deterministic) o.config.threads.deterministic = true;
     // Without a preset a simulator sequence's camera mount comes from its sim.yaml; robot poses
     // would otherwise be camera poses (identity T_c_r) and the robot's ATE/RPE meaningless.
@@ -108,7 +122,8 @@ void register_run(CLI::App& app) {
         o.config.slam.T_c_r = *T_c_r;
         spdlog::info("run: no --config: T_c_r (robot -> camera) from {}/sim.yaml", args->dataset);
       }
-    if (args->no_loop_closing) o.config.slam.loop_closing.enabled = o.config.slam.loop_closing.relocalisation = false;
+    if (args->no_loop_closing)
+      o.config.slam.loop_closing.enabled = o.config.slam.loop_closing.relocalisation = false;
     if (!args->vocab.empty()) o.config.slam.loop_closing.vocabulary = args->vocab;
     o.segmenter = args->segmenter;
     o.model_dir = args->model_dir;

@@ -132,8 +132,8 @@ void expect_outage_bridged(Mode mode) {
   std::printf(
       "%s: frame %d after the outage is %s (%.3f deg / %.4f m from the truth since frame %d), "
       "%d relocalisations, %d loops, ATE %.4f m\n",
-      name, kResumeSource, to_string(resume), step.deg, step.m, kBlankFirst - 1, r.relocalisations,
-      r.loops, ate_rmse(r.traj));
+      name, kResumeSource, to_string(resume), step.deg, step.m, kBlankFirst - 1, r.relocalisations, r.loops,
+      ate_rmse(r.traj));
   // 1. Exactly the blank frames are LOST; every other frame is posed.
   int relocalised_states = 0;
   for (const auto& [i, s] : r.states) {
@@ -173,8 +173,7 @@ TEST(LoopOnSimulator, OutageIsBridgedThreadedFreeRunning) {
   std::printf("threaded free: frame %d after the outage is %s, %d relocalisations, %d loops, ATE %.4f m\n",
               kResumeSource, to_string(r.states.at(kResumeSource)), r.relocalisations, r.loops,
               ate_rmse(r.traj));
-  for (int i = kBlankFirst; i < kBlankFirst + 10; ++i)
-    EXPECT_EQ(r.states.at(i), FrameState::kLost) << i;
+  for (int i = kBlankFirst; i < kBlankFirst + 10; ++i) EXPECT_EQ(r.states.at(i), FrameState::kLost) << i;
   for (const auto& [i, s] : r.states) {
     if (i >= kResumeSource) {
       EXPECT_NE(s, FrameState::kLost) << "frame " << i;

@@ -18,7 +18,7 @@ struct FlightResult {
   int lost = 0;      // frames without a tracked pose (not OK, not ODOMETRY)
   int odometry = 0;  // frames whose pose came from depth odometry (FrameState::kOdometry)
   double ate_cam = 0, ate_robot = 0;
-  double sim3_scale = 0;  // scale of the sim3 alignment of the camera positions onto the truth
+  double sim3_scale = 0;             // scale of the sim3 alignment of the camera positions onto the truth
   double max_keyframe_turn_deg = 0;  // largest true rotation between consecutive keyframes
 };
 
@@ -82,10 +82,11 @@ FlightResult fly(const RenderedFlight& flown, slam::SlamConfig cfg = {}) {
     res.max_keyframe_turn_deg =
         std::max(res.max_keyframe_turn_deg, rotation_angle_rad(T_a_b.linear()) * 180.0 / M_PI);
   }
-  std::printf("%s %s%s: lost %d, odometry %d, ATE camera %.4f m, robot %.4f m, sim3 scale %.4f, keyframes %d, "
-              "largest turn between keyframes %.1f deg\n", sc.scene.c_str(), type.c_str(), sc.sensor.noise ? "" : " (no noise)",
-              lost, odometry, res.ate_cam, res.ate_robot, res.sim3_scale, slam.map().n_keyframes(),
-              res.max_keyframe_turn_deg);
+  std::printf(
+      "%s %s%s: lost %d, odometry %d, ATE camera %.4f m, robot %.4f m, sim3 scale %.4f, keyframes %d, "
+      "largest turn between keyframes %.1f deg\n",
+      sc.scene.c_str(), type.c_str(), sc.sensor.noise ? "" : " (no noise)", lost, odometry, res.ate_cam,
+      res.ate_robot, res.sim3_scale, slam.map().n_keyframes(), res.max_keyframe_turn_deg);
   return res;
 }
 
@@ -274,8 +275,8 @@ TEST(SlamOnSimulator, TurnPastAPlainWallIsCarriedByDepthOdometry) {
   slam::SlamConfig distance_only;  // only the wall's distance counts as observed: under 3 directions
   distance_only.tracker.odometry.min_observed_ratio = 0.9;
   const FlightResult refused = fly(flown, distance_only);
-  std::printf("carried: %d LOST, %d ODOMETRY, ATE %.2f cm; plane views refused: %d LOST, %.2f cm\n", carried.lost,
-              carried.odometry, 100 * carried.ate_cam, refused.lost, 100 * refused.ate_cam);
+  std::printf("carried: %d LOST, %d ODOMETRY, ATE %.2f cm; plane views refused: %d LOST, %.2f cm\n",
+              carried.lost, carried.odometry, 100 * carried.ate_cam, refused.lost, 100 * refused.ate_cam);
   EXPECT_EQ(carried.lost, 0);
   EXPECT_GT(carried.odometry, 0);
   EXPECT_LT(carried.ate_cam, 0.03);

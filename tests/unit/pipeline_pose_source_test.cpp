@@ -49,7 +49,8 @@ TEST(GroundTruthPoses, HaveNoSessionMapToContinueIn) {
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()),
-              "--map run/slam_map.bin: poses from ground truth cannot continue in a saved SLAM map (use --poses slam)");
+              "--map run/slam_map.bin: poses from ground truth cannot continue in a saved SLAM map "
+              "(use --poses slam)");
   }
 }
 

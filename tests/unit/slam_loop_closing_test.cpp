@@ -36,7 +36,8 @@ const std::vector<RgbdFrame>& room_frames() {
   static const std::vector<RgbdFrame> frames = [] {
     std::vector<RgbdFrame> v;
     for (int i = 0; i < kFrames; ++i)
-      v.push_back(test::render_room(test::Room{}, room_camera(), test::uav_pose(i, kLoopFrames), i, i / 30.0, kDepthNoise));
+      v.push_back(test::render_room(test::Room{}, room_camera(), test::uav_pose(i, kLoopFrames), i, i / 30.0,
+                                    kDepthNoise));
     return v;
   }();
   return frames;
@@ -139,7 +140,8 @@ TEST(Relocalisation, TenBlankFramesAreMarkedLostAndTrackingRecovers) {
     if (r.states[size_t(i)] != FrameState::kLost) first_back = i;
   }
   std::printf("tracking back at frame %d (%s), %d relocalisations, ATE %.4f m\n", first_back,
-              first_back >= 0 ? to_string(r.states[size_t(first_back)]) : "-", r.relocalisations, ate_rmse(r.traj));
+              first_back >= 0 ? to_string(r.states[size_t(first_back)]) : "-", r.relocalisations,
+              ate_rmse(r.traj));
   ASSERT_GE(first_back, 260);
   EXPECT_LE(first_back, 262);
   const FrameState back = r.states[size_t(first_back)];
@@ -147,7 +149,8 @@ TEST(Relocalisation, TenBlankFramesAreMarkedLostAndTrackingRecovers) {
   if (back == FrameState::kRelocalised) {
     EXPECT_GE(r.relocalisations, 1);
   }
-  for (int i = first_back + 1; i < kFrames; ++i) EXPECT_NE(r.states[size_t(i)], FrameState::kLost) << "frame " << i;
+  for (int i = first_back + 1; i < kFrames; ++i)
+    EXPECT_NE(r.states[size_t(i)], FrameState::kLost) << "frame " << i;
   // The final trajectory has the recovered frame at its recovered pose, not the LOST guess.
   for (const auto& p : r.traj)
     if (p.frame_index == first_back) {
@@ -200,8 +203,8 @@ std::vector<FramePose> expect_kidnapped_camera_relocalised(bool threaded) {
       EXPECT_EQ(p.state, FrameState::kRelocalised) << mode;
     }
   }
-  std::printf("%s: kidnapped camera relocalised at step 130 (%s), worst position error after it %.4f m\n", mode,
-              to_string(states[130]), worst_m);
+  std::printf("%s: kidnapped camera relocalised at step 130 (%s), worst position error after it %.4f m\n",
+              mode, to_string(states[130]), worst_m);
   EXPECT_LT(worst_m, 0.05) << mode;
   return slam.camera_trajectory();
 }

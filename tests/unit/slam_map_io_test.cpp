@@ -117,7 +117,8 @@ TEST(SlamMapIo, SaveLoadSaveGivesIdenticalBytes) {
   }
   // A session matching at another direct-index level recomputes the index: same BoW vectors.
   const LoadedSlamMap other_level = load_slam_map(a.string(), room_camera(), vocabulary(), 3);
-  for (const auto& [id, kf] : b.map.keyframes()) EXPECT_EQ(other_level.index.find(id)->bow, b.index.find(id)->bow);
+  for (const auto& [id, kf] : b.map.keyframes())
+    EXPECT_EQ(other_level.index.find(id)->bow, b.index.find(id)->bow);
   fs::remove(a);
   fs::remove(c);
 }
@@ -158,7 +159,8 @@ TEST(SlamMapIo, Version2MapsLoadWithOrbSlamLevelSigmas) {
   pattern.put(1.2), pattern.put<std::uint32_t>(8), pattern.put(exponent);
   const std::string& pat = pattern.bytes();
   int removed = 0;
-  for (std::size_t at = payload.find(pat); at != std::string::npos; at = payload.find(pat, at + pat.size() - 8)) {
+  for (std::size_t at = payload.find(pat); at != std::string::npos;
+       at = payload.find(pat, at + pat.size() - 8)) {
     payload.erase(at + pat.size() - 8, 8);
     ++removed;
   }
@@ -211,7 +213,8 @@ TEST(SlamMapIo, BadFilesNameTheFileAndTheProblem) {
 
   PinholeCamera other = room_camera();
   other.fx = 500;
-  EXPECT_NE(load_error(good, other).find("made with another camera: fx = 525 (this run: 500)"), std::string::npos)
+  EXPECT_NE(load_error(good, other).find("made with another camera: fx = 525 (this run: 500)"),
+            std::string::npos)
       << load_error(good, other);
   other = room_camera();
   other.width = 320;
@@ -251,7 +254,8 @@ TEST(SlamMapIo, InconsistentMapIsRejected) {
 // Session B of the room: the poses between session A's frames (half a frame on) with other depth
 // noise, so no image repeats one the map was built from.
 RgbdFrame session_b_frame(int i) {
-  return test::render_room(test::Room{}, room_camera(), test::uav_pose(2 * i + 1, 8 * kFrames), i, i / 30.0, 0.002, 2);
+  return test::render_room(test::Room{}, room_camera(), test::uav_pose(2 * i + 1, 8 * kFrames), i, i / 30.0,
+                           0.002, 2);
 }
 SE3 session_b_T_w_c(int i) {  // ground truth in session A's world (its first camera)
   return test::uav_pose(0, 4 * kFrames).inverse() * test::uav_pose(2 * i + 1, 8 * kFrames);
@@ -340,7 +344,8 @@ TEST(SlamSession, ExtendingContinuesTheLoadedMapInItsWorld) {
       EXPECT_GE(r.anchor.keyframe, b.keyframes_before) << "frame " << r.frame_index;
     }
   const double worst = worst_error_m(b);
-  std::printf("extending session B: %d keyframes added, worst position error %.4f m\n", b.keyframes_made, worst);
+  std::printf("extending session B: %d keyframes added, worst position error %.4f m\n", b.keyframes_made,
+              worst);
   EXPECT_LT(worst, 0.03);
 }
 

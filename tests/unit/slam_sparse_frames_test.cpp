@@ -44,7 +44,8 @@ Flight fly(double dt_s, int drop = -1, int turn_back = kSteps + 1) {
   System slam(test::room_camera(), odometry_only());
   Flight run;
   for (int i = 0; i <= kSteps; ++i) {
-    RgbdFrame f = test::render_room(test::Room{}, test::room_camera(), pose(i, turn_back), i, i * dt_s, 0.002);
+    RgbdFrame f =
+        test::render_room(test::Room{}, test::room_camera(), pose(i, turn_back), i, i * dt_s, 0.002);
     if (i == drop) f.depth_m.setTo(0.0f);
     const TrackResult r = slam.track(f);
     run.states.push_back(r.state);
@@ -57,7 +58,9 @@ Flight fly(double dt_s, int drop = -1, int turn_back = kSteps + 1) {
   return run;
 }
 
-int count(const Flight& r, FrameState s) { return static_cast<int>(std::count(r.states.begin(), r.states.end(), s)); }
+int count(const Flight& r, FrameState s) {
+  return static_cast<int>(std::count(r.states.begin(), r.states.end(), s));
+}
 
 TEST(SlamSparseFrames, FramesTwoThirdsOfASecondApartArePosedByDepthOdometry) {
   const Flight r = fly(2.0 / 3.0);
@@ -112,11 +115,13 @@ std::vector<TrackResult> turn_round(int dark, const SlamConfig& config = odometr
   std::vector<TrackResult> results;
   for (int i = 0; i <= last; ++i) {
     const double deg = i <= 3 ? 10.0 * i : i < last ? 30.0 + (i - 3) * 180.0 / (last - 3) : 210.0;
-    RgbdFrame f = test::render_room(test::Room{}, test::room_camera(), test::centre_pose(deg), i, i * 2.0 / 3.0, 0.002);
+    RgbdFrame f =
+        test::render_room(test::Room{}, test::room_camera(), test::centre_pose(deg), i, i * 2.0 / 3.0, 0.002);
     if (i > 3 && i < last) f.depth_m.setTo(0.0f);
     results.push_back(slam.track(f));
     if (i >= 1 && i <= 3) {
-      const SE3 err = (test::centre_pose(0).inverse() * test::centre_pose(deg)).inverse() * results.back().T_w_c;
+      const SE3 err =
+          (test::centre_pose(0).inverse() * test::centre_pose(deg)).inverse() * results.back().T_w_c;
       EXPECT_EQ(results.back().state, FrameState::kOdometry) << "frame " << i;
       EXPECT_LT(rotation_angle_rad(err.linear()) * 180 / M_PI, 0.2) << "frame " << i;
     }

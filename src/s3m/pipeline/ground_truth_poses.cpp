@@ -66,7 +66,8 @@ class GroundTruthPoses final : public PoseSource {
 
 }  // namespace
 
-std::unique_ptr<PoseSource> make_ground_truth_poses(io::Trajectory groundtruth, GroundTruthPosesConfig config) {
+std::unique_ptr<PoseSource> make_ground_truth_poses(io::Trajectory groundtruth,
+                                                    GroundTruthPosesConfig config) {
   return std::make_unique<GroundTruthPoses>(std::move(groundtruth), config);
 }
 

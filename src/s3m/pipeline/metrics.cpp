@@ -5,10 +5,10 @@
 
 #include "s3m/core/classes.hpp"
 #include "s3m/io/atomic_file.hpp"
-#include "s3m/pipeline/evaluation.hpp"
-#include "s3m/pipeline/reprojection.hpp"
 #include "s3m/mapping/metrics.hpp"
 #include "s3m/mapping/queries.hpp"
+#include "s3m/pipeline/evaluation.hpp"
+#include "s3m/pipeline/reprojection.hpp"
 
 namespace s3m::pipeline {
 namespace fs = std::filesystem;
@@ -19,7 +19,8 @@ namespace {
 json timings_json(const StageTimings& t) {
   json j = json::object();
   for (const auto& [stage, s] : t.summary())
-    j[stage] = {{"mean", s.mean_ms}, {"p50", s.p50_ms}, {"p95", s.p95_ms}, {"max", s.max_ms}, {"count", s.count}};
+    j[stage] = {
+        {"mean", s.mean_ms}, {"p50", s.p50_ms}, {"p95", s.p95_ms}, {"max", s.max_ms}, {"count", s.count}};
   return j;
 }
 
@@ -32,7 +33,8 @@ json per_class_json(const std::map<ClassId, double>& iou) {
 
 json classes_json() {
   json j = json::array();
-  for (const auto& c : indoor_classes().all()) j.push_back({{"id", c.id}, {"name", c.name}, {"rgb", {c.r, c.g, c.b}}});
+  for (const auto& c : indoor_classes().all())
+    j.push_back({{"id", c.id}, {"name", c.name}, {"rgb", {c.r, c.g, c.b}}});
   return j;
 }
 
@@ -53,8 +55,11 @@ json iou_pair_json(const semantics::ConfusionMatrix& map, const semantics::Confu
   json per_class = json::object();
   const ClassList& classes = indoor_classes();
   for (ClassId c : f.evaluated) per_class[classes.at(c).name] = {{"map", m.iou[c]}, {"frame", f.iou[c]}};
-  return {{"miou", m.miou}, {"frame_miou", f.miou}, {"pixel_accuracy", m.pixel_accuracy},
-          {"frame_pixel_accuracy", f.pixel_accuracy}, {"per_class_iou", per_class}};
+  return {{"miou", m.miou},
+          {"frame_miou", f.miou},
+          {"pixel_accuracy", m.pixel_accuracy},
+          {"frame_pixel_accuracy", f.pixel_accuracy},
+          {"per_class_iou", per_class}};
 }
 
 // The final map's labels projected into the kept frames (reprojection.hpp), with the final poses.
@@ -75,8 +80,9 @@ json reprojection_json(const Pipeline& p, const FrameSource& source, const Pipel
   json j = iou_pair_json(score.map, score.frame);
   j["frames"] = score.frames;
   j["coverage"] = score.coverage();
-  j["note"] = "final map's labels projected into kept segmented frames (final poses, frame depth) vs their "
-              "ground-truth labels; frame_* = the single-frame segmentation on exactly the same pixels";
+  j["note"] =
+      "final map's labels projected into kept segmented frames (final poses, frame depth) vs their "
+      "ground-truth labels; frame_* = the single-frame segmentation on exactly the same pixels";
   return j;
 }
 
@@ -99,7 +105,8 @@ json class_voxels_json(const mapping::SemanticOcTree& tree) {
 }
 
 // T_map_gt: the ground-truth world in the map's frame (pose alignment of the trajectory).
-json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& dataset_dir, const SE3& T_map_gt) {
+json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& dataset_dir,
+              const SE3& T_map_gt) {
   const MapIntegrator* map = p.map();
   if (!map) return json::object();
   const PipelineCounters& c = p.counters();
@@ -115,10 +122,12 @@ json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& da
   j["raw_cloud_points"] = size.raw_points;
   j["raw_cloud_bytes"] = size.raw_cloud_bytes;
   j["memory_bytes"] = size.memory_bytes;
-  j["file_bytes"] = !paths.map_ot.empty() && fs::exists(paths.map_ot) ? fs::file_size(paths.map_ot) : size.file_bytes;
-  j["raw_over_file_ratio"] = j["file_bytes"].get<std::size_t>() > 0
-                                 ? static_cast<double>(size.raw_cloud_bytes) / j["file_bytes"].get<std::size_t>()
-                                 : 0.0;
+  j["file_bytes"] =
+      !paths.map_ot.empty() && fs::exists(paths.map_ot) ? fs::file_size(paths.map_ot) : size.file_bytes;
+  j["raw_over_file_ratio"] =
+      j["file_bytes"].get<std::size_t>() > 0
+          ? static_cast<double>(size.raw_cloud_bytes) / j["file_bytes"].get<std::size_t>()
+          : 0.0;
   if (const std::string gt = find_gt_voxel_map(dataset_dir); !gt.empty()) {
     const MapScore s = score_map(*map, gt, T_map_gt);
     j["gt_voxel_map"] = gt;
@@ -132,9 +141,10 @@ json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& da
     j["gt_voxels"] = s.gt_total;
     j["recall_all"] = s.all.recall;
     j["miou_all_gt"] = s.all.miou;
-    j["note"] = "mapping::evaluate_map (1-voxel tolerance) over ground-truth voxels in observed space, "
-                "mIoU over the classes of that ground truth (as the per-frame mIoU); "
-                "*_all: over the whole ground-truth scene, unseen parts included";
+    j["note"] =
+        "mapping::evaluate_map (1-voxel tolerance) over ground-truth voxels in observed space, "
+        "mIoU over the classes of that ground truth (as the per-frame mIoU); "
+        "*_all: over the whole ground-truth scene, unseen parts included";
   }
   return j;
 }
@@ -182,7 +192,8 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   m["frames_total"] = info.frames_total;
   m["interrupted"] = info.interrupted;
   m["skipped_frames"] = json::array();
-  for (const SkippedFrame& s : info.skipped) m["skipped_frames"].push_back({{"index", s.index}, {"error", s.error}});
+  for (const SkippedFrame& s : info.skipped)
+    m["skipped_frames"].push_back({{"index", s.index}, {"error", s.error}});
   if (!info.stopped_by.empty()) m["stopped_by"] = info.stopped_by;
   m["tracked"] = c.tracked;
   m["keyframes"] = c.keyframes;
@@ -193,9 +204,11 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   m["tracking"] = tracking_json(p.frames());
   const SessionMap* session = p.poses().session_map();
   const SessionMap::Submaps sub = session ? session->submaps() : SessionMap::Submaps{};
-  m["tracking"]["submaps"] = {{"started", sub.started}, {"merges", sub.merges},
+  m["tracking"]["submaps"] = {{"started", sub.started},
+                              {"merges", sub.merges},
                               {"keyframes_outside_world", sub.keyframes_outside_world},
-                              {"frames_outside_world", sub.frames_outside_world}, {"world_moved", sub.world_moved}};
+                              {"frames_outside_world", sub.frames_outside_world},
+                              {"world_moved", sub.world_moved}};
   m["timings_ms"] = timings_json(p.timings());
   const TrajectoryScore traj = evaluate_trajectory(p, source, config, paths);
   m["trajectory"] = traj.json;
@@ -216,7 +229,8 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   if (!info.depth_registration.empty()) m["inputs"]["depth_registration"] = info.depth_registration;
   if (info.depth_median_m > 0) m["inputs"]["depth_median_m"] = info.depth_median_m;
   if (!info.depth_scale_warning.empty()) m["inputs"]["depth_scale_warning"] = info.depth_scale_warning;
-  if (!info.loaded_map.empty()) m["inputs"]["map"] = {{"folder", info.loaded_map}, {"localize_only", info.localize_only}};
+  if (!info.loaded_map.empty())
+    m["inputs"]["map"] = {{"folder", info.loaded_map}, {"localize_only", info.localize_only}};
   return m;
 }
 

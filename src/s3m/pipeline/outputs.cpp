@@ -22,8 +22,8 @@ std::string frames_table(const std::vector<FrameOutcome>& frames) {
   std::string out = "# index t_s state tracked keyframe integrated\n";
   char line[160];
   for (const FrameOutcome& f : frames) {
-    std::snprintf(line, sizeof line, "%d %.6f %s %d %d %d\n", f.index, f.t_s, to_string(f.state), int(f.tracked),
-                  int(f.keyframe), int(f.integrated));
+    std::snprintf(line, sizeof line, "%d %.6f %s %d %d %d\n", f.index, f.t_s, to_string(f.state),
+                  int(f.tracked), int(f.keyframe), int(f.integrated));
     out += line;
   }
   return out;

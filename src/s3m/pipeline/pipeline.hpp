@@ -42,7 +42,7 @@ struct FrameOutcome {
   double t_s = 0;
   SE3 T_w_c = SE3::Identity();
   FrameState state = FrameState::kNotInitialized;
-  bool tracked = false;     // pose usable
+  bool tracked = false;  // pose usable
   bool keyframe = false;
   bool segmented = false;
   bool integrated = false;  // its cloud went into the map (or, detached, waits for its sub-map's merge)
@@ -51,10 +51,10 @@ struct FrameOutcome {
 
 struct PipelineCounters {
   std::size_t frames = 0, tracked = 0, keyframes = 0, segmented = 0, integrated = 0;
-  std::size_t raw_points = 0;        // valid in-range depth pixels of integrated frames (full resolution)
-  std::size_t inserted_points = 0;   // points actually inserted (after stride and downsampling)
-  std::size_t corrections = 0;       // loop-closure / optimisation corrections received
-  std::size_t rebuilds = 0;          // map rebuilds from kept clouds
+  std::size_t raw_points = 0;       // valid in-range depth pixels of integrated frames (full resolution)
+  std::size_t inserted_points = 0;  // points actually inserted (after stride and downsampling)
+  std::size_t corrections = 0;      // loop-closure / optimisation corrections received
+  std::size_t rebuilds = 0;         // map rebuilds from kept clouds
 };
 
 // Called after step 5 of every frame, from the thread that ran it (the caller of process() in

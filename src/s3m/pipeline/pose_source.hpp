@@ -19,10 +19,10 @@ namespace s3m::pipeline {
 using KeyframePoses = std::map<KeyframeId, SE3>;
 
 struct TrackOutput {
-  SE3 T_w_c = SE3::Identity();  // camera -> world
+  SE3 T_w_c = SE3::Identity();                     // camera -> world
   FrameState state = FrameState::kNotInitialized;  // how the pose came about
-  bool ok = false;              // pose usable for mapping
-  bool keyframe = false;        // this frame became a keyframe
+  bool ok = false;                                 // pose usable for mapping
+  bool keyframe = false;                           // this frame became a keyframe
   // The keyframe this frame's pose is relative to (this frame's own when keyframe; kNoKeyframe:
   // none yet), T_kf_c in the same world as T_w_c.
   KeyframeAnchor anchor;
@@ -93,10 +93,11 @@ void load_session_map(PoseSource& poses, const std::string& path, bool localize_
 // system would: when the camera moved more than keyframe_dist_m or turned more than keyframe_angle_rad
 // since the last keyframe. Frames without a ground-truth pose within max_dt_s are kNoGroundTruth.
 struct GroundTruthPosesConfig {
-  double keyframe_dist_m = 0.10;   // [m]
+  double keyframe_dist_m = 0.10;     // [m]
   double keyframe_angle_rad = 0.17;  // [rad] (~10 deg)
-  double max_dt_s = 0.02;          // [s]
+  double max_dt_s = 0.02;            // [s]
 };
-std::unique_ptr<PoseSource> make_ground_truth_poses(io::Trajectory groundtruth, GroundTruthPosesConfig config = {});
+std::unique_ptr<PoseSource> make_ground_truth_poses(io::Trajectory groundtruth,
+                                                    GroundTruthPosesConfig config = {});
 
 }  // namespace s3m::pipeline

@@ -36,7 +36,8 @@ SegmenterSpec parse_segmenter_spec(const std::string& spec) {
     s.kind = SegmenterSpec::Kind::kOnnx;
     s.model = spec.substr(5);
   } else {
-    throw Error("--segmenter: unknown value '" + spec + "' (expected onnx:MODEL_DIR_OR_CARD | oracle | none)");
+    throw Error("--segmenter: unknown value '" + spec +
+                "' (expected onnx:MODEL_DIR_OR_CARD | oracle | none)");
   }
   return s;
 }
@@ -74,8 +75,10 @@ struct Components {
 };
 
 Components build(const RunOptions& o) {
-  Components c{o.config, o.open_source ? o.open_source(o.config) : open_tum_source(o.dataset_dir, o.config.dataset),
-               nullptr, {}};
+  Components c{o.config,
+               o.open_source ? o.open_source(o.config) : open_tum_source(o.dataset_dir, o.config.dataset),
+               nullptr,
+               {}};
   c.info.dataset_dir = c.source->name();
   c.info.config_file = o.config.source;
   // Frames 0, 20, ... tell whether depth is registered to colour and whether its scale is plausible.
@@ -111,12 +114,14 @@ Components build(const RunOptions& o) {
   }
   c.info.segmenter = segmenter ? segmenter->name() : (o.slam_only ? "none (--slam-only)" : "none");
   const bool has_map = map != nullptr;
-  c.pipeline = std::make_unique<Pipeline>(c.config, cam, std::move(poses), std::move(segmenter), std::move(map));
+  c.pipeline =
+      std::make_unique<Pipeline>(c.config, cam, std::move(poses), std::move(segmenter), std::move(map));
   if (has_map && !session.kept_clouds.empty()) {
     if (fs::exists(session.kept_clouds))
       c.pipeline->load_session_clouds(session.kept_clouds);
     else
-      spdlog::warn("run: {} has no {} (a --slam-only run?): the semantic map starts empty", o.map_dir, kKeptCloudsFile);
+      spdlog::warn("run: {} has no {} (a --slam-only run?): the semantic map starts empty", o.map_dir,
+                   kKeptCloudsFile);
   }
   return c;
 }
@@ -126,8 +131,9 @@ void create_output_dir(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir))
-    throw Error("run: cannot create the output directory '" + dir + "': " +
-                (ec ? ec.message() : "a file of that name exists") + " (expected a writable folder for --out)");
+    throw Error("run: cannot create the output directory '" + dir +
+                "': " + (ec ? ec.message() : "a file of that name exists") +
+                " (expected a writable folder for --out)");
 }
 
 // Reads the frames in order. A frame whose files cannot be read (ParseError: truncated, corrupt,
@@ -179,9 +185,10 @@ std::size_t process_frames(const RunOptions& o, Components& c, RunResult& r, Pro
     if (std::optional<RgbdFrame> frame = reader.read(i)) {
       c.pipeline->process(std::move(*frame));
     } else if (reader.in_a_row > max_in_a_row) {
-      c.info.stopped_by = fmt::format("{} unreadable frame{} in a row, the last frame {} (dataset.max_unreadable_in_a_row "
-                                      "is {}): {}", reader.in_a_row, reader.in_a_row == 1 ? "" : "s", i, max_in_a_row,
-                                      c.info.skipped.back().error);
+      c.info.stopped_by = fmt::format(
+          "{} unreadable frame{} in a row, the last frame {} "
+          "(dataset.max_unreadable_in_a_row is {}): {}",
+          reader.in_a_row, reader.in_a_row == 1 ? "" : "s", i, max_in_a_row, c.info.skipped.back().error);
       r.interrupted = true;
       break;
     }
@@ -210,9 +217,10 @@ RunResult run_dataset(const RunOptions& o) {
   // The report's camera views: segmentations of a few integrated frames, kept as the run goes.
   CameraViewSampler camera_views;
   if (o.report && c.config.eval.plots)
-    c.pipeline->set_frame_listener([&camera_views](const FrameOutcome& f, const RgbdFrame&, const semantics::LabelMap& l) {
-      camera_views.offer(f, l);
-    });
+    c.pipeline->set_frame_listener(
+        [&camera_views](const FrameOutcome& f, const RgbdFrame&, const semantics::LabelMap& l) {
+          camera_views.offer(f, l);
+        });
   ProgressLine progress(r.frames_total, o.progress);
   Stopwatch wall;
   const std::size_t submitted = process_frames(o, c, r, progress);
@@ -224,8 +232,11 @@ RunResult run_dataset(const RunOptions& o) {
   r.frames_skipped = c.info.skipped.size();
   progress.finish(r.frames_done, r.interrupted ? "interrupted" : state_text(c.pipeline->last_state()));
   if (!c.info.skipped.empty())
-    spdlog::warn("run: {} unreadable frame(s) skipped (listed in metrics.json, skipped_frames)", c.info.skipped.size());
-  if (r.interrupted) spdlog::warn("run: stopped after {} of {} frames; writing what was processed", r.frames_done, r.frames_total);
+    spdlog::warn("run: {} unreadable frame(s) skipped (listed in metrics.json, skipped_frames)",
+                 c.info.skipped.size());
+  if (r.interrupted)
+    spdlog::warn("run: stopped after {} of {} frames; writing what was processed", r.frames_done,
+                 r.frames_total);
 
   // Outputs first (trajectory and map are what a user keeps), then the evaluation of them.
   const bool keep_loaded = r.interrupted && same_folder(o.map_dir, o.out_dir);
@@ -234,7 +245,8 @@ RunResult run_dataset(const RunOptions& o) {
   r.metrics = compute_metrics(*c.pipeline, *c.source, c.config, c.info, paths);
   write_metrics(r.metrics, paths);
   if (o.report && c.config.eval.plots) {
-    const std::string views = write_report_views(*c.pipeline, *c.source, c.config, paths, camera_views.chosen());
+    const std::string views =
+        write_report_views(*c.pipeline, *c.source, c.config, paths, camera_views.chosen());
     if (!views.empty()) spdlog::warn("run: report pictures missing: {}", views);
     const ReportResult rep = make_report(o.out_dir);
     r.report_html = rep.html;
@@ -242,8 +254,9 @@ RunResult run_dataset(const RunOptions& o) {
     if (!rep.error.empty()) spdlog::warn("run: report not made: {}", rep.error);
   }
   if (!c.info.stopped_by.empty())
-    throw Error(fmt::format("run: stopped at frame {} of {}: {}; the outputs of the {} frames before it are in {}",
-                            submitted, r.frames_total, c.info.stopped_by, r.frames_done, o.out_dir));
+    throw Error(
+        fmt::format("run: stopped at frame {} of {}: {}; the outputs of the {} frames before it are in {}",
+                    submitted, r.frames_total, c.info.stopped_by, r.frames_done, o.out_dir));
   return r;
 }
 

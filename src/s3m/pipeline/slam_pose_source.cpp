@@ -55,11 +55,12 @@ class SlamPoses final : public PoseSource, public SessionMap {
   std::vector<KeyframePoses> finish() override {
     system_.finish();
     if (const slam::KeyframeLinkSummary s = system_.keyframe_link_summary(); s.n_links > 0)
-      spdlog::info("SLAM: {} dense keyframe links, median {:.3f} deg / {:.1f} mm from tracking: {}", s.n_links,
-                   s.median_disagreement_deg, 1000 * s.median_disagreement_m,
-                   s.trusted ? "used in the final BA"
-                             : "not used (over slam.mapper.dense_links.max_median_deg / _m: do depth and colour "
-                               "line up?)");
+      spdlog::info("SLAM: {} dense keyframe links, median {:.3f} deg / {:.1f} mm from tracking: {}",
+                   s.n_links, s.median_disagreement_deg, 1000 * s.median_disagreement_m,
+                   s.trusted
+                       ? "used in the final BA"
+                       : "not used (over slam.mapper.dense_links.max_median_deg / _m: do depth and colour "
+                         "line up?)");
     return corrected_poses(system_.late_corrections());
   }
   io::Trajectory camera_trajectory() const override { return without_lost(system_.camera_trajectory()); }
@@ -81,8 +82,9 @@ class SlamPoses final : public PoseSource, public SessionMap {
   // SessionMap
   void load_map(const std::string& path, bool localize_only) override {
     if (!system_.relocalises())
-      throw Error("--map: continuing in a saved map needs relocalisation (drop --no-loop-closing, or set "
-                  "loop_closing.relocalisation true)");
+      throw Error(
+          "--map: continuing in a saved map needs relocalisation (drop --no-loop-closing, or set "
+          "loop_closing.relocalisation true)");
     system_.load_map(path, localize_only);
   }
   bool save_map(const std::string& path) const override {
@@ -111,7 +113,8 @@ class SlamPoses final : public PoseSource, public SessionMap {
 }  // namespace
 
 std::shared_ptr<const features::Vocabulary> load_vocabulary(const slam::LoopClosingConfig& config) {
-  const std::string path = config.vocabulary.empty() ? features::default_vocabulary_path() : config.vocabulary;
+  const std::string path =
+      config.vocabulary.empty() ? features::default_vocabulary_path() : config.vocabulary;
   if (!std::filesystem::is_regular_file(path))
     throw Error("loop_closing.vocabulary: '" + path +
                 "' does not exist (expected a vocabulary file from `s3m vocab`, e.g. the shipped "
@@ -129,8 +132,9 @@ std::unique_ptr<PoseSource> make_slam_poses(const PinholeCamera& camera, const P
   // One thread means one thread: local mapping runs inside track() in deterministic mode, whatever
   // the preset's slam.threaded says (the documented precedence; said once at start).
   if (config.threads.deterministic && sc.threaded) {
-    spdlog::info("slam.threaded: true is overridden by threads.deterministic (--deterministic): local mapping "
-                 "runs inside tracking");
+    spdlog::info(
+        "slam.threaded: true is overridden by threads.deterministic (--deterministic): local mapping "
+        "runs inside tracking");
     sc.threaded = false;
   }
   const slam::LoopClosingConfig& lc = sc.loop_closing;

@@ -20,7 +20,9 @@ DepthOdometryConfig odometry_config(const TrackerConfig& tracker, const features
 }
 }  // namespace
 
-int Tracker::Frame::n_matched() const { return static_cast<int>(std::count(matched.begin(), matched.end(), 1)); }
+int Tracker::Frame::n_matched() const {
+  return static_cast<int>(std::count(matched.begin(), matched.end(), 1));
+}
 
 int Tracker::Frame::n_map_matched() const {
   int k = 0;
@@ -38,8 +40,8 @@ Tracker::Frame Tracker::Frame::unmatched(std::shared_ptr<const features::FrameFe
                std::vector<char>(n, 0)};
 }
 
-Tracker::Tracker(const PinholeCamera& camera, const features::FeatureConfig& features, const TrackerConfig& config,
-                 int pending_new_points)
+Tracker::Tracker(const PinholeCamera& camera, const features::FeatureConfig& features,
+                 const TrackerConfig& config, int pending_new_points)
     : camera_(camera),
       feature_config_(features),
       config_(config),
@@ -80,7 +82,7 @@ void Tracker::set_pose(const SE3& T_w_c) {
   std::fill(last_.matched.begin(), last_.matched.end(), 0);
   velocity_.reset();
   coast_velocity_.reset();
-  last_frame_ = RgbdFrame{};  // no odometry from images of before the new pose
+  last_frame_ = RgbdFrame{};   // no odometry from images of before the new pose
   state_ = FrameState::kLost;  // the next frame tracks against the local map from this pose
   resume_from_pose_ = true;
 }
@@ -149,7 +151,8 @@ std::shared_ptr<const features::FrameFeatures> Tracker::extract(const RgbdFrame&
       features::compute_frame_features(frame.rgb, frame.depth_m, camera_, extractor_, feature_config_));
 }
 
-TrackerOutput Tracker::retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
+TrackerOutput Tracker::retrack(const RgbdFrame& frame,
+                               std::shared_ptr<const features::FrameFeatures> features,
                                int pending_keyframes) {
   TrackerOutput out = track(frame, std::move(features), pending_keyframes);
   if (!out.deferred && out.state != FrameState::kLost) keep_images(frame, last_.T_c_w);
@@ -224,7 +227,8 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   return out;
 }
 
-std::vector<std::pair<KeyframeAnchor, double>> Tracker::weighted_anchors(const Frame& cur, const SE3& T_w_c) const {
+std::vector<std::pair<KeyframeAnchor, double>> Tracker::weighted_anchors(const Frame& cur,
+                                                                         const SE3& T_w_c) const {
   std::vector<std::pair<KeyframeAnchor, double>> out;
   if (!snapshot_) return out;
   std::vector<PointId> inliers;
@@ -288,10 +292,9 @@ bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, in
   const double ref = snapshot_->ref_tracked_points;
   const double ratio = snapshot_->n_map_keyframes < 2 ? 0.4 : config_.keyframe_ref_ratio;
   const SE3 T_ref_c = T_w_ref_.inverse() * cur.T_c_w.inverse();
-  const bool moved =
-      (config_.keyframe_max_deg > 0 &&
-       rotation_angle_rad(T_ref_c.linear()) > config_.keyframe_max_deg * M_PI / 180.0) ||
-      (config_.keyframe_max_m > 0 && T_ref_c.translation().norm() > config_.keyframe_max_m);
+  const bool moved = (config_.keyframe_max_deg > 0 &&
+                      rotation_angle_rad(T_ref_c.linear()) > config_.keyframe_max_deg * M_PI / 180.0) ||
+                     (config_.keyframe_max_m > 0 && T_ref_c.translation().norm() > config_.keyframe_max_m);
   auto decide = [&](int tracked) {
     const bool failing = tracked < 0.25 * ref;  // under a quarter of the reference's points tracked
     const bool c1a = since >= config_.max_frames_between_keyframes;
@@ -347,9 +350,10 @@ void Tracker::remember_pending(const Frame& cur, const KeyFrameRequest& request)
   PendingKeyFrame p;
   p.id = ref_kf_;
   p.f = cur.f;
-  const double depth_limit_m = request.first_of_map ? std::numeric_limits<double>::infinity() : config_.close_depth_m;
-  for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return request.points[k] == kNoId; },
-                                                  depth_limit_m, pending_new_points_)) {
+  const double depth_limit_m =
+      request.first_of_map ? std::numeric_limits<double>::infinity() : config_.close_depth_m;
+  for (const auto& [z, i] : depth_point_keypoints(
+           *cur.f, [&](int k) { return request.points[k] == kNoId; }, depth_limit_m, pending_new_points_)) {
     const auto& kp = cur.f->keypoints[i];
     p.keypoints.push_back(i);
     p.p_w.push_back(request.T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z));
@@ -363,8 +367,8 @@ void Tracker::prepare_last_frame(Frame cur, double depth_limit_m) {
   for (int i = 0; i < cur.f->size(); ++i)
     if (cur.matched[i] && cur.pid[i] == kNoId) cur.matched[i] = 0;  // previous VO match: drop
   const SE3 T_w_c = cur.T_c_w.inverse();
-  for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return !cur.matched[k]; }, depth_limit_m,
-                                                  kMinVoPoints)) {
+  for (const auto& [z, i] : depth_point_keypoints(
+           *cur.f, [&](int k) { return !cur.matched[k]; }, depth_limit_m, kMinVoPoints)) {
     const auto& kp = cur.f->keypoints[i];
     cur.p_w[i] = T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z);
     cur.matched[i] = 1;
