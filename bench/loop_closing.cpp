@@ -37,14 +37,14 @@ Outcome run(const io::TumDataset& data, std::shared_ptr<const features::Vocabula
       f.depth_m.setTo(0);
     }
     const auto r = system.track(f);
-    o.lost += r.state == slam::TrackState::kLost;
-    if (i % 100 == 0) std::fprintf(stderr, "  frame %zu/%zu %s\n", i, data.size(), slam::to_string(r.state));
+    o.lost += r.state == FrameState::kLost;
+    if (i % 100 == 0) std::fprintf(stderr, "  frame %zu/%zu %s\n", i, data.size(), to_string(r.state));
   }
   system.finish();
   o.wall_s = wall.elapsed_ms() / 1000.0;
   eval::MatchedPoses m;
   for (const auto& p : system.camera_trajectory()) {
-    if (p.state == slam::TrackState::kLost) continue;
+    if (p.state == FrameState::kLost) continue;
     if (const auto gt = data.groundtruth_at(p.t_s)) {
       m.t_s.push_back(p.t_s);
       m.T_w_gt.push_back(*gt);
@@ -66,13 +66,18 @@ int main(int argc, char** argv) {
   bool threaded = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--vocab" && i + 1 < argc) vocab_path = argv[++i];
-    else if (a == "--blank" && i + 1 < argc) blank_first = std::atoi(argv[++i]);
-    else if (a == "--threaded") threaded = true;
-    else dir = a;
+    if (a == "--vocab" && i + 1 < argc)
+      vocab_path = argv[++i];
+    else if (a == "--blank" && i + 1 < argc)
+      blank_first = std::atoi(argv[++i]);
+    else if (a == "--threaded")
+      threaded = true;
+    else
+      dir = a;
   }
   if (dir.empty()) {
-    std::fprintf(stderr, "usage: bench_loop_closing DATASET_DIR [--vocab FILE] [--blank FIRST] [--threaded]\n");
+    std::fprintf(stderr,
+                 "usage: bench_loop_closing DATASET_DIR [--vocab FILE] [--blank FIRST] [--threaded]\n");
     return 2;
   }
   try {
@@ -81,8 +86,10 @@ int main(int argc, char** argv) {
     for (bool loop_closing : {false, true}) {
       std::fprintf(stderr, "%s loop closing:\n", loop_closing ? "with" : "without");
       const Outcome o = run(data, vocab, loop_closing, blank_first, threaded);
-      std::printf("%-8s loop closing: ATE_rmse_m %.4f loops %d relocalisations %d lost %d keyframes %d wall %.1f s\n",
-                  loop_closing ? "with" : "without", o.ate_m, o.loops, o.relocalisations, o.lost, o.keyframes, o.wall_s);
+      std::printf(
+          "%-8s loop closing: ATE_rmse_m %.4f loops %d relocalisations %d lost %d keyframes %d wall %.1f s\n",
+          loop_closing ? "with" : "without", o.ate_m, o.loops, o.relocalisations, o.lost, o.keyframes,
+          o.wall_s);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_loop_closing: %s\n", e.what());

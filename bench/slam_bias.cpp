@@ -22,9 +22,9 @@
 #include <vector>
 
 #include "s3m/core/error.hpp"
+#include "s3m/eval/align.hpp"
 #include "s3m/features/orb_matcher.hpp"
 #include "s3m/sim/simulate.hpp"
-#include "s3m/eval/align.hpp"
 #include "s3m/slam/bundle_adjustment.hpp"
 #include "s3m/slam/pose_optimizer.hpp"
 #include "s3m/slam/slam_config.hpp"
@@ -50,18 +50,30 @@ Args parse(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string s = argv[i];
     auto next = [&]() { return std::string(argv[++i]); };
-    if (s == "--scene") a.sim.scene = next();
-    else if (s == "--trajectory") a.sim.trajectory.type = next();
-    else if (s == "--seed") a.sim.seed = std::stoull(next());
-    else if (s == "--frames") a.sim.trajectory.frames = std::stoi(next());
-    else if (s == "--gap") a.gap = std::stoi(next());
-    else if (s == "--step") a.step = std::stoi(next());
-    else if (s == "--noise") a.sim.sensor.noise = true;
-    else if (s == "--slam") a.slam = true;
-    else if (s == "--verbose") a.verbose = true;
-    else if (s == "--bf") a.bf = std::stod(next());
-    else if (s == "--config") a.config = next();
-    else throw s3m::Error("unknown option " + s);
+    if (s == "--scene")
+      a.sim.scene = next();
+    else if (s == "--trajectory")
+      a.sim.trajectory.type = next();
+    else if (s == "--seed")
+      a.sim.seed = std::stoull(next());
+    else if (s == "--frames")
+      a.sim.trajectory.frames = std::stoi(next());
+    else if (s == "--gap")
+      a.gap = std::stoi(next());
+    else if (s == "--step")
+      a.step = std::stoi(next());
+    else if (s == "--noise")
+      a.sim.sensor.noise = true;
+    else if (s == "--slam")
+      a.slam = true;
+    else if (s == "--verbose")
+      a.verbose = true;
+    else if (s == "--bf")
+      a.bf = std::stod(next());
+    else if (s == "--config")
+      a.config = next();
+    else
+      throw s3m::Error("unknown option " + s);
   }
   return a;
 }
@@ -76,8 +88,8 @@ double angle_deg(const SE3& a, const SE3& b) {
 }
 
 // Stage 2 for one pair: frame b's pose from the matches, started at frame a's true pose.
-void solve_pair(const std::vector<slam::PoseObservation>& obs, const SE3& T_wa, const SE3& T_wb, const PinholeCamera& cam,
-                bool verbose, int pair, PoseStats& s) {
+void solve_pair(const std::vector<slam::PoseObservation>& obs, const SE3& T_wa, const SE3& T_wb,
+                const PinholeCamera& cam, bool verbose, int pair, PoseStats& s) {
   const slam::PoseOptimizerConfig pc;
   const auto res = slam::optimize_pose(obs, T_wa.inverse(), cam, pc);
   const SE3 T_wb_est = res.T_c_w.inverse();
@@ -101,10 +113,11 @@ void solve_pair(const std::vector<slam::PoseObservation>& obs, const SE3& T_wa, 
   s.t_err_mono += t_err_mono, s.r_err_mono += angle_deg(T_wb_mono, T_wb);
   s.chi2_est += c_est, s.chi2_gt += c_gt;
   if (verbose)
-    std::printf("pair %4d: %4zu matches, %4d inliers, chi2 at estimate %7.1f, at truth %7.1f | error %6.2f mm %.4f deg, "
-                "pixels only %6.2f mm %.4f deg\n",
-                pair, obs.size(), res.n_inliers, c_est, c_gt, 1e3 * t_err, angle_deg(T_wb_est, T_wb), 1e3 * t_err_mono,
-                angle_deg(T_wb_mono, T_wb));
+    std::printf(
+        "pair %4d: %4zu matches, %4d inliers, chi2 at estimate %7.1f, at truth %7.1f | "
+        "error %6.2f mm %.4f deg, pixels only %6.2f mm %.4f deg\n",
+        pair, obs.size(), res.n_inliers, c_est, c_gt, 1e3 * t_err, angle_deg(T_wb_est, T_wb),
+        1e3 * t_err_mono, angle_deg(T_wb_mono, T_wb));
 }
 
 struct LevelStats {
@@ -124,8 +137,8 @@ void print_ate(const char* what, const std::vector<Vec3>& est, const std::vector
   };
   double scale = 1;
   const double se3 = rmse(eval::AlignMode::kSe3, nullptr), sim3 = rmse(eval::AlignMode::kSim3, &scale);
-  std::printf("%-28s n %4zu  ATE se3 %.2f mm  sim3 %.2f mm  scale %.5f\n", what, est.size(), 1e3 * se3, 1e3 * sim3,
-              scale);
+  std::printf("%-28s n %4zu  ATE se3 %.2f mm  sim3 %.2f mm  scale %.5f\n", what, est.size(), 1e3 * se3,
+              1e3 * sim3, scale);
 }
 
 // 3. Whole SLAM (single thread) on the flight: tracking-time poses vs final poses vs keyframes.
@@ -139,7 +152,7 @@ void run_slam(const Args& a, const sim::Simulation& simu) {
   std::map<int, SE3> kf_track;
   for (std::size_t i = 0; i < simu.size(); ++i) {
     const auto r = sys.track(simu.frame(i));
-    if (r.state != slam::TrackState::kOk) continue;
+    if (r.state != FrameState::kOk) continue;
     track_est.push_back(r.T_w_c.translation());
     track_gt.push_back(simu.trajectory().samples[i].T_w_c.translation());
     if (r.keyframe) kf_track[r.frame_index] = r.T_w_c;
@@ -147,14 +160,15 @@ void run_slam(const Args& a, const sim::Simulation& simu) {
       const SE3 T_gt = simu.trajectory().samples[0].T_w_c.inverse() * simu.trajectory().samples[i].T_w_c;
       const Vec3 e = r.T_w_c.translation() - T_gt.translation();
       const double ang = Eigen::AngleAxisd(r.T_w_c.linear().transpose() * T_gt.linear()).angle() * 180 / M_PI;
-      std::printf("frame %3zu%s inliers %4d  err (first-frame world) %+7.2f %+7.2f %+7.2f mm  rot %.3f deg", i,
-                  r.keyframe ? "K" : " ", r.n_inliers, 1e3 * e.x(), 1e3 * e.y(), 1e3 * e.z(), ang);
+      std::printf("frame %3zu%s inliers %4d  err (first-frame world) %+7.2f %+7.2f %+7.2f mm  rot %.3f deg",
+                  i, r.keyframe ? "K" : " ", r.n_inliers, 1e3 * e.x(), 1e3 * e.y(), 1e3 * e.z(), ang);
       if (r.keyframe && sys.map().has_keyframe(sys.map().last_keyframe_id())) {
         const auto& kf = sys.map().keyframe(sys.map().last_keyframe_id());
         const Vec3 ek = kf.T_w_c.translation() - T_gt.translation();
         int n_pts = 0;
         for (auto pid : kf.points) n_pts += pid != slam::kNoId;
-        std::printf("  after BA %+7.2f %+7.2f %+7.2f mm, %d points", 1e3 * ek.x(), 1e3 * ek.y(), 1e3 * ek.z(), n_pts);
+        std::printf("  after BA %+7.2f %+7.2f %+7.2f mm, %d points", 1e3 * ek.x(), 1e3 * ek.y(), 1e3 * ek.z(),
+                    n_pts);
       }
       std::printf("\n");
     }
@@ -176,10 +190,12 @@ void run_slam(const Args& a, const sim::Simulation& simu) {
   for (int use_gt = 0; use_gt < 2; ++use_gt) {
     slam::BaProblem P;
     std::map<KeyframeId, int> fi;
-    const SE3 T_0w = simu.trajectory().samples[sys.map().keyframes().begin()->second.frame_index].T_w_c.inverse();
+    const SE3 T_0w =
+        simu.trajectory().samples[sys.map().keyframes().begin()->second.frame_index].T_w_c.inverse();
     for (const auto& [id, kf] : sys.map().keyframes()) {
       fi[id] = static_cast<int>(P.T_c_w.size());
-      P.T_c_w.push_back(use_gt ? (T_0w * simu.trajectory().samples[kf.frame_index].T_w_c).inverse() : kf.T_w_c.inverse());
+      P.T_c_w.push_back(use_gt ? (T_0w * simu.trajectory().samples[kf.frame_index].T_w_c).inverse()
+                               : kf.T_w_c.inverse());
       P.fixed.push_back(1);
     }
     for (const auto& [pid, mp] : sys.map().points()) {
@@ -207,11 +223,13 @@ void run_slam(const Args& a, const sim::Simulation& simu) {
       const Vec3 pc = P.T_c_w[o.frame] * P.p_w[o.point];
       const double u = cam.fx * pc.x() / pc.z() + cam.cx, v = cam.fy * pc.y() / pc.z() + cam.cy;
       chi2_mono += ((u - o.uv.x()) * (u - o.uv.x()) + (v - o.uv.y()) * (v - o.uv.y())) * o.inv_sigma2;
-      if (features::has_right(o.u_right)) chi2_depth += std::pow(u - cam.bf / pc.z() - o.u_right, 2) * o.inv_sigma2;
+      if (features::has_right(o.u_right))
+        chi2_depth += std::pow(u - cam.bf / pc.z() - o.u_right, 2) * o.inv_sigma2;
       ++n;
     }
-    std::printf("map, keyframes fixed at %s poses: %zu obs, %d outliers, mean chi2 image %.4f depth row %.4f\n",
-                use_gt ? "TRUE" : "estimated", P.obs.size(), res.n_outliers, chi2_mono / n, chi2_depth / n);
+    std::printf(
+        "map, keyframes fixed at %s poses: %zu obs, %d outliers, mean chi2 image %.4f depth row %.4f\n",
+        use_gt ? "TRUE" : "estimated", P.obs.size(), res.n_outliers, chi2_mono / n, chi2_depth / n);
   }
   print_ate("frames at tracking time", track_est, track_gt);
   print_ate("frames, final", fin_est, fin_gt);
@@ -263,7 +281,8 @@ int main(int argc, char** argv) try {
         s.dz_rel += (B.depth_m[best] - p_b.z()) / p_b.z();
         s.dz_abs += std::abs(B.depth_m[best] - p_b.z());
       }
-      slam::PoseObservation o = slam::keypoint_observation(B, best, T_wa * cam.backproject(kp.pt.x, kp.pt.y, A.depth_m[k]));
+      slam::PoseObservation o =
+          slam::keypoint_observation(B, best, T_wa * cam.backproject(kp.pt.x, kp.pt.y, A.depth_m[k]));
       obs.push_back(o);
     }
     if (obs.size() < 20) continue;
@@ -274,11 +293,12 @@ int main(int argc, char** argv) try {
     std::printf("%5d %6d %+10.4f %+10.4f %+12.5f   | %7d %+10.5f %10.2f\n", l, s.n, s.du / s.n, s.dv / s.n,
                 s.rd / s.rr, s.nz, s.nz ? s.dz_rel / s.nz : 0.0, s.nz ? 1e3 * s.dz_abs / s.nz : 0.0);
   const double n = std::max(1, ps.n);
-  std::printf("pose-only over %d pairs (gap %d): translation along the true motion %.5f (1 = exact), "
-              "mean |dt| %.2f mm, mean rotation error %.4f deg; pixels only: %.2f mm, %.4f deg; "
-              "chi2 of the inliers at the estimate %.1f, at the truth %.1f (mean per pair)\n",
-              ps.n, a.gap, ps.t_along / n, 1e3 * ps.t_err / n, ps.r_err / n, 1e3 * ps.t_err_mono / n, ps.r_err_mono / n,
-              ps.chi2_est / n, ps.chi2_gt / n);
+  std::printf(
+      "pose-only over %d pairs (gap %d): translation along the true motion %.5f (1 = exact), "
+      "mean |dt| %.2f mm, mean rotation error %.4f deg; pixels only: %.2f mm, %.4f deg; "
+      "chi2 of the inliers at the estimate %.1f, at the truth %.1f (mean per pair)\n",
+      ps.n, a.gap, ps.t_along / n, 1e3 * ps.t_err / n, ps.r_err / n, 1e3 * ps.t_err_mono / n,
+      ps.r_err_mono / n, ps.chi2_est / n, ps.chi2_gt / n);
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "bench_slam_bias: %s\n", e.what());

@@ -46,18 +46,24 @@ Args parse_args(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string s = argv[i];
     const bool has_value = i + 1 < argc;
-    if (s == "--threaded") a.threaded = true;
-    else if (s == "--realtime") a.realtime = true;
-    else if (s == "--config" && has_value) a.config = argv[++i];
-    else if (s == "--camera" && has_value) a.camera = argv[++i];
-    else if (s == "--out" && has_value) a.out = argv[++i];
+    if (s == "--threaded")
+      a.threaded = true;
+    else if (s == "--realtime")
+      a.realtime = true;
+    else if (s == "--config" && has_value)
+      a.config = argv[++i];
+    else if (s == "--camera" && has_value)
+      a.camera = argv[++i];
+    else if (s == "--out" && has_value)
+      a.out = argv[++i];
     else if (s == "--frame" && has_value) {
       const std::string f = argv[++i];
       if (f != "camera" && f != "robot") throw Error("--frame must be camera or robot, not '" + f + "'");
       a.robot = f == "robot";
-    }
-    else if (!s.empty() && s[0] == '-') throw Error("unknown option '" + s + "'");
-    else a.dir = s;
+    } else if (!s.empty() && s[0] == '-')
+      throw Error("unknown option '" + s + "'");
+    else
+      a.dir = s;
   }
   if (a.dir.empty()) throw Error("no dataset directory (argument or $S3M_KITCHEN_DIR)");
   return a;
@@ -88,10 +94,10 @@ RunStats run(slam::System& slam, const io::TumDataset& ds, bool realtime) {
     st.track_ms.push_back(r.track_ms);
     st.cpu_ms.push_back(r.track_cpu_ms);
     st.total_ms.push_back(r.track_ms + r.mapping_ms);
-    st.lost += r.state != slam::TrackState::kOk;
+    st.lost += r.state != FrameState::kOk;
     st.keyframes += r.keyframe;
     if (i % 100 == 0 || std::getenv("S3M_SLAM_VERBOSE"))
-      std::fprintf(stderr, "frame %zu/%zu state %s inliers %d kfs %d\n", i, ds.size(), slam::to_string(r.state),
+      std::fprintf(stderr, "frame %zu/%zu state %s inliers %d kfs %d\n", i, ds.size(), to_string(r.state),
                    r.n_inliers, st.keyframes);
   }
   slam.finish();
@@ -137,9 +143,11 @@ int main(int argc, char** argv) {
     if (!a.out.empty()) eval::write_metrics_json(a.out + "/metrics.json", {ev}, eopt);
 
     const auto ts = timing_stats(st.track_ms), tt = timing_stats(st.total_ms), tc = timing_stats(st.cpu_ms);
-    std::printf("dataset %s\nframes %zu tracked %zu lost %d keyframes_inserted %d keyframes_final %d points %d mode %s\n",
-                a.dir.c_str(), ds.size(), traj.size(), st.lost, st.keyframes, slam.map().n_keyframes(),
-                slam.map().n_points(), cfg.threaded ? "threaded" : "single-thread");
+    std::printf(
+        "dataset %s\nframes %zu tracked %zu lost %d keyframes_inserted %d keyframes_final %d points %d "
+        "mode %s\n",
+        a.dir.c_str(), ds.size(), traj.size(), st.lost, st.keyframes, slam.map().n_keyframes(),
+        slam.map().n_points(), cfg.threaded ? "threaded" : "single-thread");
     std::printf("evaluated trajectory: %s\n", a.robot ? "robot (T_w_c * T_c_r)" : "camera");
     std::printf("ATE_rmse_m %.4f  RPE_1frame_rmse_m %.4f  RPE_1s_rmse_m %.4f  (matched %zu)\n",
                 ev.ate.stats_m.rmse, ev1.rpe.trans_m.rmse, ev.rpe.trans_m.rmse, ev.matched);
@@ -148,14 +156,17 @@ int main(int argc, char** argv) {
                   evs.ate.stats_m.rmse);
     else  // eval's Sim3 has no scale for an estimate without spread (every pose the same)
       std::printf("sim3 alignment: undefined (the estimated positions have no spread)\n");
-    std::printf("tracking_ms mean %.2f p50 %.2f p95 %.2f max %.2f | tracking+inline_mapping_ms mean %.2f | wall %.1f s\n",
-                ts.mean_ms, ts.p50_ms, ts.p95_ms, ts.max_ms, tt.mean_ms, st.wall_s);
-    std::printf("tracking_cpu_ms mean %.2f p50 %.2f p95 %.2f (process CPU time; robust to other load)\n", tc.mean_ms,
-                tc.p50_ms, tc.p95_ms);
+    std::printf(
+        "tracking_ms mean %.2f p50 %.2f p95 %.2f max %.2f | tracking+inline_mapping_ms mean %.2f | "
+        "wall %.1f s\n",
+        ts.mean_ms, ts.p50_ms, ts.p95_ms, ts.max_ms, tt.mean_ms, st.wall_s);
+    std::printf("tracking_cpu_ms mean %.2f p50 %.2f p95 %.2f (process CPU time; robust to other load)\n",
+                tc.mean_ms, tc.p50_ms, tc.p95_ms);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_slam_kitchen: error: %s\n"
-                         "usage: bench_slam_kitchen DATASET_DIR [--threaded] [--config F] [--camera F] [--out DIR]"
-                         " [--frame camera|robot]\n",
+    std::fprintf(stderr,
+                 "bench_slam_kitchen: error: %s\n"
+                 "usage: bench_slam_kitchen DATASET_DIR [--threaded] [--config F] [--camera F] [--out DIR]"
+                 " [--frame camera|robot]\n",
                  e.what());
     return 1;
   }

@@ -42,19 +42,22 @@ int run(const std::string& dataset, const std::string& preset) {
   auto map = std::make_unique<p::MapIntegrator>(config.map);
   p::Pipeline pipeline(config, camera, std::move(poses), std::move(segmenter), std::move(map));
   // 4. Live output: called for every frame once it went through all five steps.
-  pipeline.set_frame_listener([](const p::FrameOutcome& f, const s3m::RgbdFrame&, const s3m::semantics::LabelMap&) {
-    if (!f.keyframe) return;
-    const Eigen::Vector3d t = f.T_w_c.translation();
-    std::printf("keyframe at frame %d: camera at (%.3f, %.3f, %.3f) m, %s\n", f.index, t.x(), t.y(), t.z(),
-                f.state.c_str());
-  });
+  pipeline.set_frame_listener(
+      [](const p::FrameOutcome& f, const s3m::RgbdFrame&, const s3m::semantics::LabelMap&) {
+        if (!f.keyframe) return;
+        const Eigen::Vector3d t = f.T_w_c.translation();
+        std::printf("keyframe at frame %d: camera at (%.3f, %.3f, %.3f) m, %s\n", f.index, t.x(), t.y(),
+                    t.z(), s3m::to_string(f.state));
+      });
   for (std::size_t i = 0; i < source->size(); ++i) pipeline.process(source->load(i));
   pipeline.finish();
   // 5. Results: frames tracked, the map and what it holds (pipeline.poses() has the trajectory).
   const auto& c = pipeline.counters();
-  std::printf("frames %zu tracked %zu keyframes %zu integrated %zu\n", c.frames, c.tracked, c.keyframes, c.integrated);
+  std::printf("frames %zu tracked %zu keyframes %zu integrated %zu\n", c.frames, c.tracked, c.keyframes,
+              c.integrated);
   const s3m::mapping::SemanticOcTree& tree = pipeline.map()->tree();
-  std::printf("map: %zu occupied voxels of %.2f m\n", pipeline.map()->occupied_voxels(), pipeline.map()->resolution_m());
+  std::printf("map: %zu occupied voxels of %.2f m\n", pipeline.map()->occupied_voxels(),
+              pipeline.map()->resolution_m());
   const std::vector<std::size_t> counts = s3m::mapping::class_voxel_counts(tree);
   for (std::size_t id = 0; id < counts.size(); ++id)
     if (counts[id] > 0)

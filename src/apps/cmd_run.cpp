@@ -7,6 +7,7 @@
 #include "interrupt.hpp"
 #include "ros_support.hpp"
 #include "s3m/core/error.hpp"
+#include "s3m/core/frame_state.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/progress.hpp"
 #include "s3m/pipeline/run.hpp"
@@ -32,15 +33,16 @@ void print_summary(const pipeline::RunResult& r, const std::string& out) {
   std::cout << ", keyframes: " << m.value("keyframes", 0) << ", " << m.value("fps", 0.0) << " frames/s\n";
   if (m.contains("tracking")) {
     const auto& t = m["tracking"];
-    std::cout << "tracking: " << t["states"].value("LOST", 0) << " frames LOST, "
+    const auto frames_in = [&t](FrameState s) { return t["states"].value(to_string(s), 0); };
+    std::cout << "tracking: " << frames_in(FrameState::kLost) << " frames LOST, "
               << t["relocalised_frames"].size() << " RELOCALISED, ";
-    if (const int n = t["states"].value("ODOMETRY", 0); n > 0)
+    if (const int n = frames_in(FrameState::kOdometry); n > 0)
       std::cout << n << " ODOMETRY (posed by depth odometry), ";
     std::cout << m.value("corrections", 0) << " loop corrections applied to the map\n";
     if (t.contains("submaps") && t["submaps"].value("started", 0) > 0) {
       const auto& sub = t["submaps"];
       std::cout << "sub-maps: " << sub["started"] << " started after relocalisation failed ("
-                << t["states"].value("SUBMAP", 0) << " frames tracked in them), " << sub["merges"]
+                << frames_in(FrameState::kSubmap) << " frames tracked in them), " << sub["merges"]
                 << " merged, " << sub["keyframes_outside_world"] << " keyframes never met the map\n";
       if (sub.value("world_moved", false))
         std::cout

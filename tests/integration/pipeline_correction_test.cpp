@@ -19,7 +19,10 @@ namespace {
 class CorrectedPoses final : public pipeline::PoseSource {
  public:
   CorrectedPoses(const io::Trajectory& gt, int switch_at, bool notify, const SE3& T_corr)
-      : inner_(pipeline::make_ground_truth_poses(gt)), switch_at_(switch_at), notify_(notify), T_corr_(T_corr) {}
+      : inner_(pipeline::make_ground_truth_poses(gt)),
+        switch_at_(switch_at),
+        notify_(notify),
+        T_corr_(T_corr) {}
 
   pipeline::TrackOutput track(const RgbdFrame& frame) override {
     pipeline::TrackOutput out = inner_->track(frame);
@@ -70,10 +73,10 @@ std::map<VoxelKey, ClassId> run_map(const io::TumDataset& data, int switch_at, b
   cfg.threads.deterministic = true;
   cfg.flow.final_reintegration = false;  // test the correction handling itself, not the final rebuild
   const SE3 T_corr = make_se3(Vec3(0.3, -0.2, 0.1), Quat(Eigen::AngleAxisd(0.2, Vec3::UnitZ())));
-  pipeline::Pipeline p(cfg, data.camera(),
-                       std::make_unique<CorrectedPoses>(data.groundtruth(), switch_at, notify, T_corr),
-                       std::make_unique<semantics::OracleSegmenter>(cfg.segmenter.oracle, cfg.segmenter.top_k),
-                       std::make_unique<pipeline::MapIntegrator>(cfg.map));
+  pipeline::Pipeline p(
+      cfg, data.camera(), std::make_unique<CorrectedPoses>(data.groundtruth(), switch_at, notify, T_corr),
+      std::make_unique<semantics::OracleSegmenter>(cfg.segmenter.oracle, cfg.segmenter.top_k),
+      std::make_unique<pipeline::MapIntegrator>(cfg.map));
   for (std::size_t i = 0; i < data.size(); ++i) p.process(data.load(i));
   p.finish();
   if (notify) {
@@ -84,7 +87,7 @@ std::map<VoxelKey, ClassId> run_map(const io::TumDataset& data, int switch_at, b
 
 TEST(PipelineCorrection, MapIsReintegratedWithCorrectedKeyframePoses) {
   const io::TumDataset data = io::TumDataset::open(sequence_dir());
-  const auto reference = run_map(data, 0, false);       // corrected poses from the first frame
+  const auto reference = run_map(data, 0, false);           // corrected poses from the first frame
   const auto corrected = run_map(data, kFrames / 2, true);  // correction announced half-way
   const auto ignored = run_map(data, kFrames / 2, false);   // same poses, correction never applied
   ASSERT_GT(reference.size(), 1000u);
@@ -100,7 +103,7 @@ TEST(PipelineCorrection, MapIsReintegratedWithCorrectedKeyframePoses) {
 // keyframe. detach: the sub-map is outside the world while frames come, and becomes the world at
 // finish() (slam::System::choose_world); without, its frames are in the world from the start (the
 // reference: a run that only ever saw the sub-map).
-class SplitWorldPoses final : public pipeline::PoseSource {
+class SplitWorldPoses final : public pipeline::PoseSource, public pipeline::SessionMap {
  public:
   SplitWorldPoses(const io::Trajectory& gt, int split, const SE3& T_sub, bool detach)
       : gt_(gt), split_(split), T_sub_(T_sub), detach_(detach) {}
@@ -108,9 +111,10 @@ class SplitWorldPoses final : public pipeline::PoseSource {
   pipeline::TrackOutput track(const RgbdFrame& frame) override {
     pipeline::TrackOutput out;
     const bool sub = frame.index >= split_;
-    out.T_w_c = sub ? T_sub_ * gt_.at(std::size_t(frame.index)).T_w_x : gt_.at(std::size_t(frame.index)).T_w_x;
+    out.T_w_c =
+        sub ? T_sub_ * gt_.at(std::size_t(frame.index)).T_w_x : gt_.at(std::size_t(frame.index)).T_w_x;
     out.ok = out.keyframe = true;
-    out.state = "OK";
+    out.state = FrameState::kOk;
     out.detached = sub && detach_;
     out.anchor = {frame.index, SE3::Identity()};
     (sub ? sub_ : first_).emplace(frame.index, out.T_w_c);
@@ -123,10 +127,16 @@ class SplitWorldPoses final : public pipeline::PoseSource {
   io::Trajectory camera_trajectory() const override { return {}; }
   io::Trajectory keyframe_trajectory() const override { return {}; }
   pipeline::KeyframePoses keyframe_poses() const override { return moved_ || !detach_ ? sub_ : first_; }
+  std::string name() const override { return "split ground truth"; }
+  pipeline::SessionMap* session_map() override { return this; }
+  const pipeline::SessionMap* session_map() const override { return this; }
+  // Only the moved world matters here: nothing to load or save, no sub-map counts.
+  void load_map(const std::string&, bool) override {}
+  bool save_map(const std::string&) const override { return false; }
+  Submaps submaps() const override { return {}; }
   std::optional<pipeline::KeyframePoses> moved_world() const override {
     return moved_ ? std::optional(sub_) : std::nullopt;
   }
-  std::string name() const override { return "split ground truth"; }
 
  private:
   io::Trajectory gt_;
@@ -143,9 +153,10 @@ std::map<VoxelKey, ClassId> run_split(const io::TumDataset& data, int split, int
   cfg.threads.deterministic = true;
   cfg.flow.final_reintegration = reintegrate;
   const SE3 T_sub = make_se3(Vec3(6.0, -4.0, 1.0), Quat(Eigen::AngleAxisd(0.7, Vec3::UnitZ())));
-  pipeline::Pipeline p(cfg, data.camera(), std::make_unique<SplitWorldPoses>(data.groundtruth(), split, T_sub, detach),
-                       std::make_unique<semantics::OracleSegmenter>(cfg.segmenter.oracle, cfg.segmenter.top_k),
-                       std::make_unique<pipeline::MapIntegrator>(cfg.map));
+  pipeline::Pipeline p(
+      cfg, data.camera(), std::make_unique<SplitWorldPoses>(data.groundtruth(), split, T_sub, detach),
+      std::make_unique<semantics::OracleSegmenter>(cfg.segmenter.oracle, cfg.segmenter.top_k),
+      std::make_unique<pipeline::MapIntegrator>(cfg.map));
   for (int i = from; i < to; ++i) p.process(data.load(std::size_t(i)));
   p.finish();
   return occupied(p.map()->tree());
@@ -154,12 +165,13 @@ std::map<VoxelKey, ClassId> run_split(const io::TumDataset& data, int split, int
 TEST(PipelineCorrection, WhenAnotherSubMapBecomesTheWorldTheMapIsItsAlone) {
   const io::TumDataset data = io::TumDataset::open(sequence_dir());
   const int split = kFrames / 3;
-  const auto first_only = run_split(data, kFrames, 0, split, true, true);    // the first map's frames
+  const auto first_only = run_split(data, kFrames, 0, split, true, true);     // the first map's frames
   const auto sub_only = run_split(data, split, split, kFrames, false, true);  // the sub-map's, in its frame
   ASSERT_GT(sub_only.size(), 1000u);
   ASSERT_GT(first_only.size(), 1000u);
   for (const bool reintegrate : {true, false}) {
-    const auto moved = run_split(data, split, 0, kFrames, true, reintegrate);  // all; the world moves at the end
+    const auto moved =
+        run_split(data, split, 0, kFrames, true, reintegrate);  // all; the world moves at the end
     // The sub-map's frames, at its poses, and nothing of the first map (6 m away).
     EXPECT_GT(agreement(sub_only, moved), 0.995) << "final_reintegration " << reintegrate;
     EXPECT_GT(agreement(moved, sub_only), 0.995) << "final_reintegration " << reintegrate;

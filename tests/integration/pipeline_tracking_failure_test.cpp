@@ -95,7 +95,8 @@ double max_tracked_error_m(const pipeline::Pipeline& p) {
   double worst = 0;
   for (const auto& f : p.frames())
     if (f.tracked)
-      worst = std::max(worst, (f.T_w_c.translation() - (T_slam_sim * samples[f.index].T_w_c).translation()).norm());
+      worst = std::max(worst,
+                       (f.T_w_c.translation() - (T_slam_sim * samples[f.index].T_w_c).translation()).norm());
   return worst;
 }
 
@@ -119,12 +120,13 @@ TEST(TrackingFailure, FramesWhileLostAreNotIntegratedAndTrackingRecovers) {
   // odometry would pose them from their depth (next test): off here, so that they are LOST.
   Scenario blank_rgb, blank_all;
   blank_rgb.depth_odometry = blank_all.depth_odometry = false;
-  for (int i = 30; i < 35; ++i) blank_rgb.faults[i] = Fault::kBlankRgb, blank_all.faults[i] = Fault::kBlankAll;
+  for (int i = 30; i < 35; ++i)
+    blank_rgb.faults[i] = Fault::kBlankRgb, blank_all.faults[i] = Fault::kBlankAll;
   const auto a = run(blank_rgb);
   ASSERT_EQ(a->frames().size(), static_cast<std::size_t>(kLength));
   for (int i = 30; i < 35; ++i) {
     const auto& f = outcome(*a, i);
-    EXPECT_EQ(f.state, "LOST") << "frame " << i;
+    EXPECT_EQ(f.state, FrameState::kLost) << "frame " << i << " " << to_string(f.state);
     EXPECT_FALSE(f.tracked) << "frame " << i;
     EXPECT_FALSE(f.integrated) << "frame " << i;
   }
@@ -158,10 +160,11 @@ TEST(TrackingFailure, BlackFramesWithDepthArePosedByOdometryAndKeptOutOfTheMap) 
   const SE3 T_slam_sim = samples[0].T_w_c.inverse();
   for (int i = 30; i < 35; ++i) {
     const auto& f = outcome(*a, i);
-    EXPECT_EQ(f.state, "ODOMETRY") << "frame " << i;
+    EXPECT_EQ(f.state, FrameState::kOdometry) << "frame " << i << " " << to_string(f.state);
     EXPECT_FALSE(f.tracked) << "frame " << i;
     EXPECT_FALSE(f.integrated) << "frame " << i;
-    EXPECT_LT((f.T_w_c.translation() - (T_slam_sim * samples[std::size_t(i)].T_w_c).translation()).norm(), 0.05)
+    EXPECT_LT((f.T_w_c.translation() - (T_slam_sim * samples[std::size_t(i)].T_w_c).translation()).norm(),
+              0.05)
         << "frame " << i;
   }
   for (int i = 35; i < kLength; ++i) EXPECT_TRUE(outcome(*a, i).tracked) << "frame " << i;
@@ -171,8 +174,8 @@ TEST(TrackingFailure, BlackFramesWithDepthArePosedByOdometryAndKeptOutOfTheMap) 
 
 TEST(TrackingFailure, DepthDropoutsLoseNoTrackAndAddNoFalseVoxels) {
   Scenario dropouts;
-  for (int i = 20; i < 25; ++i) dropouts.faults[i] = Fault::kNoDepth;     // whole frames without depth
-  for (int i = 35; i < 45; ++i) dropouts.faults[i] = Fault::kDepthHole;   // left half without depth
+  for (int i = 20; i < 25; ++i) dropouts.faults[i] = Fault::kNoDepth;    // whole frames without depth
+  for (int i = 35; i < 45; ++i) dropouts.faults[i] = Fault::kDepthHole;  // left half without depth
   const auto clean = run({});
   const auto p = run(dropouts);
   // Frames without depth add nothing; the map is the scene, as precise as without dropouts.
@@ -215,7 +218,8 @@ TEST(TrackingFailure, RunMarksLostFramesInFramesTxtAndMetrics) {
   ASSERT_EQ(rgb.size(), static_cast<std::size_t>(kFrames));
   for (int i = 30; i < 35; ++i) {
     const fs::path rgb_png = seq / rgb[i].at(1), depth_png = seq / depth[i].at(1);
-    cv::Mat c = cv::imread(rgb_png.string(), cv::IMREAD_UNCHANGED), d = cv::imread(depth_png.string(), cv::IMREAD_UNCHANGED);
+    cv::Mat c = cv::imread(rgb_png.string(), cv::IMREAD_UNCHANGED),
+            d = cv::imread(depth_png.string(), cv::IMREAD_UNCHANGED);
     ASSERT_FALSE(c.empty() || d.empty());
     c.setTo(0), d.setTo(0);
     ASSERT_TRUE(cv::imwrite(rgb_png.string(), c) && cv::imwrite(depth_png.string(), d));

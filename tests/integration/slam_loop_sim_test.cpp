@@ -32,7 +32,7 @@ std::shared_ptr<const features::Vocabulary> vocabulary() {
 
 struct LoopRun {
   std::vector<slam::FramePose> traj;
-  std::map<int, slam::TrackState> states;  // by frame index (= simulator frame)
+  std::map<int, FrameState> states;  // by frame index (= simulator frame)
   int loops = 0, relocalisations = 0, corrections_heard = 0;
 };
 
@@ -82,7 +82,7 @@ double ate_rmse(const std::vector<slam::FramePose>& traj) {
   const auto& gt_poses = loop_simulation().trajectory().samples;
   eval::MatchedPoses matched;
   for (const auto& p : traj) {
-    if (p.state == slam::TrackState::kLost) continue;
+    if (p.state == FrameState::kLost) continue;
     matched.t_s.push_back(p.t_s);
     matched.T_w_est.push_back(p.T_w_x);
     matched.T_w_gt.push_back(gt_poses[std::size_t(p.frame_index)].T_w_c);
@@ -99,7 +99,7 @@ TEST(LoopOnSimulator, LoopClosingReducesAteOnTheLoopFlight) {
   EXPECT_EQ(without.loops, 0);
   ASSERT_GE(with.loops, 1);
   EXPECT_EQ(with.corrections_heard, with.loops);
-  for (const auto& [i, s] : with.states) EXPECT_EQ(s, slam::TrackState::kOk) << "frame " << i;
+  for (const auto& [i, s] : with.states) EXPECT_EQ(s, FrameState::kOk) << "frame " << i;
   EXPECT_LT(ate_with, 0.85 * ate_without);
 }
 
@@ -127,22 +127,22 @@ StepError resume_step_error(const std::vector<slam::FramePose>& traj, int to) {
 void expect_outage_bridged(Mode mode) {
   const LoopRun r = run(true, mode, true);
   const char* name = to_string(mode);
-  const slam::TrackState resume = r.states.at(kResumeSource);
+  const FrameState resume = r.states.at(kResumeSource);
   const StepError step = resume_step_error(r.traj, kResumeSource);
   std::printf(
       "%s: frame %d after the outage is %s (%.3f deg / %.4f m from the truth since frame %d), "
       "%d relocalisations, %d loops, ATE %.4f m\n",
-      name, kResumeSource, slam::to_string(resume), step.deg, step.m, kBlankFirst - 1, r.relocalisations,
-      r.loops, ate_rmse(r.traj));
+      name, kResumeSource, to_string(resume), step.deg, step.m, kBlankFirst - 1, r.relocalisations, r.loops,
+      ate_rmse(r.traj));
   // 1. Exactly the blank frames are LOST; every other frame is posed.
   int relocalised_states = 0;
   for (const auto& [i, s] : r.states) {
     const bool blank = i >= kBlankFirst && i < kBlankFirst + 10;
-    EXPECT_EQ(s == slam::TrackState::kLost, blank) << name << " frame " << i << " " << slam::to_string(s);
-    relocalised_states += s == slam::TrackState::kRelocalised;
+    EXPECT_EQ(s == FrameState::kLost, blank) << name << " frame " << i << " " << to_string(s);
+    relocalised_states += s == FrameState::kRelocalised;
   }
   // 2. The resume frame is re-found by tracking or by relocalisation, and the count says which.
-  EXPECT_TRUE(resume == slam::TrackState::kOk || resume == slam::TrackState::kRelocalised) << name;
+  EXPECT_TRUE(resume == FrameState::kOk || resume == FrameState::kRelocalised) << name;
   EXPECT_EQ(r.relocalisations, relocalised_states) << name;
   EXPECT_LE(r.relocalisations, 1) << name;
   // 3. Its pose: the 1 s of motion across the outage (~40 deg, ~1 m) within 1 deg / 3 cm of the truth.
@@ -151,7 +151,7 @@ void expect_outage_bridged(Mode mode) {
   // 4. The final trajectory keeps the LOST marks and the resume frame's state.
   int lost = 0;
   for (const auto& p : r.traj) {
-    lost += p.state == slam::TrackState::kLost;
+    lost += p.state == FrameState::kLost;
     if (p.frame_index == kResumeSource) {
       EXPECT_EQ(p.state, resume) << name;
     }
@@ -173,13 +173,12 @@ TEST(LoopOnSimulator, OutageIsBridgedThreadedFreeRunning) {
   // load; the accuracy claim (8 cm) is the lockstep test's.
   const LoopRun r = run(true, Mode::kFree, true);
   std::printf("threaded free: frame %d after the outage is %s, %d relocalisations, %d loops, ATE %.4f m\n",
-              kResumeSource, slam::to_string(r.states.at(kResumeSource)), r.relocalisations, r.loops,
+              kResumeSource, to_string(r.states.at(kResumeSource)), r.relocalisations, r.loops,
               ate_rmse(r.traj));
-  for (int i = kBlankFirst; i < kBlankFirst + 10; ++i)
-    EXPECT_EQ(r.states.at(i), slam::TrackState::kLost) << i;
+  for (int i = kBlankFirst; i < kBlankFirst + 10; ++i) EXPECT_EQ(r.states.at(i), FrameState::kLost) << i;
   for (const auto& [i, s] : r.states) {
     if (i >= kResumeSource) {
-      EXPECT_NE(s, slam::TrackState::kLost) << "frame " << i;
+      EXPECT_NE(s, FrameState::kLost) << "frame " << i;
     }
   }
   EXPECT_LT(ate_rmse(r.traj), 0.4);  // a wrong relocalisation or a corrupted map is off by metres

@@ -28,7 +28,7 @@ GapRun fly_every(const sim::Simulation& sim, int stride, const slam::SlamConfig&
     RgbdFrame frame = sim.frame(i);
     frame.labels.release();
     const auto r = slam.track(frame);
-    run.lost += r.state != slam::TrackState::kOk && r.state != slam::TrackState::kOdometry;
+    run.lost += r.state != FrameState::kOk && r.state != FrameState::kOdometry;
   }
   slam.finish();
   eval::MatchedPoses matched;
@@ -53,8 +53,10 @@ TEST(SlamOnSimulator, HandheldFlightAtFiveHertzIsTrackedThroughItsWideSteps) {
   slam::SlamConfig narrow;
   narrow.tracker.wide_match_ratio = 0;
   const GapRun wide = fly_every(sim, 6, slam::SlamConfig{}), old = fly_every(sim, 6, narrow);
-  std::printf("living_room handheld, every 6th frame: wide step: lost %d, ATE %.4f m; "
-              "without: lost %d, ATE %.4f m\n", wide.lost, wide.ate_m, old.lost, old.ate_m);
+  std::printf(
+      "living_room handheld, every 6th frame: wide step: lost %d, ATE %.4f m; "
+      "without: lost %d, ATE %.4f m\n",
+      wide.lost, wide.ate_m, old.lost, old.ate_m);
   EXPECT_EQ(wide.lost, 0);
   EXPECT_LT(wide.ate_m, 0.02);
   EXPECT_GT(old.lost, 10) << "the flight no longer needs the wide step: find one that does";

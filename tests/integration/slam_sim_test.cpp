@@ -16,7 +16,7 @@ namespace {
 
 struct FlightResult {
   int lost = 0;      // frames without a tracked pose (not OK, not ODOMETRY)
-  int odometry = 0;  // frames whose pose came from depth odometry (TrackState::kOdometry)
+  int odometry = 0;  // frames whose pose came from depth odometry (FrameState::kOdometry)
   double ate_cam = 0, ate_robot = 0;
   double sim3_scale = 0;             // scale of the sim3 alignment of the camera positions onto the truth
   double max_keyframe_turn_deg = 0;  // largest true rotation between consecutive keyframes
@@ -55,8 +55,8 @@ FlightResult fly(const RenderedFlight& flown, slam::SlamConfig cfg = {}) {
   int lost = 0, odometry = 0;
   for (const RgbdFrame& frame : flown.frames) {
     const auto r = slam.track(frame);
-    odometry += r.state == slam::TrackState::kOdometry;
-    lost += r.state != slam::TrackState::kOk && r.state != slam::TrackState::kOdometry;
+    odometry += r.state == FrameState::kOdometry;
+    lost += r.state != FrameState::kOk && r.state != FrameState::kOdometry;
   }
   slam.finish();
   FlightResult res;

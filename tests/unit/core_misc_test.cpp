@@ -5,6 +5,7 @@
 #include "s3m/core/bounded_queue.hpp"
 #include "s3m/core/camera.hpp"
 #include "s3m/core/error.hpp"
+#include "s3m/core/frame_state.hpp"
 #include "s3m/core/timing.hpp"
 
 using namespace s3m;
@@ -87,4 +88,15 @@ TEST(BoundedQueue, BackPressureAndCloseDrains) {
   producer.join();
   EXPECT_EQ(expected, 100);
   EXPECT_FALSE(q.push(5));
+}
+
+// The names are an output format: frames.txt, metrics.json, the logs and scripts reading them.
+TEST(FrameState, NamesAreTheOutputFilesOnes) {
+  EXPECT_STREQ(to_string(FrameState::kNotInitialized), "NOT_INITIALIZED");
+  EXPECT_STREQ(to_string(FrameState::kOk), "OK");
+  EXPECT_STREQ(to_string(FrameState::kLost), "LOST");
+  EXPECT_STREQ(to_string(FrameState::kRelocalised), "RELOCALISED");
+  EXPECT_STREQ(to_string(FrameState::kOdometry), "ODOMETRY");
+  EXPECT_STREQ(to_string(FrameState::kSubmap), "SUBMAP");
+  EXPECT_STREQ(to_string(FrameState::kNoGroundTruth), "NO_GT");
 }

@@ -36,7 +36,8 @@ const std::vector<RgbdFrame>& room_frames() {
   static const std::vector<RgbdFrame> frames = [] {
     std::vector<RgbdFrame> v;
     for (int i = 0; i < kFrames; ++i)
-      v.push_back(test::render_room(test::Room{}, room_camera(), test::uav_pose(i, kLoopFrames), i, i / 30.0, kDepthNoise));
+      v.push_back(test::render_room(test::Room{}, room_camera(), test::uav_pose(i, kLoopFrames), i, i / 30.0,
+                                    kDepthNoise));
     return v;
   }();
   return frames;
@@ -59,7 +60,7 @@ std::shared_ptr<const features::Vocabulary> vocabulary() {
 
 struct RunResult {
   std::vector<FramePose> traj;
-  std::vector<TrackState> states;
+  std::vector<FrameState> states;
   int loops = 0, relocalisations = 0, corrections_heard = 0;
   size_t keyframes_in_last_correction = 0;
 };
@@ -97,7 +98,7 @@ double ate_rmse(const std::vector<FramePose>& traj) {
   double s = 0;
   int n = 0;
   for (const auto& p : traj) {
-    if (p.state == TrackState::kLost) continue;
+    if (p.state == FrameState::kLost) continue;
     const SE3 gt = T_0_w * test::uav_pose(p.frame_index, kLoopFrames);
     s += (p.T_w_x.translation() - gt.translation()).squaredNorm();
     ++n;
@@ -133,21 +134,23 @@ TEST(Relocalisation, TenBlankFramesAreMarkedLostAndTrackingRecovers) {
   std::set<int> blank;
   for (int i = 250; i < 260; ++i) blank.insert(i);
   const RunResult r = run(true, blank);
-  for (int i : blank) EXPECT_EQ(r.states[size_t(i)], TrackState::kLost) << "frame " << i;
+  for (int i : blank) EXPECT_EQ(r.states[size_t(i)], FrameState::kLost) << "frame " << i;
   int first_back = -1;
   for (int i = 260; i < kFrames && first_back < 0; ++i) {
-    if (r.states[size_t(i)] != TrackState::kLost) first_back = i;
+    if (r.states[size_t(i)] != FrameState::kLost) first_back = i;
   }
   std::printf("tracking back at frame %d (%s), %d relocalisations, ATE %.4f m\n", first_back,
-              first_back >= 0 ? to_string(r.states[size_t(first_back)]) : "-", r.relocalisations, ate_rmse(r.traj));
+              first_back >= 0 ? to_string(r.states[size_t(first_back)]) : "-", r.relocalisations,
+              ate_rmse(r.traj));
   ASSERT_GE(first_back, 260);
   EXPECT_LE(first_back, 262);
-  const TrackState back = r.states[size_t(first_back)];
-  EXPECT_TRUE(back == TrackState::kOk || back == TrackState::kRelocalised) << to_string(back);
-  if (back == TrackState::kRelocalised) {
+  const FrameState back = r.states[size_t(first_back)];
+  EXPECT_TRUE(back == FrameState::kOk || back == FrameState::kRelocalised) << to_string(back);
+  if (back == FrameState::kRelocalised) {
     EXPECT_GE(r.relocalisations, 1);
   }
-  for (int i = first_back + 1; i < kFrames; ++i) EXPECT_NE(r.states[size_t(i)], TrackState::kLost) << "frame " << i;
+  for (int i = first_back + 1; i < kFrames; ++i)
+    EXPECT_NE(r.states[size_t(i)], FrameState::kLost) << "frame " << i;
   // The final trajectory has the recovered frame at its recovered pose, not the LOST guess.
   for (const auto& p : r.traj)
     if (p.frame_index == first_back) {
@@ -173,7 +176,7 @@ std::vector<FramePose> expect_kidnapped_camera_relocalised(bool threaded) {
   SlamConfig cfg = room_slam_config();
   cfg.threaded = threaded;
   System slam(room_camera(), cfg, vocabulary());
-  std::vector<TrackState> states;
+  std::vector<FrameState> states;
   for (size_t k = 0; k < source.size(); ++k) {
     RgbdFrame f = room_frames()[size_t(std::max(source[k], 0))];
     if (source[k] < 0) blank_out(f);
@@ -185,9 +188,9 @@ std::vector<FramePose> expect_kidnapped_camera_relocalised(bool threaded) {
   }
   slam.finish();
   const char* mode = threaded ? "threaded" : "single-thread";
-  for (size_t k = 120; k < 130; ++k) EXPECT_EQ(states[k], TrackState::kLost) << mode << " step " << k;
-  EXPECT_EQ(states[130], TrackState::kRelocalised) << mode;
-  for (size_t k = 131; k < source.size(); ++k) EXPECT_EQ(states[k], TrackState::kOk) << mode << " step " << k;
+  for (size_t k = 120; k < 130; ++k) EXPECT_EQ(states[k], FrameState::kLost) << mode << " step " << k;
+  EXPECT_EQ(states[130], FrameState::kRelocalised) << mode;
+  for (size_t k = 131; k < source.size(); ++k) EXPECT_EQ(states[k], FrameState::kOk) << mode << " step " << k;
   EXPECT_EQ(slam.n_relocalised_frames(), 1) << mode;
   // Where the relocalised frame ended up (final trajectory) against the ground truth of frame 40.
   const SE3 T_0_w = test::uav_pose(0, kLoopFrames).inverse();
@@ -197,11 +200,11 @@ std::vector<FramePose> expect_kidnapped_camera_relocalised(bool threaded) {
     const Vec3 gt = (T_0_w * test::uav_pose(source[size_t(p.frame_index)], kLoopFrames)).translation();
     worst_m = std::max(worst_m, (p.T_w_x.translation() - gt).norm());
     if (p.frame_index == 130) {
-      EXPECT_EQ(p.state, TrackState::kRelocalised) << mode;
+      EXPECT_EQ(p.state, FrameState::kRelocalised) << mode;
     }
   }
-  std::printf("%s: kidnapped camera relocalised at step 130 (%s), worst position error after it %.4f m\n", mode,
-              to_string(states[130]), worst_m);
+  std::printf("%s: kidnapped camera relocalised at step 130 (%s), worst position error after it %.4f m\n",
+              mode, to_string(states[130]), worst_m);
   EXPECT_LT(worst_m, 0.05) << mode;
   return slam.camera_trajectory();
 }

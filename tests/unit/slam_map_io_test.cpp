@@ -117,7 +117,8 @@ TEST(SlamMapIo, SaveLoadSaveGivesIdenticalBytes) {
   }
   // A session matching at another direct-index level recomputes the index: same BoW vectors.
   const LoadedSlamMap other_level = load_slam_map(a.string(), room_camera(), vocabulary(), 3);
-  for (const auto& [id, kf] : b.map.keyframes()) EXPECT_EQ(other_level.index.find(id)->bow, b.index.find(id)->bow);
+  for (const auto& [id, kf] : b.map.keyframes())
+    EXPECT_EQ(other_level.index.find(id)->bow, b.index.find(id)->bow);
   fs::remove(a);
   fs::remove(c);
 }
@@ -158,7 +159,8 @@ TEST(SlamMapIo, Version2MapsLoadWithOrbSlamLevelSigmas) {
   pattern.put(1.2), pattern.put<std::uint32_t>(8), pattern.put(exponent);
   const std::string& pat = pattern.bytes();
   int removed = 0;
-  for (std::size_t at = payload.find(pat); at != std::string::npos; at = payload.find(pat, at + pat.size() - 8)) {
+  for (std::size_t at = payload.find(pat); at != std::string::npos;
+       at = payload.find(pat, at + pat.size() - 8)) {
     payload.erase(at + pat.size() - 8, 8);
     ++removed;
   }
@@ -211,7 +213,8 @@ TEST(SlamMapIo, BadFilesNameTheFileAndTheProblem) {
 
   PinholeCamera other = room_camera();
   other.fx = 500;
-  EXPECT_NE(load_error(good, other).find("made with another camera: fx = 525 (this run: 500)"), std::string::npos)
+  EXPECT_NE(load_error(good, other).find("made with another camera: fx = 525 (this run: 500)"),
+            std::string::npos)
       << load_error(good, other);
   other = room_camera();
   other.width = 320;
@@ -251,7 +254,8 @@ TEST(SlamMapIo, InconsistentMapIsRejected) {
 // Session B of the room: the poses between session A's frames (half a frame on) with other depth
 // noise, so no image repeats one the map was built from.
 RgbdFrame session_b_frame(int i) {
-  return test::render_room(test::Room{}, room_camera(), test::uav_pose(2 * i + 1, 8 * kFrames), i, i / 30.0, 0.002, 2);
+  return test::render_room(test::Room{}, room_camera(), test::uav_pose(2 * i + 1, 8 * kFrames), i, i / 30.0,
+                           0.002, 2);
 }
 SE3 session_b_T_w_c(int i) {  // ground truth in session A's world (its first camera)
   return test::uav_pose(0, 4 * kFrames).inverse() * test::uav_pose(2 * i + 1, 8 * kFrames);
@@ -309,8 +313,8 @@ double worst_error_m(const SessionB& b) {
 TEST(SlamSession, LocalizeOnlyTracksInTheLoadedWorldAndLeavesTheMapAsItWas) {
   const fs::path again = temp_file("localized");
   const SessionB b = run_session_b(true, false, again.string());
-  EXPECT_EQ(b.results.front().state, TrackState::kRelocalised) << "the first frame relocalises in the map";
-  for (const auto& r : b.results) EXPECT_NE(r.state, TrackState::kLost) << "frame " << r.frame_index;
+  EXPECT_EQ(b.results.front().state, FrameState::kRelocalised) << "the first frame relocalises in the map";
+  for (const auto& r : b.results) EXPECT_NE(r.state, FrameState::kLost) << "frame " << r.frame_index;
   EXPECT_EQ(b.keyframes_made, 0);
   EXPECT_EQ(b.keyframes_after, b.keyframes_before);
   EXPECT_EQ(slurp(again), slurp(session_a_file())) << "the frozen map saves to the bytes it was loaded from";
@@ -323,7 +327,7 @@ TEST(SlamSession, LocalizeOnlyTracksInTheLoadedWorldAndLeavesTheMapAsItWas) {
 
 TEST(SlamSession, ThreadedLocalizeOnlyAlsoAddsNothing) {
   const SessionB b = run_session_b(true, true);
-  EXPECT_EQ(b.results.front().state, TrackState::kRelocalised);
+  EXPECT_EQ(b.results.front().state, FrameState::kRelocalised);
   EXPECT_EQ(b.keyframes_made, 0);
   EXPECT_EQ(b.keyframes_after, b.keyframes_before);
   EXPECT_LT(worst_error_m(b), 0.03);
@@ -331,8 +335,8 @@ TEST(SlamSession, ThreadedLocalizeOnlyAlsoAddsNothing) {
 
 TEST(SlamSession, ExtendingContinuesTheLoadedMapInItsWorld) {
   const SessionB b = run_session_b(false, false);
-  EXPECT_EQ(b.results.front().state, TrackState::kRelocalised);
-  for (const auto& r : b.results) EXPECT_NE(r.state, TrackState::kLost) << "frame " << r.frame_index;
+  EXPECT_EQ(b.results.front().state, FrameState::kRelocalised);
+  for (const auto& r : b.results) EXPECT_NE(r.state, FrameState::kLost) << "frame " << r.frame_index;
   ASSERT_EQ(b.traj.size(), std::size_t(kFrames));
   // New keyframes continue the loaded ids.
   for (const auto& r : b.results)
@@ -340,7 +344,8 @@ TEST(SlamSession, ExtendingContinuesTheLoadedMapInItsWorld) {
       EXPECT_GE(r.anchor.keyframe, b.keyframes_before) << "frame " << r.frame_index;
     }
   const double worst = worst_error_m(b);
-  std::printf("extending session B: %d keyframes added, worst position error %.4f m\n", b.keyframes_made, worst);
+  std::printf("extending session B: %d keyframes added, worst position error %.4f m\n", b.keyframes_made,
+              worst);
   EXPECT_LT(worst, 0.03);
 }
 

@@ -9,8 +9,8 @@
 #include <filesystem>
 
 #include <gtest/gtest.h>
-#include <yaml-cpp/yaml.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include "s3m/core/error.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
@@ -24,15 +24,17 @@ namespace fs = std::filesystem;
 namespace s3m::slam {
 namespace {
 
-constexpr int kCircuit = 240;      // frames of one lap of the room ellipse
-constexpr int kAFrames = 60;       // session A: the first quarter
-constexpr int kBStart = 120;       // session B starts half a lap on (the other side of the room) ...
-constexpr int kBFrames = 200;      // ... and flies on through A's quarter (lap frames 240..320)
+constexpr int kCircuit = 240;  // frames of one lap of the room ellipse
+constexpr int kAFrames = 60;   // session A: the first quarter
+constexpr int kBStart = 120;   // session B starts half a lap on (the other side of the room) ...
+constexpr int kBFrames = 200;  // ... and flies on through A's quarter (lap frames 240..320)
 
 using test::room_camera;
 
 SE3 lap_pose(int i) { return test::uav_pose(i, kCircuit); }
-RgbdFrame a_frame(int i) { return test::render_room(test::Room{}, room_camera(), lap_pose(i), i, i / 30.0, 0.002); }
+RgbdFrame a_frame(int i) {
+  return test::render_room(test::Room{}, room_camera(), lap_pose(i), i, i / 30.0, 0.002);
+}
 RgbdFrame b_frame(int j) {
   return test::render_room(test::Room{}, room_camera(), lap_pose(kBStart + j), j, j / 30.0, 0.002, 3);
 }
@@ -115,10 +117,11 @@ double worst_error_m(const std::vector<FramePose>& traj, int from = 0, int to = 
 }
 
 // Bounds [m]: once back in the world, and anywhere (B's own drift before the merge stays in its poses).
-void expect_merged_into_a(const SessionB& b, const SlamConfig& cfg, const char* mode, double world_bound, double bound) {
+void expect_merged_into_a(const SessionB& b, const SlamConfig& cfg, const char* mode, double world_bound,
+                          double bound) {
   // merge.start_frames frames fail to relocalise; the last of them starts the sub-map.
   const int start = cfg.loop_closing.loop.merge.start_frames - 1;
-  for (int j = 0; j < start; ++j) EXPECT_EQ(b.results[j].state, TrackState::kLost) << "frame " << j;
+  for (int j = 0; j < start; ++j) EXPECT_EQ(b.results[j].state, FrameState::kLost) << "frame " << j;
   EXPECT_TRUE(b.results[start].keyframe) << "the sub-map starts at once";
   EXPECT_EQ(b.results[start].submap, 1);
   EXPECT_EQ(b.new_submaps, 1);
@@ -130,7 +133,7 @@ void expect_merged_into_a(const SessionB& b, const SlamConfig& cfg, const char* 
   EXPECT_EQ(m.merged_into, 0);
   int first_world = -1;
   for (const auto& r : b.results)
-    if (r.submap == 0 && r.state != TrackState::kLost && first_world < 0) first_world = r.frame_index;
+    if (r.submap == 0 && r.state != FrameState::kLost && first_world < 0) first_world = r.frame_index;
   // Every frame from the sub-map's start on is in the trajectory, in A's world.
   ASSERT_EQ(b.traj.size(), std::size_t(kBFrames - start));
   EXPECT_EQ(b.traj.front().frame_index, start);
@@ -138,10 +141,12 @@ void expect_merged_into_a(const SessionB& b, const SlamConfig& cfg, const char* 
   // keep the drift B accumulated on its own (one seam aligns, it cannot bend B's path; measured
   // single-thread: 3.9 cm at B's start, 1.9 cm in the second before the merge).
   const double worst = worst_error_m(b.traj), in_world = worst_error_m(b.traj, first_world);
-  std::printf("%s: sub-map from frame %d, merged at B keyframe %lld (loop keyframe %lld, %d matches, %d fused), "
-              "back in the world from frame %d; worst position error in A's world %.4f m (from frame %d on: %.4f m)\n",
-              mode, start, static_cast<long long>(m.current_kf), static_cast<long long>(m.loop_kf), m.n_matches,
-              m.n_fused, first_world, worst, first_world, in_world);
+  std::printf(
+      "%s: sub-map from frame %d, merged at B keyframe %lld (loop keyframe %lld, %d matches, %d fused), "
+      "back in the world from frame %d; worst position error in A's world %.4f m "
+      "(from frame %d on: %.4f m)\n",
+      mode, start, static_cast<long long>(m.current_kf), static_cast<long long>(m.loop_kf), m.n_matches,
+      m.n_fused, first_world, worst, first_world, in_world);
   EXPECT_LT(in_world, world_bound);
   EXPECT_LT(worst, bound);
 }
@@ -173,7 +178,7 @@ TEST(SlamMerge, WithoutMergingASessionStaysLostUntilItRelocalises) {
   const SessionB b = run_b(cfg);
   EXPECT_EQ(b.new_submaps, 0);
   int lost = 0;
-  for (const auto& r : b.results) lost += r.state == TrackState::kLost;
+  for (const auto& r : b.results) lost += r.state == FrameState::kLost;
   EXPECT_GT(lost, 60) << "the unmapped half of the lap";
   EXPECT_LT(lost, kBFrames) << "it relocalises in A's quarter";
 }
@@ -231,8 +236,9 @@ TEST(SlamMerge, ASessionThatStartedLookingElsewhereEndsInTheMapOfItsOtherFrames)
   // relocalise (not lost_frames), the last of them starts the sub-map that tracks the rest.
   const int start = cfg.loop_closing.loop.merge.start_frames;
   ASSERT_LT(start, cfg.loop_closing.loop.merge.lost_frames);
-  EXPECT_EQ(e.results[0].state, TrackState::kOk);
-  for (int i = 1; i < start; ++i) EXPECT_EQ(e.results[std::size_t(i)].state, TrackState::kLost) << "frame " << i;
+  EXPECT_EQ(e.results[0].state, FrameState::kOk);
+  for (int i = 1; i < start; ++i)
+    EXPECT_EQ(e.results[std::size_t(i)].state, FrameState::kLost) << "frame " << i;
   EXPECT_TRUE(e.results[std::size_t(start)].keyframe);
   EXPECT_EQ(e.results[std::size_t(start)].submap, 1);
   EXPECT_EQ(e.new_submaps, 1);
@@ -249,13 +255,15 @@ TEST(SlamMerge, ASessionThatStartedLookingElsewhereEndsInTheMapOfItsOtherFrames)
     const SE3 truth = lap_pose(start).inverse() * lap_pose(p.frame_index);
     worst = std::max(worst, (p.T_w_x.translation() - truth.translation()).norm());
   }
-  std::printf("elsewhere first: world moved to the sub-map from frame %d, %zu frames, worst position error %.4f m\n",
-              start, e.traj.size(), worst);
+  std::printf(
+      "elsewhere first: world moved to the sub-map from frame %d, %zu frames, worst position error %.4f m\n",
+      start, e.traj.size(), worst);
   EXPECT_LT(worst, 0.02);
   ASSERT_FALSE(e.keyframes.empty());
   EXPECT_EQ(e.keyframes.front().frame_index, start);
   // The saved map is that world.
-  EXPECT_EQ(load_slam_map(saved.string(), room_camera(), vocabulary()).map.n_keyframes(), int(e.keyframes.size()));
+  EXPECT_EQ(load_slam_map(saved.string(), room_camera(), vocabulary()).map.n_keyframes(),
+            int(e.keyframes.size()));
   fs::remove(saved);
 }
 
@@ -269,7 +277,7 @@ TEST(SlamMerge, TheFirstMapStaysTheWorldWhenAskedTo) {
   // Frame 0, then the LOST frames 1-4 (System's trajectory lists them with their state).
   ASSERT_EQ(e.traj.size(), std::size_t(cfg.loop_closing.loop.merge.start_frames));
   EXPECT_EQ(e.traj.front().frame_index, 0);
-  for (std::size_t i = 1; i < e.traj.size(); ++i) EXPECT_EQ(e.traj[i].state, TrackState::kLost);
+  for (std::size_t i = 1; i < e.traj.size(); ++i) EXPECT_EQ(e.traj[i].state, FrameState::kLost);
   EXPECT_EQ(e.frames_outside_world, kElsewhereFrames - cfg.loop_closing.loop.merge.start_frames);
   cfg.loop_closing.loop.merge.world = "biggest";
   EXPECT_THROW(cfg.validate(), Error);
@@ -290,9 +298,10 @@ TEST(SlamMerge, ABlackoutLongerThanLostFramesStartsNoSubMap) {
     results.push_back(slam.track(f));
   }
   slam.finish();
-  for (int i = 40; i < back; ++i) EXPECT_EQ(results[std::size_t(i)].state, TrackState::kLost) << "frame " << i;
+  for (int i = 40; i < back; ++i)
+    EXPECT_EQ(results[std::size_t(i)].state, FrameState::kLost) << "frame " << i;
   // Back in the map at once (the tracker's reference keyframe or relocalisation finds it).
-  EXPECT_NE(results[std::size_t(back)].state, TrackState::kLost);
+  EXPECT_NE(results[std::size_t(back)].state, FrameState::kLost);
   EXPECT_EQ(results[std::size_t(back)].submap, 0);
   EXPECT_EQ(slam.n_new_submaps(), 0) << "black frames are no evidence that the camera is elsewhere";
   double worst = 0;
@@ -309,7 +318,8 @@ TEST(SlamMerge, ABlackoutLongerThanLostFramesStartsNoSubMap) {
 }
 
 TEST(SlamMerge, SavedSessionsMergeOffline) {
-  const SavedSession b("b", [](int j) { return b_frames()[std::size_t(j)]; }, kBFrames);
+  const SavedSession b(
+      "b", [](int j) { return b_frames()[std::size_t(j)]; }, kBFrames);
   LoadedSlamMap a = load_slam_map(session_a(), room_camera(), vocabulary());
   const int a_keyframes = a.map.n_keyframes();
   const LoadedSlamMap lb = load_slam_map(b.path, room_camera(), vocabulary());
@@ -319,11 +329,13 @@ TEST(SlamMerge, SavedSessionsMergeOffline) {
   EXPECT_GE(m.n_agreeing, 2);
   double worst = 0;
   for (const auto& [id, kf] : m.map.keyframes())
-    if (id >= m.b_offset) worst = std::max(worst, (kf.T_w_c.translation() - b_truth(kf.frame_index).translation()).norm());
-  std::printf("offline merge: at B keyframe %lld / A keyframe %lld, %d matches, %d of %d verified pairs agree; "
-              "worst B keyframe error %.4f m in A's world\n",
-              static_cast<long long>(m.b_keyframe - m.b_offset), static_cast<long long>(m.a_keyframe), m.n_matches,
-              m.n_agreeing, m.n_verified, worst);
+    if (id >= m.b_offset)
+      worst = std::max(worst, (kf.T_w_c.translation() - b_truth(kf.frame_index).translation()).norm());
+  std::printf(
+      "offline merge: at B keyframe %lld / A keyframe %lld, %d matches, %d of %d verified pairs agree; "
+      "worst B keyframe error %.4f m in A's world\n",
+      static_cast<long long>(m.b_keyframe - m.b_offset), static_cast<long long>(m.a_keyframe), m.n_matches,
+      m.n_agreeing, m.n_verified, worst);
   EXPECT_LT(worst, 0.08);  // B's own drift, as online
   // The merged map is one consistent map: it saves and loads.
   const fs::path p = temp_file("offline");
@@ -333,7 +345,8 @@ TEST(SlamMerge, SavedSessionsMergeOffline) {
 }
 
 TEST(SlamMerge, SessionsThatDoNotOverlapSaySo) {
-  const SavedSession b("b_far", [](int j) { return b_frames()[std::size_t(j)]; }, 50);
+  const SavedSession b(
+      "b_far", [](int j) { return b_frames()[std::size_t(j)]; }, 50);
   try {
     merge_sessions(load_slam_map(session_a(), room_camera(), vocabulary()),
                    load_slam_map(b.path, room_camera(), vocabulary()), vocabulary(), LoopConfig{});

@@ -35,7 +35,7 @@ SlamConfig odometry_only() {
 }
 
 struct Flight {
-  std::vector<TrackState> states;
+  std::vector<FrameState> states;
   double max_error_m = 0, max_error_deg = 0;  // of the posed frames, in the first camera's frame
 };
 
@@ -44,11 +44,12 @@ Flight fly(double dt_s, int drop = -1, int turn_back = kSteps + 1) {
   System slam(test::room_camera(), odometry_only());
   Flight run;
   for (int i = 0; i <= kSteps; ++i) {
-    RgbdFrame f = test::render_room(test::Room{}, test::room_camera(), pose(i, turn_back), i, i * dt_s, 0.002);
+    RgbdFrame f =
+        test::render_room(test::Room{}, test::room_camera(), pose(i, turn_back), i, i * dt_s, 0.002);
     if (i == drop) f.depth_m.setTo(0.0f);
     const TrackResult r = slam.track(f);
     run.states.push_back(r.state);
-    if (r.state != TrackState::kOk && r.state != TrackState::kOdometry) continue;
+    if (r.state != FrameState::kOk && r.state != FrameState::kOdometry) continue;
     const SE3 err = (pose(0).inverse() * pose(i, turn_back)).inverse() * r.T_w_c;
     run.max_error_m = std::max(run.max_error_m, err.translation().norm());
     run.max_error_deg = std::max(run.max_error_deg, rotation_angle_rad(err.linear()) * 180 / M_PI);
@@ -57,12 +58,14 @@ Flight fly(double dt_s, int drop = -1, int turn_back = kSteps + 1) {
   return run;
 }
 
-int count(const Flight& r, TrackState s) { return static_cast<int>(std::count(r.states.begin(), r.states.end(), s)); }
+int count(const Flight& r, FrameState s) {
+  return static_cast<int>(std::count(r.states.begin(), r.states.end(), s));
+}
 
 TEST(SlamSparseFrames, FramesTwoThirdsOfASecondApartArePosedByDepthOdometry) {
   const Flight r = fly(2.0 / 3.0);
-  ASSERT_EQ(r.states.front(), TrackState::kOk) << "the first frame starts the map";
-  EXPECT_EQ(count(r, TrackState::kOdometry), kSteps) << "every later frame measured";
+  ASSERT_EQ(r.states.front(), FrameState::kOk) << "the first frame starts the map";
+  EXPECT_EQ(count(r, FrameState::kOdometry), kSteps) << "every later frame measured";
   EXPECT_LT(r.max_error_m, 0.01);
   EXPECT_LT(r.max_error_deg, 0.2);
 }
@@ -70,16 +73,16 @@ TEST(SlamSparseFrames, FramesTwoThirdsOfASecondApartArePosedByDepthOdometry) {
 TEST(SlamSparseFrames, TheSameStepsStampedAt30HzExceedOneFramesBound) {
   // 20 cm in 1/30 s is 6 m/s: OpenCV's bound for one period rejects it, and nothing is posed.
   const Flight r = fly(1.0 / 30.0);
-  EXPECT_EQ(count(r, TrackState::kOdometry), 0);
-  EXPECT_EQ(count(r, TrackState::kLost), kSteps);
+  EXPECT_EQ(count(r, FrameState::kOdometry), 0);
+  EXPECT_EQ(count(r, FrameState::kLost), kSteps);
 }
 
 TEST(SlamSparseFrames, AFrameWithoutDepthIsLostAndTheNextIsMeasuredFromTheOneBefore) {
   const int drop = 4;
   const Flight r = fly(2.0 / 3.0, drop);
-  EXPECT_EQ(r.states[drop], TrackState::kLost);
-  EXPECT_EQ(r.states[drop + 1], TrackState::kOdometry) << "measured across two steps from frame " << drop - 1;
-  EXPECT_EQ(count(r, TrackState::kOdometry), kSteps - 1);
+  EXPECT_EQ(r.states[drop], FrameState::kLost);
+  EXPECT_EQ(r.states[drop + 1], FrameState::kOdometry) << "measured across two steps from frame " << drop - 1;
+  EXPECT_EQ(count(r, FrameState::kOdometry), kSteps - 1);
   EXPECT_LT(r.max_error_m, 0.01) << "no pose chained onto the lost frame's guess";
   EXPECT_LT(r.max_error_deg, 0.2);
 }
@@ -90,8 +93,8 @@ TEST(SlamSparseFrames, AfterAGapAVelocityThatNoLongerHoldsIsNotTheOnlyStart) {
   // not come back. The start from no motion does, confirmed by the reverse alignment.
   const int turn_back = 5;
   const Flight r = fly(2.0 / 3.0, -1, turn_back);
-  EXPECT_EQ(r.states[turn_back], TrackState::kOdometry);
-  EXPECT_EQ(count(r, TrackState::kOdometry), kSteps);
+  EXPECT_EQ(r.states[turn_back], FrameState::kOdometry);
+  EXPECT_EQ(count(r, FrameState::kOdometry), kSteps);
   EXPECT_LT(r.max_error_m, 0.01);
   EXPECT_LT(r.max_error_deg, 0.2);
 }
@@ -112,12 +115,14 @@ std::vector<TrackResult> turn_round(int dark, const SlamConfig& config = odometr
   std::vector<TrackResult> results;
   for (int i = 0; i <= last; ++i) {
     const double deg = i <= 3 ? 10.0 * i : i < last ? 30.0 + (i - 3) * 180.0 / (last - 3) : 210.0;
-    RgbdFrame f = test::render_room(test::Room{}, test::room_camera(), test::centre_pose(deg), i, i * 2.0 / 3.0, 0.002);
+    RgbdFrame f =
+        test::render_room(test::Room{}, test::room_camera(), test::centre_pose(deg), i, i * 2.0 / 3.0, 0.002);
     if (i > 3 && i < last) f.depth_m.setTo(0.0f);
     results.push_back(slam.track(f));
     if (i >= 1 && i <= 3) {
-      const SE3 err = (test::centre_pose(0).inverse() * test::centre_pose(deg)).inverse() * results.back().T_w_c;
-      EXPECT_EQ(results.back().state, TrackState::kOdometry) << "frame " << i;
+      const SE3 err =
+          (test::centre_pose(0).inverse() * test::centre_pose(deg)).inverse() * results.back().T_w_c;
+      EXPECT_EQ(results.back().state, FrameState::kOdometry) << "frame " << i;
       EXPECT_LT(rotation_angle_rad(err.linear()) * 180 / M_PI, 0.2) << "frame " << i;
     }
   }
@@ -130,7 +135,7 @@ TEST(SlamSparseFrames, NoMotionIsMeasuredBetweenViewsTheVelocityTurnsApart) {
   // camera's 63 deg field of view: nothing to measure between the two views. Measured anyway,
   // frame 11 was posed 180 deg off (ODOMETRY). The colour check is off: the rule alone holds.
   const std::vector<TrackResult> results = turn_round(7, colour_check_off());
-  for (int i = 4; i <= 11; ++i) EXPECT_EQ(results[std::size_t(i)].state, TrackState::kLost) << "frame " << i;
+  for (int i = 4; i <= 11; ++i) EXPECT_EQ(results[std::size_t(i)].state, FrameState::kLost) << "frame " << i;
 }
 
 TEST(SlamSparseFrames, AMeasuredTurnTheColoursContradictIsNotTaken) {
@@ -139,9 +144,9 @@ TEST(SlamSparseFrames, AMeasuredTurnTheColoursContradictIsNotTaken) {
   // same view (no motion, 180 deg off, confirmed from both starts); the walls' textures disagree
   // (colour correlation -0.09, right steps 0.99): LOST at the velocity's guess, not ODOMETRY.
   const std::vector<TrackResult> results = turn_round(4);
-  for (int i = 4; i <= 8; ++i) EXPECT_EQ(results[std::size_t(i)].state, TrackState::kLost) << "frame " << i;
+  for (int i = 4; i <= 8; ++i) EXPECT_EQ(results[std::size_t(i)].state, FrameState::kLost) << "frame " << i;
   const TrackResult last = turn_round(4, colour_check_off()).back();
-  EXPECT_EQ(last.state, TrackState::kOdometry) << "without the check: measured";
+  EXPECT_EQ(last.state, FrameState::kOdometry) << "without the check: measured";
   const SE3 err = (test::centre_pose(0).inverse() * test::centre_pose(210)).inverse() * last.T_w_c;
   EXPECT_GT(rotation_angle_rad(err.linear()) * 180 / M_PI, 170.0) << "... the other way round";
 }

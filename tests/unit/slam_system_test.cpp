@@ -2,9 +2,9 @@
 // single-thread and threaded mode, determinism, the robot-frame calibration, config loading.
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <chrono>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -24,7 +24,8 @@ using test::room_camera;
 const std::vector<RgbdFrame>& room_frames(int count = kFrames) {
   static std::vector<RgbdFrame> frames;
   for (int i = static_cast<int>(frames.size()); i < count; ++i)
-    frames.push_back(test::render_room(test::Room{}, room_camera(), test::uav_pose(i, 2 * kFrames), i, i / 30.0, 0.002));
+    frames.push_back(
+        test::render_room(test::Room{}, room_camera(), test::uav_pose(i, 2 * kFrames), i, i / 30.0, 0.002));
   return frames;
 }
 
@@ -40,7 +41,7 @@ RunResult run(const SlamConfig& cfg, MappingObserver observer = {}, std::atomic<
   RunResult r;
   for (const auto& f : room_frames()) {
     r.results.push_back(slam.track(f));
-    r.lost += r.results.back().state != TrackState::kOk;
+    r.lost += r.results.back().state != FrameState::kOk;
     if (progress) progress->store(static_cast<int>(r.results.size()));
   }
   slam.finish();
@@ -201,8 +202,8 @@ TEST(SlamTracker, FewCloseTrackedPointsMakeNoKeyframeWhileOneIsPending) {
   Tracker idle = tracker, busy = tracker;
   const TrackerOutput a = idle.process(room_frames(3)[2], /*pending_keyframes=*/0);
   const TrackerOutput b = busy.process(room_frames(3)[2], /*pending_keyframes=*/1);
-  ASSERT_EQ(a.state, TrackState::kOk);
-  ASSERT_EQ(b.state, TrackState::kOk);
+  ASSERT_EQ(a.state, FrameState::kOk);
+  ASSERT_EQ(b.state, FrameState::kOk);
   EXPECT_TRUE(a.keyframe.has_value());
   EXPECT_FALSE(b.keyframe.has_value());
 }
@@ -226,7 +227,8 @@ TEST(SlamSystem, RobotPoseIsCameraPoseTimesCalibration) {
   slam.finish();
   const auto cam = slam.camera_trajectory(), rob = slam.robot_trajectory();
   ASSERT_EQ(cam.size(), 5u);
-  for (std::size_t i = 0; i < cam.size(); ++i) EXPECT_TRUE(rob[i].T_w_x.isApprox(cam[i].T_w_x * T_c_r, 1e-12));
+  for (std::size_t i = 0; i < cam.size(); ++i)
+    EXPECT_TRUE(rob[i].T_w_x.isApprox(cam[i].T_w_x * T_c_r, 1e-12));
 }
 
 TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
@@ -234,7 +236,8 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
       "slam:\n  threaded: true\n  features:\n    orb: {n_features: 700, n_levels: 6}\n"
       "  tracker: {min_local_inliers: 25, odometry_frames: 12, odometry_deg: 0.25, odometry_m: 0.01,\n"
       "            odometry_downsample: 4, odometry_max_depth_diff_m: 0.05, anchor_keyframes: 2,\n"
-      "            odometry_max_step_m: 0.2, odometry_max_step_deg: 20, odometry_gap_max_depth_diff_m: 0.25,\n"
+      "            odometry_max_step_m: 0.2, odometry_max_step_deg: 20,\n"
+      "            odometry_gap_max_depth_diff_m: 0.25,\n"
       "            odometry_agree_fraction: 0.05, odometry_min_colour_agreement: 0.3,\n"
       "            keyframe_max_deg: 12.5, keyframe_max_m: 0, wide_match_ratio: 0}\n"
       "  mapper: {final_global_ba: false, ba: {max_local_keyframes: 12, global_iterations: 7,\n"
@@ -255,18 +258,21 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
   EXPECT_EQ(c.tracker.odometry.downsample, 4);
   EXPECT_EQ(c.tracker.anchor_keyframes, 2);
   EXPECT_DOUBLE_EQ(c.tracker.keyframe_max_deg, 12.5);
-  EXPECT_DOUBLE_EQ(c.tracker.keyframe_max_m, 0.0);  // 0 = off, allowed
+  EXPECT_DOUBLE_EQ(c.tracker.keyframe_max_m, 0.0);    // 0 = off, allowed
   EXPECT_DOUBLE_EQ(c.tracker.wide_match_ratio, 0.0);  // off, allowed
   EXPECT_DOUBLE_EQ(c.tracker.odometry.max_depth_diff_m, 0.05);
   EXPECT_DOUBLE_EQ(c.tracker.odometry.max_step_m, 0.2);
   EXPECT_DOUBLE_EQ(c.tracker.odometry.max_step_deg, 20.0);
   EXPECT_DOUBLE_EQ(c.tracker.odometry.gap_max_depth_diff_m, 0.25);
   EXPECT_DOUBLE_EQ(c.tracker.odometry_agree_fraction, 0.05);
-  EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_agree_fraction: -0.1}"), "t.yaml"), ParseError);
+  EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_agree_fraction: -0.1}"), "t.yaml"),
+               ParseError);
   EXPECT_DOUBLE_EQ(c.tracker.odometry_min_colour_agreement, 0.3);
-  EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_min_colour_agreement: 1.5}"), "t.yaml"), ParseError)
+  EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_min_colour_agreement: 1.5}"), "t.yaml"),
+               ParseError)
       << "a correlation is at most 1";
-  EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_gap_max_depth_diff_m: 0.01}"), "t.yaml"), ParseError)
+  EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_gap_max_depth_diff_m: 0.01}"), "t.yaml"),
+               ParseError)
       << "a gap's gate narrower than the usual one";
   EXPECT_DOUBLE_EQ(c.mapper.ba.max_keyframe_step_deg, 2.5);
   EXPECT_DOUBLE_EQ(c.mapper.ba.max_keyframe_step_m, 0.08);
@@ -274,7 +280,8 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {anchor_keyframes: 0}"), "t.yaml"), ParseError);
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {keyframe_max_deg: -1}"), "t.yaml"), ParseError);
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {wide_match_ratio: 1.5}"), "t.yaml"), ParseError);
-  EXPECT_THROW(slam_config_from_yaml(YAML::Load("mapper: {ba: {max_keyframe_step_deg: 0}}"), "t.yaml"), ParseError);
+  EXPECT_THROW(slam_config_from_yaml(YAML::Load("mapper: {ba: {max_keyframe_step_deg: 0}}"), "t.yaml"),
+               ParseError);
   EXPECT_TRUE(c.T_c_r.translation().isApprox(Vec3(0.1, 0, -0.05)));
   EXPECT_TRUE((c.T_c_r.linear() * Vec3::UnitX()).isApprox(Vec3::UnitY(), 1e-9));
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {min_local_inlier: 3}"), "t.yaml"), ParseError);
@@ -286,12 +293,14 @@ TEST(SlamConfig, QueueCapacityMustHoldEveryUnansweredKeyframe) {
   // Tracking keeps up to max_pending_keyframes + 1 keyframes unanswered plus one relocalisation
   // query in flight: smaller queues could block both threads, so such a config is refused.
   EXPECT_EQ(SlamConfig{}.queue_capacity, SlamConfig{}.tracker.max_pending_keyframes + 2);
-  EXPECT_EQ(slam_config_from_yaml(YAML::Load("queue_capacity: 6\ntracker: {max_pending_keyframes: 4}"), "t.yaml")
-                .queue_capacity,
-            6);
+  EXPECT_EQ(
+      slam_config_from_yaml(YAML::Load("queue_capacity: 6\ntracker: {max_pending_keyframes: 4}"), "t.yaml")
+          .queue_capacity,
+      6);
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("queue_capacity: 4"), "t.yaml"), ParseError);
-  EXPECT_THROW(slam_config_from_yaml(YAML::Load("queue_capacity: 5\ntracker: {max_pending_keyframes: 4}"), "t.yaml"),
-               ParseError);
+  EXPECT_THROW(
+      slam_config_from_yaml(YAML::Load("queue_capacity: 5\ntracker: {max_pending_keyframes: 4}"), "t.yaml"),
+      ParseError);
 }
 
 }  // namespace
@@ -302,7 +311,8 @@ namespace {
 
 TEST(SlamConfig, ShippedDefaultPresetMatchesCompiledDefaults) {
   const SlamConfig c = load_slam_config(
-      (std::filesystem::path(S3M_TEST_DATA_DIR).parent_path().parent_path() / "config" / "slam_default.yaml").string());
+      (std::filesystem::path(S3M_TEST_DATA_DIR).parent_path().parent_path() / "config" / "slam_default.yaml")
+          .string());
   const SlamConfig d;
   EXPECT_EQ(c.features.orb.n_features, d.features.orb.n_features);
   EXPECT_EQ(c.tracker.min_local_inliers, d.tracker.min_local_inliers);

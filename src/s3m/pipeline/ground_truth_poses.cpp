@@ -18,11 +18,11 @@ class GroundTruthPoses final : public PoseSource {
     TrackOutput out;
     const auto T = lookup(frame.t_s);
     if (!T) {
-      out.state = "NO_GT";
+      out.state = FrameState::kNoGroundTruth;
       return out;
     }
     out.T_w_c = *T;
-    out.state = "OK";
+    out.state = FrameState::kOk;
     out.ok = true;
     if (last_kf_ < 0 || moved_enough(kf_poses_.at(last_kf_), *T)) {
       last_kf_ = static_cast<KeyframeId>(kf_poses_.size());
@@ -66,7 +66,8 @@ class GroundTruthPoses final : public PoseSource {
 
 }  // namespace
 
-std::unique_ptr<PoseSource> make_ground_truth_poses(io::Trajectory groundtruth, GroundTruthPosesConfig config) {
+std::unique_ptr<PoseSource> make_ground_truth_poses(io::Trajectory groundtruth,
+                                                    GroundTruthPosesConfig config) {
   return std::make_unique<GroundTruthPoses>(std::move(groundtruth), config);
 }
 

@@ -155,10 +155,11 @@ json tracking_json(const std::vector<FrameOutcome>& frames) {
   json states = json::object(), lost = json::array(), relocalised = json::array();
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const FrameOutcome& f = frames[i];
-    states[f.state] = states.value(f.state, 0) + 1;
-    if (f.state == "RELOCALISED") relocalised.push_back(f.index);
-    if (f.state != "LOST") continue;
-    if (i > 0 && frames[i - 1].state == "LOST" && !lost.empty())
+    const char* name = to_string(f.state);
+    states[name] = states.value(name, 0) + 1;
+    if (f.state == FrameState::kRelocalised) relocalised.push_back(f.index);
+    if (f.state != FrameState::kLost) continue;
+    if (i > 0 && frames[i - 1].state == FrameState::kLost && !lost.empty())
       lost.back()[1] = f.index;
     else
       lost.push_back({f.index, f.index});
@@ -201,7 +202,8 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   m["wall_time_s"] = info.wall_time_s;
   m["fps"] = info.wall_time_s > 0 ? c.frames / info.wall_time_s : 0.0;
   m["tracking"] = tracking_json(p.frames());
-  const PoseSource::Submaps sub = p.poses().submaps();
+  const SessionMap* session = p.poses().session_map();
+  const SessionMap::Submaps sub = session ? session->submaps() : SessionMap::Submaps{};
   m["tracking"]["submaps"] = {{"started", sub.started},
                               {"merges", sub.merges},
                               {"keyframes_outside_world", sub.keyframes_outside_world},

@@ -22,8 +22,8 @@ std::string frames_table(const std::vector<FrameOutcome>& frames) {
   std::string out = "# index t_s state tracked keyframe integrated\n";
   char line[160];
   for (const FrameOutcome& f : frames) {
-    std::snprintf(line, sizeof line, "%d %.6f %s %d %d %d\n", f.index, f.t_s, f.state.c_str(), int(f.tracked),
-                  int(f.keyframe), int(f.integrated));
+    std::snprintf(line, sizeof line, "%d %.6f %s %d %d %d\n", f.index, f.t_s, to_string(f.state),
+                  int(f.tracked), int(f.keyframe), int(f.integrated));
     out += line;
   }
   return out;
@@ -53,7 +53,8 @@ OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config
     map->save(p.map_ot, p.map_ply);
   }
   if (write_session) {
-    if (pipeline.poses().save_map(out_dir + "/" + kSlamMapFile)) p.slam_map = out_dir + "/" + kSlamMapFile;
+    const SessionMap* session = pipeline.poses().session_map();
+    if (session && session->save_map(out_dir + "/" + kSlamMapFile)) p.slam_map = out_dir + "/" + kSlamMapFile;
     if (pipeline.map() && !p.slam_map.empty()) {
       p.kept_clouds = out_dir + "/" + kKeptCloudsFile;
       save_kept_clouds(p.kept_clouds, pipeline.keyframe_store());

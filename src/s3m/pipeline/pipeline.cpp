@@ -16,7 +16,8 @@ Pipeline::Pipeline(PipelineConfig config, PinholeCamera camera, std::unique_ptr<
       poses_(std::move(poses)),
       segmenter_(std::move(segmenter)),
       map_(std::move(map)),
-      eval_frames_(config_.eval.reprojection_every_n, std::size_t(std::max(config_.eval.reprojection_max_frames, 0))) {
+      eval_frames_(config_.eval.reprojection_every_n,
+                   std::size_t(std::max(config_.eval.reprojection_max_frames, 0))) {
   require(poses_ != nullptr, "Pipeline: a pose source is required");
   config_.validate();
   camera_.validate();
@@ -32,7 +33,8 @@ Pipeline::~Pipeline() {
 }
 
 void Pipeline::load_session_clouds(const std::string& path) {
-  require(frames_done_.load() == 0 && outcomes_.empty(), "Pipeline::load_session_clouds: only before the first frame");
+  require(frames_done_.load() == 0 && outcomes_.empty(),
+          "Pipeline::load_session_clouds: only before the first frame");
   KeyframeStore loaded(store_.budget_bytes());
   load_kept_clouds(path, loaded);  // the mapping step waits on its queue: no frame has been sent
   store_ = std::move(loaded);
@@ -65,7 +67,8 @@ Pipeline::Work Pipeline::step1_track(RgbdFrame frame) {
   Work w;
   w.track = poses_->track(frame);
   timings_.add("track", sw.elapsed_ms());
-  // The tracker alone: with --deterministic "track" holds local mapping too (the 10 ms target is the tracker's).
+  // The tracker alone: with --deterministic "track" holds local mapping too (the 10 ms target is the
+  // tracker's).
   if (w.track.tracking_ms >= 0) timings_.add("slam_tracking", w.track.tracking_ms);
   const bool wanted = config_.flow.integrate == IntegrateMode::kAllFrames || w.track.keyframe;
   w.integrate = map_ != nullptr && w.track.ok && wanted && w.track.anchor.keyframe != kNoKeyframe;
@@ -94,8 +97,8 @@ void Pipeline::steps3to5_map(Work& w) {
     // 3. cloud: back-project the labelled, range-filtered pixels; keep a downsampled copy.
     Stopwatch sw;
     const CloudConfig& cc = config_.cloud;
-    mapping::LabeledCloud cloud = backproject(camera_, f.depth_m, f.rgb, w.labels,
-                                      {cc.min_depth_m, cc.max_depth_m, cc.pixel_stride});
+    mapping::LabeledCloud cloud =
+        backproject(camera_, f.depth_m, f.rgb, w.labels, {cc.min_depth_m, cc.max_depth_m, cc.pixel_stride});
     cloud = voxel_downsample(cloud, cc.keyframe_voxel_m > 0 ? cc.keyframe_voxel_m : map_->resolution_m());
     cv::Mat in_range;
     cv::inRange(f.depth_m, cc.min_depth_m, cc.max_depth_m, in_range);
@@ -127,7 +130,7 @@ void Pipeline::steps3to5_map(Work& w) {
       eval_frames_.keep({f.index, f.t_s, w.labels.argmax.clone()}, eval_offered_);
     ++eval_offered_;
   }
-  FrameOutcome o{f.index, f.t_s, w.track.T_w_c, w.track.state, w.track.ok, w.track.keyframe,
+  FrameOutcome o{f.index,           f.t_s,       w.track.T_w_c,   w.track.state, w.track.ok, w.track.keyframe,
                  !w.labels.empty(), w.integrate, w.track.detached};
   counters_.frames++;
   counters_.tracked += o.tracked;
@@ -182,7 +185,8 @@ void Pipeline::finish() {
   }
   apply_pending_corrections();
   // The world moved to another sub-map: what was mapped so far is in the old one's frame.
-  const std::optional<KeyframePoses> world = poses_->moved_world();
+  const SessionMap* session = poses_->session_map();
+  const std::optional<KeyframePoses> world = session ? session->moved_world() : std::nullopt;
   if (world) store_.set_world(*world);
   if (map_ && (config_.flow.final_reintegration || world) && store_.size() > 0) {
     Stopwatch sw;
@@ -193,7 +197,7 @@ void Pipeline::finish() {
   }
 }
 
-std::string Pipeline::last_state() const {
+std::optional<FrameState> Pipeline::last_state() const {
   std::lock_guard lock(state_mutex_);
   return last_state_;
 }

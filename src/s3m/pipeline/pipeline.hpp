@@ -16,12 +16,14 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "s3m/core/bounded_queue.hpp"
 #include "s3m/core/camera.hpp"
+#include "s3m/core/frame_state.hpp"
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
 #include "s3m/pipeline/map_integrator.hpp"
@@ -39,8 +41,8 @@ struct FrameOutcome {
   int index = 0;
   double t_s = 0;
   SE3 T_w_c = SE3::Identity();
-  std::string state;
-  bool tracked = false;     // pose usable
+  FrameState state = FrameState::kNotInitialized;
+  bool tracked = false;  // pose usable
   bool keyframe = false;
   bool segmented = false;
   bool integrated = false;  // its cloud went into the map (or, detached, waits for its sub-map's merge)
@@ -49,10 +51,10 @@ struct FrameOutcome {
 
 struct PipelineCounters {
   std::size_t frames = 0, tracked = 0, keyframes = 0, segmented = 0, integrated = 0;
-  std::size_t raw_points = 0;        // valid in-range depth pixels of integrated frames (full resolution)
-  std::size_t inserted_points = 0;   // points actually inserted (after stride and downsampling)
-  std::size_t corrections = 0;       // loop-closure / optimisation corrections received
-  std::size_t rebuilds = 0;          // map rebuilds from kept clouds
+  std::size_t raw_points = 0;       // valid in-range depth pixels of integrated frames (full resolution)
+  std::size_t inserted_points = 0;  // points actually inserted (after stride and downsampling)
+  std::size_t corrections = 0;      // loop-closure / optimisation corrections received
+  std::size_t rebuilds = 0;         // map rebuilds from kept clouds
 };
 
 // Called after step 5 of every frame, from the thread that ran it (the caller of process() in
@@ -80,9 +82,10 @@ class Pipeline {
   // first error a worker thread hit. Idempotent.
   void finish();
 
-  // Live (any thread): frames through all five steps, and the latest tracking state.
+  // Live (any thread): frames through all five steps, and the latest tracking state (none before
+  // the first frame is tracked).
   std::size_t frames_done() const { return frames_done_.load(); }
-  std::string last_state() const;
+  std::optional<FrameState> last_state() const;
 
   // After finish():
   const std::vector<FrameOutcome>& frames() const { return outcomes_; }
@@ -130,7 +133,7 @@ class Pipeline {
   std::atomic<std::size_t> frames_done_{0};
 
   mutable std::mutex state_mutex_;
-  std::string last_state_;
+  std::optional<FrameState> last_state_;
   KeyframePoses pending_corrections_;  // received with the frames, applied by step 4 (mapping step only)
 
   // Threaded mode.

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "s3m/core/error.hpp"
+#include "s3m/core/frame_state.hpp"
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
@@ -19,10 +19,10 @@ namespace s3m::pipeline {
 using KeyframePoses = std::map<KeyframeId, SE3>;
 
 struct TrackOutput {
-  SE3 T_w_c = SE3::Identity();  // camera -> world
-  std::string state;            // tracking state as SLAM names it ("OK", "LOST", "RELOCALISED", ...)
-  bool ok = false;              // pose usable for mapping
-  bool keyframe = false;        // this frame became a keyframe
+  SE3 T_w_c = SE3::Identity();                     // camera -> world
+  FrameState state = FrameState::kNotInitialized;  // how the pose came about
+  bool ok = false;                                 // pose usable for mapping
+  bool keyframe = false;                           // this frame became a keyframe
   // The keyframe this frame's pose is relative to (this frame's own when keyframe; kNoKeyframe:
   // none yet), T_kf_c in the same world as T_w_c.
   KeyframeAnchor anchor;
@@ -40,6 +40,33 @@ struct TrackOutput {
   double tracking_ms = -1;
 };
 
+// The SLAM side of a pose source: a map that outlasts the run (saved, and continued in by a later
+// one) and may be split in sub-maps (slam/map_merge.hpp). Only the SLAM source has one
+// (PoseSource::session_map()).
+class SessionMap {
+ public:
+  // Before the first track(): continue in the SLAM map saved at path (localize_only: without
+  // changing it).
+  virtual void load_map(const std::string& path, bool localize_only) = 0;
+  // After finish(): write the map to path; false when there is none to write.
+  virtual bool save_map(const std::string& path) const = 0;
+  // After finish(): sub-maps started when relocalisation kept failing, merges made, and keyframes
+  // still outside the world (neither reported nor saved). world_moved: the world became another
+  // sub-map at the end (the one with the most tracked frames); frames_outside_world: tracked
+  // frames left out of the trajectory.
+  struct Submaps {
+    int started = 0, merges = 0, keyframes_outside_world = 0, frames_outside_world = 0;
+    bool world_moved = false;
+  };
+  virtual Submaps submaps() const = 0;
+  // After finish(), when the world moved (Submaps::world_moved): every keyframe now in it, culled
+  // ones included, with its pose; every other keyframe has left it. Otherwise nothing.
+  virtual std::optional<KeyframePoses> moved_world() const = 0;
+
+ protected:
+  ~SessionMap() = default;  // owned as the PoseSource it belongs to, never through this interface
+};
+
 class PoseSource {
  public:
   virtual ~PoseSource() = default;
@@ -53,35 +80,24 @@ class PoseSource {
   virtual io::Trajectory keyframe_trajectory() const = 0;
   virtual KeyframePoses keyframe_poses() const = 0;
   virtual std::string name() const = 0;
-  // A map that lasts. Before the first track(): continue in the SLAM map saved at path
-  // (localize_only: without changing it). After finish(): write the map to path; false when the
-  // source has none to write. Sources without a map (ground truth) refuse to load one.
-  virtual void load_map(const std::string& path, bool /*localize_only*/) {
-    throw Error("--map " + path + ": poses from " + name() + " cannot continue in a saved SLAM map (use --poses slam)");
-  }
-  virtual bool save_map(const std::string& /*path*/) const { return false; }
-  // SLAM sub-maps (slam/map_merge.hpp), after finish(): started when relocalisation kept failing,
-  // merges made, and keyframes still outside the world (neither reported nor saved).
-  // world_moved: the world became another sub-map at the end (the one with the most tracked
-  // frames); frames_outside_world: tracked frames left out of the trajectory.
-  struct Submaps {
-    int started = 0, merges = 0, keyframes_outside_world = 0, frames_outside_world = 0;
-    bool world_moved = false;
-  };
-  virtual Submaps submaps() const { return {}; }
-  // After finish(), when the world moved (Submaps::world_moved): every keyframe now in it, culled
-  // ones included, with its pose; every other keyframe has left it. Otherwise nothing.
-  virtual std::optional<KeyframePoses> moved_world() const { return std::nullopt; }
+  // The SLAM map the poses are in; nullptr when the source has none (ground truth).
+  virtual SessionMap* session_map() { return nullptr; }
+  virtual const SessionMap* session_map() const { return nullptr; }
 };
+
+// Before the first track(): poses continue in the SLAM map saved at path (--map). A source without
+// a session map refuses, naming itself.
+void load_session_map(PoseSource& poses, const std::string& path, bool localize_only);
 
 // Ground-truth poses (T_w_c from the dataset). Keyframes are chosen by motion, like a SLAM
 // system would: when the camera moved more than keyframe_dist_m or turned more than keyframe_angle_rad
-// since the last keyframe. Frames without a ground-truth pose within max_dt_s are reported "NO_GT".
+// since the last keyframe. Frames without a ground-truth pose within max_dt_s are kNoGroundTruth.
 struct GroundTruthPosesConfig {
-  double keyframe_dist_m = 0.10;   // [m]
+  double keyframe_dist_m = 0.10;     // [m]
   double keyframe_angle_rad = 0.17;  // [rad] (~10 deg)
-  double max_dt_s = 0.02;          // [s]
+  double max_dt_s = 0.02;            // [s]
 };
-std::unique_ptr<PoseSource> make_ground_truth_poses(io::Trajectory groundtruth, GroundTruthPosesConfig config = {});
+std::unique_ptr<PoseSource> make_ground_truth_poses(io::Trajectory groundtruth,
+                                                    GroundTruthPosesConfig config = {});
 
 }  // namespace s3m::pipeline

@@ -102,7 +102,7 @@ Components build(const RunOptions& o) {
   if (!scale.warning.empty()) spdlog::warn("run: {}", scale.warning);
   auto poses = make_pose_source(o.poses, *c.source, cam, c.config);
   const SessionFiles session = session_files(o);
-  if (!session.slam_map.empty()) poses->load_map(session.slam_map, o.localize_only);
+  if (!session.slam_map.empty()) load_session_map(*poses, session.slam_map, o.localize_only);
   c.info.poses = poses->name();
   c.info.loaded_map = o.map_dir;
   c.info.localize_only = o.localize_only;
@@ -174,6 +174,9 @@ bool stop_requested(const RunOptions& o, std::size_t done) {
   return o.stop_after_frames >= 0 && static_cast<long>(done) >= o.stop_after_frames;
 }
 
+// The progress line's state: the latest tracked frame's, nothing before the first.
+std::string state_text(const std::optional<FrameState>& state) { return state ? to_string(*state) : ""; }
+
 // Feeds frames 0, 1, ... to the pipeline until the last, a stop request or more unreadable frames in
 // a row than the config allows (c.info.stopped_by says why). Returns the index it stopped at.
 std::size_t process_frames(const RunOptions& o, Components& c, RunResult& r, ProgressLine& progress) {
@@ -195,7 +198,7 @@ std::size_t process_frames(const RunOptions& o, Components& c, RunResult& r, Pro
       r.interrupted = true;
       break;
     }
-    progress.update(c.pipeline->frames_done(), c.pipeline->last_state());
+    progress.update(c.pipeline->frames_done(), state_text(c.pipeline->last_state()));
   }
   return i;
 }
@@ -233,7 +236,7 @@ RunResult run_dataset(const RunOptions& o) {
   c.info.frames_total = r.frames_total;
   r.frames_done = c.pipeline->frames_done();
   r.frames_skipped = c.info.skipped.size();
-  progress.finish(r.frames_done, r.interrupted ? "interrupted" : c.pipeline->last_state());
+  progress.finish(r.frames_done, r.interrupted ? "interrupted" : state_text(c.pipeline->last_state()));
   if (!c.info.skipped.empty())
     spdlog::warn("run: {} unreadable frame(s) skipped (listed in metrics.json, skipped_frames)",
                  c.info.skipped.size());

@@ -18,7 +18,7 @@ io::Trajectory without_lost(const std::vector<slam::FramePose>& frames) {
   io::Trajectory out;
   out.reserve(frames.size());
   for (const slam::FramePose& p : frames)
-    if (p.state != slam::TrackState::kLost) out.push_back(p);  // its StampedPose
+    if (p.state != FrameState::kLost) out.push_back(p);  // its StampedPose
   return out;
 }
 
@@ -28,7 +28,7 @@ std::vector<KeyframePoses> corrected_poses(const std::vector<slam::LoopCorrectio
   return out;
 }
 
-class SlamPoses final : public PoseSource {
+class SlamPoses final : public PoseSource, public SessionMap {
  public:
   SlamPoses(const PinholeCamera& camera, const slam::SlamConfig& config,
             std::shared_ptr<const features::Vocabulary> vocabulary)
@@ -40,11 +40,11 @@ class SlamPoses final : public PoseSource {
     out.T_w_c = r.T_w_c;
     // An ODOMETRY frame has a measured pose but images feature tracking could not use (blank,
     // plain, blurred): it goes into the map only when it became a keyframe (enough texture).
-    out.ok = r.state == slam::TrackState::kOk || r.state == slam::TrackState::kRelocalised ||
-             (r.state == slam::TrackState::kOdometry && r.keyframe);
+    out.ok = r.state == FrameState::kOk || r.state == FrameState::kRelocalised ||
+             (r.state == FrameState::kOdometry && r.keyframe);
     out.detached = r.submap != 0;
     // Tracked in a sub-map that has not joined the world (yet): said as such in frames.txt.
-    out.state = out.detached && out.ok ? "SUBMAP" : slam::to_string(r.state);
+    out.state = out.detached && out.ok ? FrameState::kSubmap : r.state;
     out.keyframe = r.keyframe;
     out.anchor = r.anchor;
     out.corrections = corrected_poses(r.corrections);
@@ -55,11 +55,12 @@ class SlamPoses final : public PoseSource {
   std::vector<KeyframePoses> finish() override {
     system_.finish();
     if (const slam::KeyframeLinkSummary s = system_.keyframe_link_summary(); s.n_links > 0)
-      spdlog::info("SLAM: {} dense keyframe links, median {:.3f} deg / {:.1f} mm from tracking: {}", s.n_links,
-                   s.median_disagreement_deg, 1000 * s.median_disagreement_m,
-                   s.trusted ? "used in the final BA"
-                             : "not used (over slam.mapper.dense_links.max_median_deg / _m: do depth and colour "
-                               "line up?)");
+      spdlog::info("SLAM: {} dense keyframe links, median {:.3f} deg / {:.1f} mm from tracking: {}",
+                   s.n_links, s.median_disagreement_deg, 1000 * s.median_disagreement_m,
+                   s.trusted
+                       ? "used in the final BA"
+                       : "not used (over slam.mapper.dense_links.max_median_deg / _m: do depth and colour "
+                         "line up?)");
     return corrected_poses(system_.late_corrections());
   }
   io::Trajectory camera_trajectory() const override { return without_lost(system_.camera_trajectory()); }
@@ -70,10 +71,20 @@ class SlamPoses final : public PoseSource {
       if (kf.submap == 0) out.emplace(id, kf.T_w_c);  // the world only
     return out;
   }
+  std::string name() const override {
+    if (system_.localize_only()) return "s3m SLAM, localisation only in a loaded map";
+    if (system_.closes_loops()) return "s3m SLAM + loop closing";
+    return system_.relocalises() ? "s3m SLAM + relocalisation" : "s3m SLAM";
+  }
+  SessionMap* session_map() override { return this; }
+  const SessionMap* session_map() const override { return this; }
+
+  // SessionMap
   void load_map(const std::string& path, bool localize_only) override {
     if (!system_.relocalises())
-      throw Error("--map: continuing in a saved map needs relocalisation (drop --no-loop-closing, or set "
-                  "loop_closing.relocalisation true)");
+      throw Error(
+          "--map: continuing in a saved map needs relocalisation (drop --no-loop-closing, or set "
+          "loop_closing.relocalisation true)");
     system_.load_map(path, localize_only);
   }
   bool save_map(const std::string& path) const override {
@@ -94,11 +105,6 @@ class SlamPoses final : public PoseSource {
     world.merge(system_.map().culled_poses_in(0));  // culled ones anchor clouds too
     return world;
   }
-  std::string name() const override {
-    if (system_.localize_only()) return "s3m SLAM, localisation only in a loaded map";
-    if (system_.closes_loops()) return "s3m SLAM + loop closing";
-    return system_.relocalises() ? "s3m SLAM + relocalisation" : "s3m SLAM";
-  }
 
  private:
   slam::System system_;
@@ -107,7 +113,8 @@ class SlamPoses final : public PoseSource {
 }  // namespace
 
 std::shared_ptr<const features::Vocabulary> load_vocabulary(const slam::LoopClosingConfig& config) {
-  const std::string path = config.vocabulary.empty() ? features::default_vocabulary_path() : config.vocabulary;
+  const std::string path =
+      config.vocabulary.empty() ? features::default_vocabulary_path() : config.vocabulary;
   if (!std::filesystem::is_regular_file(path))
     throw Error("loop_closing.vocabulary: '" + path +
                 "' does not exist (expected a vocabulary file from `s3m vocab`, e.g. the shipped "
@@ -125,8 +132,9 @@ std::unique_ptr<PoseSource> make_slam_poses(const PinholeCamera& camera, const P
   // One thread means one thread: local mapping runs inside track() in deterministic mode, whatever
   // the preset's slam.threaded says (the documented precedence; said once at start).
   if (config.threads.deterministic && sc.threaded) {
-    spdlog::info("slam.threaded: true is overridden by threads.deterministic (--deterministic): local mapping "
-                 "runs inside tracking");
+    spdlog::info(
+        "slam.threaded: true is overridden by threads.deterministic (--deterministic): local mapping "
+        "runs inside tracking");
     sc.threaded = false;
   }
   const slam::LoopClosingConfig& lc = sc.loop_closing;

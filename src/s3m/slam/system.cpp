@@ -74,7 +74,8 @@ void System::mapping_loop() {
 // keyframes unanswered, and SlamConfig::validate() requires queue_capacity >= that + 1.
 void System::send(MapperJob job) {
   require(n_sent_ - n_received_ < int(requests_.capacity()),
-          "System: " + std::to_string(n_sent_ - n_received_) + " keyframes unanswered by local mapping, queue capacity " +
+          "System: " + std::to_string(n_sent_ - n_received_) +
+              " keyframes unanswered by local mapping, queue capacity " +
               std::to_string(requests_.capacity()) + " (the no-deadlock rule is broken)");
   const bool keyframe = job.keyframe.has_value();
   if (!requests_.push(std::move(job))) throw Error("System: local mapping has stopped");
@@ -135,8 +136,9 @@ void System::query_map(const MapQuery& query) {
 void System::load_map(const std::string& path, bool localize_only) {
   require(map_.n_keyframes() == 0 && records_.empty() && n_sent_ == 0,
           "System::load_map: only before the first frame");
-  require(relocalises(), "System::load_map: continuing in a saved map needs relocalisation (a vocabulary and "
-                         "loop_closing.relocalisation)");
+  require(relocalises(),
+          "System::load_map: continuing in a saved map needs relocalisation (a vocabulary and "
+          "loop_closing.relocalisation)");
   // The mapping thread has not touched the map yet (nothing was sent): no query needed.
   LoadedSlamMap m = load_slam_map(path, camera_, vocabulary_, config_.loop_closing.loop.direct_level);
   require(m.map.n_keyframes() > 0, "System::load_map: '" + path + "' holds an empty map");
@@ -150,7 +152,8 @@ void System::load_map(const std::string& path, bool localize_only) {
 }
 
 void System::save_map(const std::string& path) const {
-  require(closer_.has_value(), "System::save_map: needs place recognition (the map file holds the BoW index)");
+  require(closer_.has_value(),
+          "System::save_map: needs place recognition (the map file holds the BoW index)");
   require(finished_ || !config_.threaded, "System::save_map: threaded mode, call finish() first");
   if (n_keyframes_outside_world() == 0) {
     save_slam_map(path, map_, closer_->index(), closer_->loop_edges(), camera_);
@@ -198,7 +201,7 @@ bool System::relocalise(const features::FrameFeatures& f, int frame_index, Track
   else
     tracker_.set_snapshot(std::move(snapshot));
   tracker_.set_pose(reloc.T_w_c);
-  r.state = TrackState::kRelocalised;
+  r.state = FrameState::kRelocalised;
   r.T_w_c = reloc.T_w_c;
   r.T_w_r = robot_pose(reloc.T_w_c, config_.T_c_r);
   r.n_inliers = reloc.n_inliers;
@@ -249,7 +252,7 @@ TrackResult System::track(const RgbdFrame& frame) {
   take_tracking(out, r);
   // 3. Relocalise a LOST frame against the map (with the features tracking computed); when that
   //    keeps failing, start a new sub-map, merged later when place recognition finds the old one.
-  if (out.state == TrackState::kLost && relocalises())
+  if (out.state == FrameState::kLost && relocalises())
     recover(frame, out, r);
   else
     n_failed_relocalisations_ = 0;
@@ -273,11 +276,12 @@ TrackResult System::track(const RgbdFrame& frame) {
   }
   // 5. Record the pose relative to its keyframe for the final trajectory; hand over the loop
   //    corrections received meanwhile.
-  n_lost_ += r.state == TrackState::kLost;
-  n_relocalised_ += r.state == TrackState::kRelocalised;
-  frames_in_submap_ += r.state != TrackState::kLost && r.anchor.keyframe != kNoKeyframe;
+  n_lost_ += r.state == FrameState::kLost;
+  n_relocalised_ += r.state == FrameState::kRelocalised;
+  frames_in_submap_ += r.state != FrameState::kLost && r.anchor.keyframe != kNoKeyframe;
   if (r.anchor.keyframe != kNoKeyframe)
-    records_.push_back({frame.index, frame.t_s, r.state, r.anchor, std::move(out.anchors)});  // empty unless tracked
+    records_.push_back(
+        {frame.index, frame.t_s, r.state, r.anchor, std::move(out.anchors)});  // empty unless tracked
   r.corrections = std::move(corrections_);
   corrections_.clear();
   return r;
@@ -300,7 +304,8 @@ void System::finish() {
   if (config_.mapper.final_global_ba && !localize_only_ && map_.n_keyframes() >= 2) {
     BaConfig ba = config_.mapper.ba;
     ba.first_iterations = ba.second_iterations = ba.global_iterations;
-    n_global_ba_outliers_ = global_bundle_adjustment(map_, camera_, ba, /*hold_large_steps=*/true, mapper_.links());
+    n_global_ba_outliers_ =
+        global_bundle_adjustment(map_, camera_, ba, /*hold_large_steps=*/true, mapper_.links());
   }
   choose_world();
 }
@@ -312,7 +317,8 @@ SE3 System::anchored_pose(const FrameRecord& rec) const {
   const int submap = map_.submap_of(rec.anchor.keyframe);
   std::vector<std::pair<SE3, double>> votes;
   for (const auto& [a, weight] : rec.anchors)
-    if (map_.submap_of(a.keyframe) == submap) votes.push_back({map_.resolve_T_w_kf(a.keyframe) * a.T_kf_c, weight});
+    if (map_.submap_of(a.keyframe) == submap)
+      votes.push_back({map_.resolve_T_w_kf(a.keyframe) * a.T_kf_c, weight});
   if (votes.empty()) return map_.resolve_T_w_kf(rec.anchor.keyframe) * rec.anchor.T_kf_c;
   return weighted_mean(votes);
 }
@@ -335,7 +341,7 @@ std::vector<FramePose> System::robot_trajectory() const {
 std::vector<FramePose> System::keyframe_trajectory() const {
   std::vector<FramePose> out;
   for (const auto& [id, kf] : map_.keyframes())
-    if (kf.submap == 0) out.push_back({{kf.t_s, kf.T_w_c}, kf.frame_index, TrackState::kOk});
+    if (kf.submap == 0) out.push_back({{kf.t_s, kf.T_w_c}, kf.frame_index, FrameState::kOk});
   return out;
 }
 

@@ -18,8 +18,8 @@
 //   io::write_tum_trajectory("trajectory_camera.txt", io::Trajectory(frames.begin(), frames.end()));
 #include <deque>
 #include <functional>
-#include <map>
 #include <future>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,6 +28,7 @@
 
 #include "s3m/core/bounded_queue.hpp"
 #include "s3m/core/camera.hpp"
+#include "s3m/core/frame_state.hpp"
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/slam/local_mapper.hpp"
 #include "s3m/slam/loop_closer.hpp"
@@ -41,15 +42,15 @@ namespace s3m::slam {
 struct TrackResult {
   int frame_index = 0;
   double t_s = 0;
-  TrackState state = TrackState::kNotInitialized;
+  FrameState state = FrameState::kNotInitialized;
   SE3 T_w_c = SE3::Identity();  // camera-to-world at tracking time
   SE3 T_w_r = SE3::Identity();  // robot-to-world: robot_pose(T_w_c, T_c_r)
   bool keyframe = false;
-  int n_inliers = 0;            // tracked map points
-  double track_ms = 0;          // tracking only (features + pose), wall clock
-  double track_cpu_ms = 0;      // process CPU time during tracking (all threads; in threaded mode
-                                // it includes whatever local mapping ran meanwhile)
-  double mapping_ms = 0;        // local mapping run inside track() (single-thread mode only)
+  int n_inliers = 0;        // tracked map points
+  double track_ms = 0;      // tracking only (features + pose), wall clock
+  double track_cpu_ms = 0;  // process CPU time during tracking (all threads; in threaded mode
+                            // it includes whatever local mapping ran meanwhile)
+  double mapping_ms = 0;    // local mapping run inside track() (single-thread mode only)
   // The keyframe the pose is stored against (kNoKeyframe before the first one), and the pose
   // relative to it at tracking time (same world as T_w_c).
   KeyframeAnchor anchor;
@@ -75,7 +76,7 @@ using MappingObserver = std::function<void(const Map&, KeyframeId)>;
 // tracking went.
 struct FramePose : StampedPose {
   int frame_index = 0;
-  TrackState state = TrackState::kOk;
+  FrameState state = FrameState::kOk;
 };
 
 class System {
@@ -104,7 +105,7 @@ class System {
   // keyframe's final pose — so BA, loop corrections and merges reach every frame. Call after
   // finish(). Frames and keyframes of a sub-map that never joined the world are left out.
   std::vector<FramePose> camera_trajectory() const;
-  std::vector<FramePose> robot_trajectory() const;    // robot_pose(camera_trajectory(), T_c_r)
+  std::vector<FramePose> robot_trajectory() const;     // robot_pose(camera_trajectory(), T_c_r)
   std::vector<FramePose> keyframe_trajectory() const;  // live keyframes, camera poses
 
   // A map that lasts. Before the first track(): continue in the map saved at path by
@@ -153,7 +154,7 @@ class System {
   struct FrameRecord {
     int frame_index;
     double t_s;
-    TrackState state;
+    FrameState state;
     KeyframeAnchor anchor;
     std::vector<std::pair<KeyframeAnchor, double>> anchors;  // TrackerOutput::anchors
   };
@@ -187,7 +188,8 @@ class System {
   // Mapping side: a request of a sub-map merged meanwhile is moved into the sub-map it joined; a
   // correction is handed on for the world's keyframes only (none: a loop inside another sub-map).
   int follow_merges(int submap) const;
-  std::shared_ptr<const LocalMapSnapshot> snapshot(KeyframeId ref, int max_keyframes) const;  // with the merges
+  // With the merges.
+  std::shared_ptr<const LocalMapSnapshot> snapshot(KeyframeId ref, int max_keyframes) const;
   void follow_merges(KeyFrameRequest& request) const;
   std::optional<LoopCorrection> note_correction(std::optional<LoopCorrection> c);
 
@@ -217,8 +219,8 @@ class System {
   BoundedQueue<MappedKeyframe> mapped_;
   std::thread mapping_thread_;
   int n_sent_ = 0, n_received_ = 0;  // keyframe requests sent / answered (tracking thread only)
-  long n_tracked_ = 0;                // track() calls (tracking thread only)
-  std::deque<long> sent_at_;          // the track() call that sent each unanswered keyframe
+  long n_tracked_ = 0;               // track() calls (tracking thread only)
+  std::deque<long> sent_at_;         // the track() call that sent each unanswered keyframe
   bool finished_ = false;
   int n_global_ba_outliers_ = 0;
 };

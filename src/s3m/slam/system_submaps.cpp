@@ -45,7 +45,8 @@ void System::recover(const RgbdFrame& frame, TrackerOutput& out, TrackResult& r)
 // it as the world would leave out most of the run; the map with the most tracked frames becomes the
 // world instead (ties: the first). Labels only: every sub-map keeps its own frame.
 void System::choose_world() {
-  if (config_.loop_closing.loop.merge.world != "largest" || world_loaded_ || n_keyframes_outside_world() == 0) return;
+  if (config_.loop_closing.loop.merge.world != "largest" || world_loaded_ || n_keyframes_outside_world() == 0)
+    return;
   const std::map<int, int> frames = tracked_frames_per_submap();
   int best = 0, most = frames.count(0) ? frames.at(0) : 0;
   for (const auto& [submap, n] : frames)
@@ -58,7 +59,7 @@ void System::choose_world() {
 std::map<int, int> System::tracked_frames_per_submap() const {
   std::map<int, int> frames;
   for (const auto& rec : records_)
-    if (rec.state != TrackState::kLost) ++frames[map_.submap_of(rec.anchor.keyframe)];
+    if (rec.state != FrameState::kLost) ++frames[map_.submap_of(rec.anchor.keyframe)];
   return frames;
 }
 
@@ -81,7 +82,8 @@ int System::follow_merges(int submap) const {
 }
 
 void System::follow_merges(KeyFrameRequest& request) const {
-  for (auto it = merged_into_.find(request.submap); it != merged_into_.end(); it = merged_into_.find(request.submap)) {
+  for (auto it = merged_into_.find(request.submap); it != merged_into_.end();
+       it = merged_into_.find(request.submap)) {
     request.T_w_c = it->second.second * request.T_w_c;
     request.submap = it->second.first;
   }
@@ -95,7 +97,8 @@ std::optional<LoopCorrection> System::note_correction(std::optional<LoopCorrecti
   }
   if (map_.submap_of(c->current_kf) != 0) return std::nullopt;  // the world did not change
   auto world_only = [&](std::map<KeyframeId, SE3>& poses) {
-    for (auto it = poses.begin(); it != poses.end();) it = map_.submap_of(it->first) == 0 ? std::next(it) : poses.erase(it);
+    for (auto it = poses.begin(); it != poses.end();)
+      it = map_.submap_of(it->first) == 0 ? std::next(it) : poses.erase(it);
   };
   world_only(c->T_w_kf_before);
   world_only(c->T_w_kf_after);

@@ -20,7 +20,9 @@ DepthOdometryConfig odometry_config(const TrackerConfig& tracker, const features
 }
 }  // namespace
 
-int Tracker::Frame::n_matched() const { return static_cast<int>(std::count(matched.begin(), matched.end(), 1)); }
+int Tracker::Frame::n_matched() const {
+  return static_cast<int>(std::count(matched.begin(), matched.end(), 1));
+}
 
 int Tracker::Frame::n_map_matched() const {
   int k = 0;
@@ -38,8 +40,8 @@ Tracker::Frame Tracker::Frame::unmatched(std::shared_ptr<const features::FrameFe
                std::vector<char>(n, 0)};
 }
 
-Tracker::Tracker(const PinholeCamera& camera, const features::FeatureConfig& features, const TrackerConfig& config,
-                 int pending_new_points)
+Tracker::Tracker(const PinholeCamera& camera, const features::FeatureConfig& features,
+                 const TrackerConfig& config, int pending_new_points)
     : camera_(camera),
       feature_config_(features),
       config_(config),
@@ -80,16 +82,16 @@ void Tracker::set_pose(const SE3& T_w_c) {
   std::fill(last_.matched.begin(), last_.matched.end(), 0);
   velocity_.reset();
   coast_velocity_.reset();
-  last_frame_ = RgbdFrame{};  // no odometry from images of before the new pose
-  state_ = TrackState::kLost;  // the next frame tracks against the local map from this pose
+  last_frame_ = RgbdFrame{};   // no odometry from images of before the new pose
+  state_ = FrameState::kLost;  // the next frame tracks against the local map from this pose
   resume_from_pose_ = true;
 }
 
 void Tracker::continue_map(KeyframeId next_keyframe_id) {
-  require(state_ == TrackState::kNotInitialized && n_requests_ == 0,
+  require(state_ == FrameState::kNotInitialized && n_requests_ == 0,
           "Tracker::continue_map: only before the first frame");
   n_requests_ = next_keyframe_id;
-  state_ = TrackState::kLost;
+  state_ = FrameState::kLost;
 }
 
 // Moves everything tracking holds in world coordinates by T_new_old when this sub-map was merged
@@ -117,7 +119,7 @@ bool Tracker::follow_merges(const LocalMapSnapshot& snapshot) {
 
 void Tracker::start_new_map(int submap) {
   require(!localize_only_, "Tracker::start_new_map: not in localisation only");
-  state_ = TrackState::kNotInitialized;
+  state_ = FrameState::kNotInitialized;
   submap_ = submap;
   snapshot_.reset();
   pending_.clear();
@@ -149,10 +151,11 @@ std::shared_ptr<const features::FrameFeatures> Tracker::extract(const RgbdFrame&
       features::compute_frame_features(frame.rgb, frame.depth_m, camera_, extractor_, feature_config_));
 }
 
-TrackerOutput Tracker::retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
+TrackerOutput Tracker::retrack(const RgbdFrame& frame,
+                               std::shared_ptr<const features::FrameFeatures> features,
                                int pending_keyframes) {
   TrackerOutput out = track(frame, std::move(features), pending_keyframes);
-  if (!out.deferred && out.state != TrackState::kLost) keep_images(frame, last_.T_c_w);
+  if (!out.deferred && out.state != FrameState::kLost) keep_images(frame, last_.T_c_w);
   return out;
 }
 
@@ -171,7 +174,7 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   Frame cur = Frame::unmatched(std::move(features), SE3::Identity());
   const int n = cur.f->size();
   // 2. The first frame with enough depth starts the map.
-  if (state_ == TrackState::kNotInitialized) {
+  if (state_ == FrameState::kNotInitialized) {
     initialize(cur, frame, out);
     return out;
   }
@@ -179,7 +182,7 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   bool ok = false;
   // Right after the first keyframe there is no velocity yet: predict no motion (a guided search
   // around the last pose; a UAV starts at rest) before falling back to the reference keyframe.
-  if (state_ == TrackState::kOk) ok = track_motion_model(cur, velocity_.value_or(SE3::Identity()));
+  if (state_ == FrameState::kOk) ok = track_motion_model(cur, velocity_.value_or(SE3::Identity()));
   if (!ok) {
     cur = Frame::unmatched(cur.f, last_.T_c_w);
     // After relocalisation the pose prior is good while the reference keyframe's view may be too
@@ -195,12 +198,12 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
     return out;
   }
   if (!ok) {
-    const bool from_rest = state_ == TrackState::kOk && !velocity_;
-    if (state_ == TrackState::kOk) coast_velocity_ = velocity_, coasted_ = 0;
+    const bool from_rest = state_ == FrameState::kOk && !velocity_;
+    if (state_ == FrameState::kOk) coast_velocity_ = velocity_, coasted_ = 0;
     track_lost(cur, frame, from_rest, out);
     return out;
   }
-  state_ = TrackState::kOk;
+  state_ = FrameState::kOk;
   velocity_ = cur.T_c_w * last_.T_c_w.inverse();
   out.state = state_;
   out.T_w_c = cur.T_c_w.inverse();
@@ -224,7 +227,8 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   return out;
 }
 
-std::vector<std::pair<KeyframeAnchor, double>> Tracker::weighted_anchors(const Frame& cur, const SE3& T_w_c) const {
+std::vector<std::pair<KeyframeAnchor, double>> Tracker::weighted_anchors(const Frame& cur,
+                                                                         const SE3& T_w_c) const {
   std::vector<std::pair<KeyframeAnchor, double>> out;
   if (!snapshot_) return out;
   std::vector<PointId> inliers;
@@ -249,10 +253,10 @@ std::vector<std::pair<KeyframeAnchor, double>> Tracker::weighted_anchors(const F
 }
 
 bool Tracker::initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out) {
-  out.state = TrackState::kNotInitialized;
+  out.state = FrameState::kNotInitialized;
   if (cur.n_with_depth() < config_.min_init_depth_points) return false;
   cur.T_c_w = SE3::Identity();  // the first keyframe defines the world frame
-  state_ = TrackState::kOk;
+  state_ = FrameState::kOk;
   out.state = state_;
   out.T_w_c = SE3::Identity();
   out.keyframe = make_request(cur, frame, /*first_of_map=*/true);
@@ -288,10 +292,9 @@ bool Tracker::need_keyframe(const Frame& cur, int frame_index, int n_inliers, in
   const double ref = snapshot_->ref_tracked_points;
   const double ratio = snapshot_->n_map_keyframes < 2 ? 0.4 : config_.keyframe_ref_ratio;
   const SE3 T_ref_c = T_w_ref_.inverse() * cur.T_c_w.inverse();
-  const bool moved =
-      (config_.keyframe_max_deg > 0 &&
-       rotation_angle_rad(T_ref_c.linear()) > config_.keyframe_max_deg * M_PI / 180.0) ||
-      (config_.keyframe_max_m > 0 && T_ref_c.translation().norm() > config_.keyframe_max_m);
+  const bool moved = (config_.keyframe_max_deg > 0 &&
+                      rotation_angle_rad(T_ref_c.linear()) > config_.keyframe_max_deg * M_PI / 180.0) ||
+                     (config_.keyframe_max_m > 0 && T_ref_c.translation().norm() > config_.keyframe_max_m);
   auto decide = [&](int tracked) {
     const bool failing = tracked < 0.25 * ref;  // under a quarter of the reference's points tracked
     const bool c1a = since >= config_.max_frames_between_keyframes;
@@ -347,9 +350,10 @@ void Tracker::remember_pending(const Frame& cur, const KeyFrameRequest& request)
   PendingKeyFrame p;
   p.id = ref_kf_;
   p.f = cur.f;
-  const double depth_limit_m = request.first_of_map ? std::numeric_limits<double>::infinity() : config_.close_depth_m;
-  for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return request.points[k] == kNoId; },
-                                                  depth_limit_m, pending_new_points_)) {
+  const double depth_limit_m =
+      request.first_of_map ? std::numeric_limits<double>::infinity() : config_.close_depth_m;
+  for (const auto& [z, i] : depth_point_keypoints(
+           *cur.f, [&](int k) { return request.points[k] == kNoId; }, depth_limit_m, pending_new_points_)) {
     const auto& kp = cur.f->keypoints[i];
     p.keypoints.push_back(i);
     p.p_w.push_back(request.T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z));
@@ -363,8 +367,8 @@ void Tracker::prepare_last_frame(Frame cur, double depth_limit_m) {
   for (int i = 0; i < cur.f->size(); ++i)
     if (cur.matched[i] && cur.pid[i] == kNoId) cur.matched[i] = 0;  // previous VO match: drop
   const SE3 T_w_c = cur.T_c_w.inverse();
-  for (const auto& [z, i] : depth_point_keypoints(*cur.f, [&](int k) { return !cur.matched[k]; }, depth_limit_m,
-                                                  kMinVoPoints)) {
+  for (const auto& [z, i] : depth_point_keypoints(
+           *cur.f, [&](int k) { return !cur.matched[k]; }, depth_limit_m, kMinVoPoints)) {
     const auto& kp = cur.f->keypoints[i];
     cur.p_w[i] = T_w_c * camera_.backproject(kp.pt.x, kp.pt.y, z);
     cur.matched[i] = 1;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "s3m/core/camera.hpp"
+#include "s3m/core/frame_state.hpp"
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/features/frame_features.hpp"
 #include "s3m/features/orb_extractor.hpp"
@@ -22,8 +23,8 @@ namespace s3m::slam {
 
 struct TrackerConfig {
   PoseOptimizerConfig pose;
-  double close_depth_m = 3.0;       // "close" points: reliable depth (keyframe rule, VO points) [m]
-  double motion_radius_px = 15;     // frame-to-frame search window at level 0 [px]
+  double close_depth_m = 3.0;    // "close" points: reliable depth (keyframe rule, VO points) [m]
+  double motion_radius_px = 15;  // frame-to-frame search window at level 0 [px]
   int min_motion_matches = 20;
   int min_pose_inliers = 10;
   // When the reference keyframe's matches (ratio test 0.7) do not hold the pose from the last one,
@@ -31,8 +32,8 @@ struct TrackerConfig {
   // of dropped frames or in a sparse recording the last pose is too far off to optimise from
   // (see docs/DECISIONS.md, "Tracking: frames after a wide gap"). <= 0.7: off.
   double wide_match_ratio = 0.8;
-  double local_radius_factor = 3.0; // local-map search window factor (times 2.5/4 px per level scale)
-  int min_local_inliers = 30;       // below this after local-map tracking the frame is LOST
+  double local_radius_factor = 3.0;  // local-map search window factor (times 2.5/4 px per level scale)
+  int min_local_inliers = 30;        // below this after local-map tracking the frame is LOST
   int max_frames_between_keyframes = 30;
   int min_frames_between_keyframes = 0;
   double keyframe_ref_ratio = 0.75;  // new keyframe when tracked < ratio * reference's points
@@ -48,10 +49,10 @@ struct TrackerConfig {
   // older points (see docs/DECISIONS.md, "Keyframe policy").
   double keyframe_max_deg = 20;
   double keyframe_max_m = 0.4;
-  int close_tracked_min = 100;       // ... or fewer close points tracked than this
-  int close_untracked_min = 70;      //     while this many close keypoints could become points
-  int max_pending_keyframes = 3;     // no ordinary keyframe while this many wait for local mapping
-  int min_init_depth_points = 100;   // keypoints with depth needed to start the map
+  int close_tracked_min = 100;      // ... or fewer close points tracked than this
+  int close_untracked_min = 70;     //     while this many close keypoints could become points
+  int max_pending_keyframes = 3;    // no ordinary keyframe while this many wait for local mapping
+  int min_init_depth_points = 100;  // keypoints with depth needed to start the map
   // A frame's pose is stored relative to up to this many keyframes of the local map, weighted by
   // how many of its inlier points each observes; the trajectory averages what they say after BA.
   int anchor_keyframes = 4;
@@ -63,8 +64,8 @@ struct TrackerConfig {
   // until a sub-map starts (see docs/DECISIONS.md, "Tracking: lost frames, coasting and the bridge").
   // 0 = off.
   int coast_frames = 10;
-  double bridge_deg = 1.0;   // rotation between prediction and measured pose [deg]
-  double bridge_m = 0.03;    // translation between them [m]
+  double bridge_deg = 1.0;      // rotation between prediction and measured pose [deg]
+  double bridge_m = 0.03;       // translation between them [m]
   int bridge_min_inliers = 10;  // = min_pose_inliers: the agreement is the guard
   // After tracking is lost, for up to this many frames dense depth odometry (DepthOdometry) from
   // the last frame measures the motion the velocity only predicts. A measured motion within
@@ -86,8 +87,8 @@ struct TrackerConfig {
   // both depth images clearly better (depth_agreement). Measurements: docs/DECISIONS.md,
   // "Tracking: depth odometry across gaps". 0 = off.
   int odometry_frames = 30;
-  double odometry_deg = 0.5;   // agreement of the measured motion with a second estimate, rotation [deg]
-  double odometry_m = 0.015;   // ... translation [m]
+  double odometry_deg = 0.5;  // agreement of the measured motion with a second estimate, rotation [deg]
+  double odometry_m = 0.015;  // ... translation [m]
   // ... or, for two alignments of one step, this fraction of the step's rotation and translation
   // where that is more, up to twice the bounds (odometry_steps_agree): estimates of a step across
   // a gap (a sparse recording, dropped frames) differ by a few percent of it. 0 = the bounds alone.
@@ -103,11 +104,11 @@ struct TrackerConfig {
 };
 
 struct TrackerOutput {
-  TrackState state = TrackState::kNotInitialized;
+  FrameState state = FrameState::kNotInitialized;
   SE3 T_w_c = SE3::Identity();
-  int n_inliers = 0;                       // map-point inliers after local-map tracking
+  int n_inliers = 0;                        // map-point inliers after local-map tracking
   std::optional<KeyFrameRequest> keyframe;  // set when this frame becomes a keyframe
-  KeyframeId ref_kf = kNoId;                      // keyframe the pose is stored relative to
+  KeyframeId ref_kf = kNoId;                // keyframe the pose is stored relative to
   SE3 T_ref_c = SE3::Identity();            // pose relative to ref_kf at tracking time
   // With TrackerConfig::anchor_keyframes > 1: the pose relative to the local map's keyframes that
   // observe most of its inlier map points (weight = how many each observes). Empty for keyframes,
@@ -162,7 +163,7 @@ class Tracker {
   // as if that keyframe had just been made at frame_index (after relocalisation in a loaded map,
   // and for wants_local_map).
   void set_local_map(std::shared_ptr<const LocalMapSnapshot> snapshot, int frame_index);
-  TrackState state() const { return state_; }
+  FrameState state() const { return state_; }
   const features::OrbExtractor& extractor() const { return extractor_; }
 
  private:
@@ -170,9 +171,9 @@ class Tracker {
   struct Frame {
     std::shared_ptr<const features::FrameFeatures> f;
     SE3 T_c_w = SE3::Identity();
-    std::vector<PointId> pid;  // per keypoint: map point (kNoId: none or a VO point)
-    std::vector<Vec3> p_w;     // per keypoint: position of the matched point
-    std::vector<char> matched; // per keypoint: has a map or VO point
+    std::vector<PointId> pid;   // per keypoint: map point (kNoId: none or a VO point)
+    std::vector<Vec3> p_w;      // per keypoint: position of the matched point
+    std::vector<char> matched;  // per keypoint: has a map or VO point
     int n_matched() const;
     int n_map_matched() const;  // keypoints matched to a map point (not a VO point)
     int n_with_depth() const;   // keypoints with depth
@@ -188,7 +189,8 @@ class Tracker {
     std::vector<Vec3> p_w;
   };
 
-  TrackerOutput track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features, int pending);
+  TrackerOutput track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
+                      int pending);
   bool initialize(Frame& cur, const RgbdFrame& frame, TrackerOutput& out);
   std::vector<std::pair<KeyframeAnchor, double>> weighted_anchors(const Frame& cur, const SE3& T_w_c) const;
   // Tracking against the map failed: dead reckoning (depth odometry, else the velocity), the bridge,
@@ -196,7 +198,8 @@ class Tracker {
   // from_rest: the last frame was tracked but there is no velocity yet (the frame after a map's
   // first): depth odometry measures the motion from no motion, with no prediction to fall back on.
   void track_lost(Frame& cur, const RgbdFrame& frame, bool from_rest, TrackerOutput& out);
-  std::optional<SE3> dead_reckon(const RgbdFrame& frame, bool from_rest, bool& measured);  // T_c_w of this frame
+  // T_c_w of this frame.
+  std::optional<SE3> dead_reckon(const RgbdFrame& frame, bool from_rest, bool& measured);
   // The motion T_cur_last depth odometry measures and a second estimate confirms, else nullopt.
   // predicted: the velocity's motion over the same frames.
   std::optional<SE3> measure_motion(const RgbdFrame& frame, const SE3& predicted) const;
@@ -209,7 +212,8 @@ class Tracker {
   // motion (T_cur_last) if the reverse alignment (this frame onto the last, from no motion) agrees;
   // after a gap between two posed frames, the better of the two by depth_agreement when they do not.
   std::optional<SE3> confirm_by_reverse(const RgbdFrame& frame, const DepthOdometry::PreparedFrame& last,
-                                        const DepthOdometry::PreparedFrame& cur, const SE3& motion, double scale) const;
+                                        const DepthOdometry::PreparedFrame& cur, const SE3& motion,
+                                        double scale) const;
   // Two alignments of one step agree (odometry_steps_agree with odometry_deg, _m, _agree_fraction).
   bool odometry_agree(const SE3& motion, const SE3& other) const;
   // How far one alignment may move, in 30 Hz frame periods since the last frame (at least 1).
@@ -220,7 +224,8 @@ class Tracker {
   bool odometry_keyframe(Frame& cur, const RgbdFrame& frame, const SE3& T_c_w, TrackerOutput& out);
   // cur (at its pose) becomes a keyframe with every keypoint with depth, as the first of a map, so
   // that the next frames have points to track in its view; tracking goes on from it with velocity.
-  void restart_from(Frame& cur, const RgbdFrame& frame, TrackState reported, const SE3& velocity, TrackerOutput& out);
+  void restart_from(Frame& cur, const RgbdFrame& frame, FrameState reported, const SE3& velocity,
+                    TrackerOutput& out);
   bool track_motion_model(Frame& cur, const SE3& velocity);  // velocity: T_c_w(cur) = velocity * T_c_w(last)
   bool track_reference_keyframe(Frame& cur);
   bool track_reference_keyframe_wide(Frame& cur, const SE3& T_c_w_last);  // PnP RANSAC, no prior
@@ -233,7 +238,7 @@ class Tracker {
   bool track_local_map(Frame& cur);
   int count_pending_points(const Frame& cur) const;  // pending keyframes' points that fit cur's pose
   int match_last_frame(Frame& cur, double radius_px);
-  int optimize_and_discard(Frame& cur);  // returns the map-point inliers
+  int optimize_and_discard(Frame& cur);             // returns the map-point inliers
   bool lacks_close_points(const Frame& cur) const;  // few close points tracked, many could be added
   bool need_keyframe(const Frame& cur, int frame_index, int n_inliers, int pending) const;
   KeyFrameRequest make_request(const Frame& cur, const RgbdFrame& frame, bool first_of_map = false);
@@ -242,7 +247,7 @@ class Tracker {
   // the tracker's close depth except right after the first keyframe (all of them, like its points).
   void prepare_last_frame(Frame cur, double depth_limit_m);
   void note_visible(PointId id, int visible, int found);
-  bool follow_merges(const LocalMapSnapshot& snapshot);  // false: a sub-map this one never joined
+  bool follow_merges(const LocalMapSnapshot& snapshot);        // false: a sub-map this one never joined
   void keep_images(const RgbdFrame& frame, const SE3& T_c_w);  // last_frame_ = frame's images, posed
 
   PinholeCamera camera_;
@@ -258,17 +263,17 @@ class Tracker {
   RgbdFrame last_frame_;
   SE3 T_c_w_last_frame_ = SE3::Identity();
   std::shared_ptr<const LocalMapSnapshot> snapshot_;
-  TrackState state_ = TrackState::kNotInitialized;
+  FrameState state_ = FrameState::kNotInitialized;
   Frame last_;
   bool resume_from_pose_ = false;  // set_pose() was called: the next frame tracks the local map from it
   bool localize_only_ = false;
-  int submap_ = 0;  // the sub-map being tracked (requests carry it; poses are in its frame)
+  int submap_ = 0;               // the sub-map being tracked (requests carry it; poses are in its frame)
   std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
   std::optional<SE3> coast_velocity_;  // the velocity when tracking was lost (coast_frames)
   int coasted_ = 0;                    // lost frames dead-reckoned so far
   int last_keyframe_frame_ = 0;
-  int peak_inliers_ = 0;  // most map points tracked in one frame since the last keyframe
-  KeyframeId n_requests_ = 0;          // keyframe ids are assigned by the Map in request order
+  int peak_inliers_ = 0;       // most map points tracked in one frame since the last keyframe
+  KeyframeId n_requests_ = 0;  // keyframe ids are assigned by the Map in request order
   KeyframeId ref_kf_ = kNoId;
   SE3 T_w_ref_ = SE3::Identity();
   std::unordered_map<PointId, PointVisibility> visibility_;

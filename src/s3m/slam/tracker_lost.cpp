@@ -22,7 +22,7 @@ void Tracker::track_lost(Frame& cur, const RgbdFrame& frame, bool from_rest, Tra
   //    pose, as the first of a map, so that the next frames track against its points.
   if (measured && odometry_keyframe(cur, frame, *guess, out)) return;
   // 4. ODOMETRY at the measured pose, else LOST at the best guess (the next frame searches from it).
-  state_ = measured ? TrackState::kOdometry : TrackState::kLost;
+  state_ = measured ? FrameState::kOdometry : FrameState::kLost;
   if (velocity_) cur.T_c_w = *velocity_ * last_.T_c_w;
   if (guess) {
     cur.T_c_w = *guess;
@@ -39,7 +39,8 @@ void Tracker::track_lost(Frame& cur, const RgbdFrame& frame, bool from_rest, Tra
 }
 
 bool Tracker::views_may_overlap(const SE3& T_cur_last) const {
-  const double fov_rad = 2.0 * std::atan(0.5 * std::max(camera_.width / camera_.fx, camera_.height / camera_.fy));
+  const double fov_rad =
+      2.0 * std::atan(0.5 * std::max(camera_.width / camera_.fx, camera_.height / camera_.fy));
   return rotation_angle_rad(T_cur_last.linear()) < fov_rad;
 }
 
@@ -104,7 +105,8 @@ std::optional<SE3> Tracker::measure_motion(const RgbdFrame& frame, const SE3& pr
   //    as from rest by the reverse alignment (see docs/DECISIONS.md, "Tracking: depth odometry
   //    across gaps").
   if (gap && restarted)
-    if (const std::optional<SE3> confirmed = confirm_by_reverse(frame, last, cur, *restarted, scale)) return confirmed;
+    if (const std::optional<SE3> confirmed = confirm_by_reverse(frame, last, cur, *restarted, scale))
+      return confirmed;
   // 3. A degenerate view: what it constrains measured, the rest kept from the velocity. At least
   //    one plane's worth (3 directions), most of the frame overlapping the last one, and within the
   //    same bounds of the velocity, which it can only correct, not replace.
@@ -127,7 +129,8 @@ std::optional<SE3> Tracker::measure_motion_from_rest(const RgbdFrame& frame) con
   return confirm_by_reverse(frame, last, cur, *motion, scale);
 }
 
-std::optional<SE3> Tracker::confirm_by_reverse(const RgbdFrame& frame, const DepthOdometry::PreparedFrame& last,
+std::optional<SE3> Tracker::confirm_by_reverse(const RgbdFrame& frame,
+                                               const DepthOdometry::PreparedFrame& last,
                                                const DepthOdometry::PreparedFrame& cur, const SE3& motion,
                                                double scale) const {
   // 1. This frame onto the last, also from no motion: a different problem whose minimum is the
@@ -149,7 +152,8 @@ std::optional<SE3> Tracker::confirm_by_reverse(const RgbdFrame& frame, const Dep
 }
 
 bool Tracker::odometry_agree(const SE3& motion, const SE3& other) const {
-  return odometry_steps_agree(motion, other, config_.odometry_deg, config_.odometry_m, config_.odometry_agree_fraction);
+  return odometry_steps_agree(motion, other, config_.odometry_deg, config_.odometry_m,
+                              config_.odometry_agree_fraction);
 }
 
 double Tracker::odometry_step_scale(const RgbdFrame& frame) const {
@@ -162,13 +166,13 @@ double Tracker::odometry_step_scale(const RgbdFrame& frame) const {
 bool Tracker::odometry_keyframe(Frame& cur, const RgbdFrame& frame, const SE3& T_c_w, TrackerOutput& out) {
   if (localize_only_ || !snapshot_ || cur.n_with_depth() < config_.min_init_depth_points) return false;
   cur = Frame::unmatched(cur.f, T_c_w);
-  restart_from(cur, frame, TrackState::kOdometry, *coast_velocity_, out);  // reported as what gave the pose
+  restart_from(cur, frame, FrameState::kOdometry, *coast_velocity_, out);  // reported as what gave the pose
   return true;
 }
 
-void Tracker::restart_from(Frame& cur, const RgbdFrame& frame, TrackState reported, const SE3& velocity,
+void Tracker::restart_from(Frame& cur, const RgbdFrame& frame, FrameState reported, const SE3& velocity,
                            TrackerOutput& out) {
-  state_ = TrackState::kOk;  // the next frame tracks with the motion model again
+  state_ = FrameState::kOk;  // the next frame tracks with the motion model again
   velocity_ = velocity;
   out.state = reported;
   out.T_w_c = cur.T_c_w.inverse();
@@ -187,13 +191,14 @@ bool Tracker::bridge(Frame& cur, const RgbdFrame& frame, const SE3& guess, Track
   auto visibility = visibility_;
   track_local_map(cur);
   const int n_inliers = cur.n_map_matched();
-  if (n_inliers < config_.bridge_min_inliers || !poses_agree(cur.T_c_w, guess, config_.bridge_deg, config_.bridge_m)) {
+  if (n_inliers < config_.bridge_min_inliers ||
+      !poses_agree(cur.T_c_w, guess, config_.bridge_deg, config_.bridge_m)) {
     visibility_ = std::move(visibility);
     return false;
   }
   // 2. Tracked.
   out.n_inliers = n_inliers;
-  restart_from(cur, frame, TrackState::kOk, cur.T_c_w * last_.T_c_w.inverse(), out);
+  restart_from(cur, frame, FrameState::kOk, cur.T_c_w * last_.T_c_w.inverse(), out);
   return true;
 }
 

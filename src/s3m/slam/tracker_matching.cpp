@@ -75,7 +75,7 @@ bool Tracker::track_reference_keyframe(Frame& cur) {
   //    the camera moved meanwhile. The pose from PnP RANSAC first, no prior trusted: optimised from
   //    the held pose, a frame can be re-acquired with an offset that the rest of the run keeps
   //    (see docs/DECISIONS.md, "Tracking: frames after a wide gap").
-  const bool after_lost = state_ == TrackState::kLost;
+  const bool after_lost = state_ == FrameState::kLost;
   if (after_lost && track_reference_keyframe_wide(cur, T_c_w_last)) return true;
   // 2. Brute-force matches of the keyframe's mapped keypoints, optimised from the last pose: right
   //    after the first keyframe or a short gap the last pose is close enough for the robust optimiser.
@@ -106,7 +106,8 @@ bool Tracker::match_reference_keyframe(Frame& cur, double ratio, int min_matches
     if (ref.points[i] != kNoId && snapshot_->find(ref.points[i])) rows.push_back(i);
   if (rows.size() < 15) return false;
   cv::Mat desc(static_cast<int>(rows.size()), 32, CV_8U);
-  for (std::size_t r = 0; r < rows.size(); ++r) ref.features->descriptors.row(rows[r]).copyTo(desc.row(int(r)));
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    ref.features->descriptors.row(rows[r]).copyTo(desc.row(int(r)));
   const auto matches = features::match_brute_force(desc, cur.f->descriptors, features::kMatchStrict, ratio);
   if (static_cast<int>(matches.size()) < min_matches) return false;
   for (const auto& [r, j] : matches) {
@@ -160,7 +161,8 @@ bool Tracker::track_local_map(Frame& cur) {
     if (already[k]) continue;
     const auto& p = snapshot_->points[k];
     Visibility vis;
-    if (!predict_visibility(p.p_w, p.normal_w, p.min_dist_m, p.max_dist_m, T_w_c, camera_, pyr, vis)) continue;
+    if (!predict_visibility(p.p_w, p.normal_w, p.min_dist_m, p.max_dist_m, T_w_c, camera_, pyr, vis))
+      continue;
     note_visible(p.id, 1, 0);
     features::ProjectionQuery q;
     q.u = vis.uv.x();
@@ -223,7 +225,8 @@ int Tracker::count_pending_points(const Frame& cur) const {
   const auto m = features::match_by_projection(*cur.f, queries, {}, taken);
   int n = 0;
   for (std::size_t q = 0; q < m.size(); ++q)
-    n += m[q] >= 0 && fits_pose(keypoint_observation(*cur.f, m[q], *source[q]), cur.T_c_w, camera_, config_.pose);
+    n += m[q] >= 0 &&
+         fits_pose(keypoint_observation(*cur.f, m[q], *source[q]), cur.T_c_w, camera_, config_.pose);
   return n;
 }
 
