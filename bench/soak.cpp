@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "s3m/core/error.hpp"
+#include "s3m/core/frame_state.hpp"
 #include "s3m/core/shipped_files.hpp"
 #include "s3m/mapping/metrics.hpp"
 #include "s3m/pipeline/factories.hpp"
@@ -54,14 +55,22 @@ Options parse(int argc, char** argv) {
     }
     if (i + 1 >= argc) throw Error("bench_soak: " + k + " needs a value");
     const std::string v = argv[++i];
-    if (k == "--frames") o.frames = std::stol(v);
-    else if (k == "--lap") o.lap = std::stoi(v);
-    else if (k == "--every") o.every = std::stoi(v);
-    else if (k == "--trajectory") o.trajectory = v;
-    else if (k == "--scene") o.scene = v;
-    else if (k == "--config") o.config = v;
-    else if (k == "--csv") o.csv = v;
-    else throw Error("bench_soak: unknown option " + k);
+    if (k == "--frames")
+      o.frames = std::stol(v);
+    else if (k == "--lap")
+      o.lap = std::stoi(v);
+    else if (k == "--every")
+      o.every = std::stoi(v);
+    else if (k == "--trajectory")
+      o.trajectory = v;
+    else if (k == "--scene")
+      o.scene = v;
+    else if (k == "--config")
+      o.config = v;
+    else if (k == "--csv")
+      o.csv = v;
+    else
+      throw Error("bench_soak: unknown option " + k);
   }
   require(o.frames > 0 && o.lap > 1 && o.every > 0, "bench_soak: --frames, --lap, --every must be > 0");
   return o;
@@ -117,21 +126,30 @@ int run(const Options& o) {
       const auto& tree = p.map()->tree();
       csv << p.keyframe_store().size() << ',' << p.keyframe_store().bytes() / 1e6 << ','
           << p.poses().keyframe_poses().size() << ',' << tree.getNumLeafNodes() << ','
-          << tree.memoryUsage() / 1e6 << ',' << p.counters().tracked << ',' << p.last_state() << '\n';
+          << tree.memoryUsage() / 1e6 << ',' << p.counters().tracked << ','
+          << (p.last_state() ? to_string(*p.last_state()) : std::string()) << '\n';
     }
     csv.flush();
     std::fprintf(stderr, "\rsoak: %ld/%ld frames, rss %.0f MB", i + 1, o.frames, rss_mb());
   }
   p.finish();
   std::fprintf(stderr, "\n");
-  nlohmann::json s = {{"frames", o.frames}, {"threaded", o.threaded}, {"lap", o.lap}, {"trajectory", o.trajectory}, {"scene", o.scene},
-                      {"tracked", p.counters().tracked}, {"keyframes_created", p.counters().keyframes},
-                      {"integrated", p.counters().integrated}, {"rebuilds", p.counters().rebuilds},
+  nlohmann::json s = {{"frames", o.frames},
+                      {"threaded", o.threaded},
+                      {"lap", o.lap},
+                      {"trajectory", o.trajectory},
+                      {"scene", o.scene},
+                      {"tracked", p.counters().tracked},
+                      {"keyframes_created", p.counters().keyframes},
+                      {"integrated", p.counters().integrated},
+                      {"rebuilds", p.counters().rebuilds},
                       {"kept_clouds", p.keyframe_store().size()},
                       {"kept_mb", p.keyframe_store().bytes() / 1e6},
                       {"slam_keyframes", p.poses().keyframe_poses().size()},
-                      {"map_leaves", p.map()->tree().getNumLeafNodes()}, {"rss_mb_end", rss_mb()},
-                      {"cpu_s", cpu_s()}, {"csv", o.csv}};
+                      {"map_leaves", p.map()->tree().getNumLeafNodes()},
+                      {"rss_mb_end", rss_mb()},
+                      {"cpu_s", cpu_s()},
+                      {"csv", o.csv}};
   std::cout << s.dump(2) << std::endl;
   return 0;
 }
