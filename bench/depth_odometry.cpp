@@ -16,8 +16,8 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/io/tum_dataset.hpp"
-#include "s3m/slam/depth_odometry.hpp"
-#include "s3m/slam/tracker.hpp"
+#include "s3m/slam/odometry/depth_odometry.hpp"
+#include "s3m/slam/tracking/tracker.hpp"
 
 namespace {
 
@@ -38,17 +38,20 @@ double percentile(std::vector<double> v, double q) {
 }
 
 void print(const char* what, const Errors& e) {
-  std::printf("%-34s %5zu pairs  rotation median %.3f / p90 %.3f / max %.3f deg  translation median %.2f / p90 %.2f / "
-              "max %.2f mm\n",
-              what, e.deg.size(), percentile(e.deg, 0.5), percentile(e.deg, 0.9), percentile(e.deg, 1.0),
-              percentile(e.mm, 0.5), percentile(e.mm, 0.9), percentile(e.mm, 1.0));
+  std::printf(
+      "%-34s %5zu pairs  rotation median %.3f / p90 %.3f / max %.3f deg  translation median %.2f / p90 %.2f "
+      "/ "
+      "max %.2f mm\n",
+      what, e.deg.size(), percentile(e.deg, 0.5), percentile(e.deg, 0.9), percentile(e.deg, 1.0),
+      percentile(e.mm, 0.5), percentile(e.mm, 0.9), percentile(e.mm, 1.0));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: bench_depth_odometry DATASET_DIR [--first N] [--frames N] [--downsample K]\n");
+    std::fprintf(stderr,
+                 "usage: bench_depth_odometry DATASET_DIR [--first N] [--frames N] [--downsample K]\n");
     return 2;
   }
   int first = 1, frames = 300;
@@ -56,9 +59,12 @@ int main(int argc, char** argv) {
   slam::DepthOdometryConfig config;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--first") first = std::max(1, std::stoi(argv[i + 1]));
-    else if (a == "--frames") frames = std::stoi(argv[i + 1]);
-    else if (a == "--downsample") config.downsample = std::stoi(argv[i + 1]);
+    if (a == "--first")
+      first = std::max(1, std::stoi(argv[i + 1]));
+    else if (a == "--frames")
+      frames = std::stoi(argv[i + 1]);
+    else if (a == "--downsample")
+      config.downsample = std::stoi(argv[i + 1]);
   }
   try {
     const auto ds = io::TumDataset::open(argv[1]);
@@ -89,12 +95,14 @@ int main(int argc, char** argv) {
       }
       prev = std::move(cur);
     }
-    std::printf("%s: frames %d-%d, odometry at 1/%d resolution\n", argv[1], first, first + frames, config.downsample);
+    std::printf("%s: frames %d-%d, odometry at 1/%d resolution\n", argv[1], first, first + frames,
+                config.downsample);
     print("constant velocity (ground truth's)", velocity);
     print("depth odometry", measured);
     print("... accepted by the agreement check", accepted);
-    std::printf("depth odometry did not converge on %d pairs; %d accepted only by the restart from no motion\n",
-                failed, restarted);
+    std::printf(
+        "depth odometry did not converge on %d pairs; %d accepted only by the restart from no motion\n",
+        failed, restarted);
   } catch (const Error& e) {
     std::fprintf(stderr, "bench_depth_odometry: %s\n", e.what());
     return 1;

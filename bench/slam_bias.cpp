@@ -25,8 +25,8 @@
 #include "s3m/eval/align.hpp"
 #include "s3m/features/orb_matcher.hpp"
 #include "s3m/sim/simulate.hpp"
-#include "s3m/slam/bundle_adjustment.hpp"
-#include "s3m/slam/pose_optimizer.hpp"
+#include "s3m/slam/optim/bundle_adjustment.hpp"
+#include "s3m/slam/optim/pose_optimizer.hpp"
 #include "s3m/slam/slam_config.hpp"
 #include "s3m/slam/system.hpp"
 

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "pipeline_fixture.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/eval/align.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
@@ -17,10 +18,9 @@
 #include "s3m/io/tum_dataset.hpp"
 #include "s3m/pipeline/run.hpp"
 #include "s3m/pipeline/session_io.hpp"
-#include "s3m/slam/map_io.hpp"
-#include "s3m/slam/reloc.hpp"
+#include "s3m/slam/io/map_io.hpp"
 #include "s3m/slam/slam_config.hpp"
-#include "pipeline_fixture.hpp"
+#include "s3m/slam/tracking/reloc.hpp"
 #include "session_runs.hpp"
 
 namespace s3m::it {
@@ -91,9 +91,11 @@ TEST(SessionMap, SecondFlightContinuesInTheLoadedWorld) {
   EXPECT_EQ(r.metrics["tracking"]["states"].value("LOST", 0), 0);
   const io::Trajectory est = io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt");
   const double ate = rmse(match(o.out_dir, flight_b_dir()), alignment_of_a());
-  std::printf("run B with --map A: %zu poses, %d keyframes added, ATE with A's alignment %.4f m "
-              "(A's own %.4f m)\n", est.size(), r.metrics.value("keyframes", 0), ate,
-              rmse(match(run_a_dir(), flight_a_dir()), alignment_of_a()));
+  std::printf(
+      "run B with --map A: %zu poses, %d keyframes added, ATE with A's alignment %.4f m "
+      "(A's own %.4f m)\n",
+      est.size(), r.metrics.value("keyframes", 0), ate,
+      rmse(match(run_a_dir(), flight_a_dir()), alignment_of_a()));
   EXPECT_EQ(est.size(), io::TumDataset::open(flight_b_dir()).size());
   EXPECT_LE(ate, 0.02);
 }
@@ -106,11 +108,12 @@ TEST(SessionMap, LocalizeOnlyLeavesTheMapUnchangedAndAddsNoKeyframe) {
   const pipeline::RunResult r = pipeline::run_dataset(o);
   EXPECT_EQ(r.metrics.value("keyframes", -1), 0);
   EXPECT_EQ(read_bytes(slam_map_of(run_a_dir())), before);
-  EXPECT_EQ(read_bytes(slam_map_of(o.out_dir)), before) << "the frozen map saves to the bytes it was loaded from";
+  EXPECT_EQ(read_bytes(slam_map_of(o.out_dir)), before)
+      << "the frozen map saves to the bytes it was loaded from";
   const double ate = rmse(match(o.out_dir, flight_b_dir()), alignment_of_a());
   std::printf("run B --localize-only: %d RELOCALISED, %d LOST, ATE with A's alignment %.4f m\n",
-              r.metrics["tracking"]["states"].value("RELOCALISED", 0), r.metrics["tracking"]["states"].value("LOST", 0),
-              ate);
+              r.metrics["tracking"]["states"].value("RELOCALISED", 0),
+              r.metrics["tracking"]["states"].value("LOST", 0), ate);
   EXPECT_LE(ate, 0.02);
 }
 
@@ -121,7 +124,8 @@ TEST(SessionMap, BadMapInputStopsBeforeTheFirstFrame) {
     pipeline::run_dataset(o);
     ADD_FAILURE() << "a missing map must stop the run";
   } catch (const ParseError& e) {
-    EXPECT_NE(std::string(e.what()).find("no_such_run/slam_map.bin: no such SLAM map file"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("no_such_run/slam_map.bin: no such SLAM map file"),
+              std::string::npos)
         << e.what();
   }
   EXPECT_FALSE(fs::exists(o.out_dir)) << "nothing was written";

@@ -6,9 +6,9 @@
 // place recognition finds it: one map in A's world, whose semantic map scores at least the better
 // single run's mIoU against the simulator's voxels and covers what both runs covered.
 // `s3m merge A C` does the same offline; runs that cannot be merged say why.
+#include <array>
 #include <cmath>
 #include <cstdio>
-#include <array>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -16,20 +16,20 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "pipeline_fixture.hpp"
+#include "s3m/core/classes.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
-#include "s3m/core/classes.hpp"
 #include "s3m/io/gt_voxels.hpp"
-#include "s3m/io/tum_dataset.hpp"
 #include "s3m/io/trajectory.hpp"
+#include "s3m/io/tum_dataset.hpp"
 #include "s3m/mapping/map_io.hpp"
 #include "s3m/mapping/metrics.hpp"
 #include "s3m/pipeline/evaluation.hpp"
 #include "s3m/pipeline/run.hpp"
 #include "s3m/pipeline/session_io.hpp"
 #include "s3m/pipeline/session_merge.hpp"
-#include "s3m/slam/map_io.hpp"
-#include "pipeline_fixture.hpp"
+#include "s3m/slam/io/map_io.hpp"
 #include "session_runs.hpp"
 
 namespace s3m::it {
@@ -57,7 +57,8 @@ double ate_m(const std::string& run, const std::string& dataset, const SE3& T_ru
   int n = 0;
   for (const auto& p : est)
     for (const auto& q : gt)
-      if (std::abs(p.t_s - q.t_s) < 1e-4) s += (T_run_gt.inverse() * p.T_w_x.translation() - q.T_w_x.translation()).squaredNorm(), ++n;
+      if (std::abs(p.t_s - q.t_s) < 1e-4)
+        s += (T_run_gt.inverse() * p.T_w_x.translation() - q.T_w_x.translation()).squaredNorm(), ++n;
   return std::sqrt(s / std::max(n, 1));
 }
 
@@ -178,7 +179,8 @@ std::size_t union_size(const std::set<std::size_t>& a, const std::set<std::size_
 TEST(MergeSession, FlightStartingOutsideTheMapEndsAsOneMap) {
   const json m = metrics(run_c_in_a());
   const json& sub = m["tracking"]["submaps"];
-  std::printf("run C --map A: states %s, sub-maps %s\n", m["tracking"]["states"].dump().c_str(), sub.dump().c_str());
+  std::printf("run C --map A: states %s, sub-maps %s\n", m["tracking"]["states"].dump().c_str(),
+              sub.dump().c_str());
   EXPECT_EQ(sub.value("started", 0), 1) << "C starts outside A's map";
   EXPECT_EQ(sub.value("merges", 0), 1) << "and enters it";
   EXPECT_EQ(sub.value("keyframes_outside_world", -1), 0) << "one map at the end";
@@ -187,7 +189,8 @@ TEST(MergeSession, FlightStartingOutsideTheMapEndsAsOneMap) {
   // alignment to the ground truth only.
   const int start = sim_preset().slam.loop_closing.loop.merge.start_frames;
   const io::Trajectory est = io::read_tum_trajectory(run_c_in_a() + "/trajectory_camera.txt");
-  EXPECT_EQ(int(est.size()), flight_c_config().trajectory.frames - start + 1);  // the last failed frame starts the sub-map
+  EXPECT_EQ(int(est.size()),
+            flight_c_config().trajectory.frames - start + 1);  // the last failed frame starts the sub-map
   const SE3 T_a = T_run_gt(run_a(), flight_a_dir());
   const double ate_in_a = ate_m(run_c_in_a(), flight_c_dir(), T_a);
   std::printf("run C --map A: %zu poses, ATE with A's alignment %.4f m (run C alone, own alignment %.4f m)\n",
@@ -209,8 +212,8 @@ TEST(MergeSession, FlightStartingOutsideTheMapEndsAsOneMap) {
 // the ground truth that map observed; the merged map observes more (both areas), so the fair
 // comparison is on the same voxels: everything either run observed, and each run's own area.
 struct MapComparison {
-  double own_a, own_c, own_merged;             // metrics.json map.miou (each over its own observed space)
-  double union_a, union_c, union_merged;       // on the voxels either run observed
+  double own_a, own_c, own_merged;        // metrics.json map.miou (each over its own observed space)
+  double union_a, union_c, union_merged;  // on the voxels either run observed
   double a_on_a, merged_on_a, c_on_c, merged_on_c;  // on each run's own observed voxels
   std::size_t covered_a, covered_c, covered_union, covered_merged;
   // On the voxels a camera hit: covered by A or C, by the merged map, and what the merged map
@@ -225,12 +228,26 @@ MapComparison compare_maps(const std::string& merged_ot, const SE3& T_merged_gt,
   const auto seen_a = observed(a_ot, gt, T_a), seen_c = observed(c_ot, gt, T_c);
   std::set<std::size_t> seen = seen_a;
   seen.insert(seen_c.begin(), seen_c.end());
-  const auto ca = covered(a_ot, gt, T_a), cc = covered(c_ot, gt, T_c), cm = covered(merged_ot, gt, T_merged_gt);
-  MapComparison m{metrics(run_a())["map"]["miou"], metrics(run_c())["map"]["miou"], own_merged,
-                  miou_on(a_ot, gt, T_a, seen), miou_on(c_ot, gt, T_c, seen), miou_on(merged_ot, gt, T_merged_gt, seen),
-                  miou_on(a_ot, gt, T_a, seen_a), miou_on(merged_ot, gt, T_merged_gt, seen_a),
-                  miou_on(c_ot, gt, T_c, seen_c), miou_on(merged_ot, gt, T_merged_gt, seen_c),
-                  ca.size(), cc.size(), union_size(ca, cc), cm.size(), 0, 0, 0, 0};
+  const auto ca = covered(a_ot, gt, T_a), cc = covered(c_ot, gt, T_c),
+             cm = covered(merged_ot, gt, T_merged_gt);
+  MapComparison m{metrics(run_a())["map"]["miou"],
+                  metrics(run_c())["map"]["miou"],
+                  own_merged,
+                  miou_on(a_ot, gt, T_a, seen),
+                  miou_on(c_ot, gt, T_c, seen),
+                  miou_on(merged_ot, gt, T_merged_gt, seen),
+                  miou_on(a_ot, gt, T_a, seen_a),
+                  miou_on(merged_ot, gt, T_merged_gt, seen_a),
+                  miou_on(c_ot, gt, T_c, seen_c),
+                  miou_on(merged_ot, gt, T_merged_gt, seen_c),
+                  ca.size(),
+                  cc.size(),
+                  union_size(ca, cc),
+                  cm.size(),
+                  0,
+                  0,
+                  0,
+                  0};
   std::set<std::size_t> hit = hit_by_camera(flight_a_dir(), gt);
   for (std::size_t i : hit_by_camera(flight_c_dir(), gt)) hit.insert(i);
   const io::GtVoxelMap voxels = io::read_gt_voxels(gt);
@@ -248,15 +265,18 @@ MapComparison compare_maps(const std::string& merged_ot, const SE3& T_merged_gt,
                            (!in_c || contradicted(*tree_c, T_c, *tree_a, T_a, g));
     ++(explained ? m.missed_contradicted : m.missed_other);
   }
-  std::printf("  map mIoU, own observed space: A %.4f, C %.4f, merged %.4f\n"
-              "  on the voxels either run observed (%zu): A %.4f, C %.4f, merged %.4f\n"
-              "  where A looked: A %.4f, merged %.4f; where C looked: C %.4f, merged %.4f\n"
-              "  ground-truth voxels covered (1-voxel tolerance): A %zu, C %zu, union %zu, merged %zu\n",
-              m.own_a, m.own_c, m.own_merged, seen.size(), m.union_a, m.union_c, m.union_merged, m.a_on_a,
-              m.merged_on_a, m.c_on_c, m.merged_on_c, m.covered_a, m.covered_c, m.covered_union, m.covered_merged);
-  std::printf("  of the voxels a camera hit (%zu): union %zu, merged %zu; the merged map misses %zu of the union, "
-              "%zu where the other run's own map holds them free, %zu otherwise\n",
-              hit.size(), m.hit_union, m.hit_merged, m.hit_union - m.hit_merged, m.missed_contradicted, m.missed_other);
+  std::printf(
+      "  map mIoU, own observed space: A %.4f, C %.4f, merged %.4f\n"
+      "  on the voxels either run observed (%zu): A %.4f, C %.4f, merged %.4f\n"
+      "  where A looked: A %.4f, merged %.4f; where C looked: C %.4f, merged %.4f\n"
+      "  ground-truth voxels covered (1-voxel tolerance): A %zu, C %zu, union %zu, merged %zu\n",
+      m.own_a, m.own_c, m.own_merged, seen.size(), m.union_a, m.union_c, m.union_merged, m.a_on_a,
+      m.merged_on_a, m.c_on_c, m.merged_on_c, m.covered_a, m.covered_c, m.covered_union, m.covered_merged);
+  std::printf(
+      "  of the voxels a camera hit (%zu): union %zu, merged %zu; the merged map misses %zu of the union, "
+      "%zu where the other run's own map holds them free, %zu otherwise\n",
+      hit.size(), m.hit_union, m.hit_merged, m.hit_union - m.hit_merged, m.missed_contradicted,
+      m.missed_other);
   return m;
 }
 
@@ -353,7 +373,8 @@ TEST(MergeSession, RunsThatCannotBeMergedSayWhy) {
   const fs::path foreign = scratch_dir() / "foreign";
   fs::create_directories(foreign);
   fs::copy_file(run_c() + "/kept_clouds.bin", foreign / "slam_map.bin", fs::copy_options::overwrite_existing);
-  fs::copy_file(run_c() + "/kept_clouds.bin", foreign / "kept_clouds.bin", fs::copy_options::overwrite_existing);
+  fs::copy_file(run_c() + "/kept_clouds.bin", foreign / "kept_clouds.bin",
+                fs::copy_options::overwrite_existing);
   e = error_of(run_a(), foreign.string());
   EXPECT_NE(e.find("foreign/slam_map.bin"), std::string::npos) << e;
   EXPECT_NE(e.find("SLAM map"), std::string::npos) << e;

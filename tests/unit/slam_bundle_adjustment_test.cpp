@@ -5,8 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "s3m/core/error.hpp"
-#include "s3m/slam/bundle_adjustment.hpp"
-#include "s3m/slam/loop_closer.hpp"
+#include "s3m/slam/loop/loop_closer.hpp"
+#include "s3m/slam/optim/bundle_adjustment.hpp"
 
 namespace s3m::slam {
 namespace {
@@ -29,7 +29,8 @@ TEST(BundleAdjustment, RecoversPosesAndPointsWithOutliers) {
   // 1. Ground truth: 10 frames sliding along x (1.35 m baseline), 250 points in front.
   std::vector<SE3> T_gt;
   for (int f = 0; f < 10; ++f)
-    T_gt.push_back(se3_exp((Vec6() << -0.15 * f, 0.02 * f, 0.03 * f, 0.01 * f, -0.02 * f, 0.005 * f).finished()));
+    T_gt.push_back(
+        se3_exp((Vec6() << -0.15 * f, 0.02 * f, 0.03 * f, 0.01 * f, -0.02 * f, 0.005 * f).finished()));
   std::vector<Vec3> P_gt;
   for (int i = 0; i < 250; ++i) P_gt.emplace_back(uxy(rng) + 0.7, 0.7 * uxy(rng), uz(rng));
   // 2. Observations: pixel noise of the keypoint level, RGB-D for 60 %, 30 % of them gross outliers.
@@ -54,12 +55,14 @@ TEST(BundleAdjustment, RecoversPosesAndPointsWithOutliers) {
       // Depth noise ~1 cm at 2 m maps to ~0.1 px on the virtual right coordinate.
       if (uni(rng) < 0.6) o.u_right = o.uv.x() - cam.bf / p_c.z() + 0.1 * n01(rng);
       const bool bad = P.obs.size() % 10 < 3;
-      if (bad) o.uv += Eigen::Vector2d(big(rng) * (uni(rng) < 0.5 ? -1 : 1), big(rng) * (uni(rng) < 0.5 ? -1 : 1));
+      if (bad)
+        o.uv += Eigen::Vector2d(big(rng) * (uni(rng) < 0.5 ? -1 : 1), big(rng) * (uni(rng) < 0.5 ? -1 : 1));
       P.obs.push_back(o);
       outlier.push_back(bad);
     }
   // 3. Perturb the free poses (~5 cm, ~2 deg) and all points (~5 cm).
-  for (int f = 2; f < 10; ++f) P.T_c_w[f] = se3_exp((Vec6() << 0.05, -0.03, 0.04, 0.03, -0.02, 0.02).finished()) * T_gt[f];
+  for (int f = 2; f < 10; ++f)
+    P.T_c_w[f] = se3_exp((Vec6() << 0.05, -0.03, 0.04, 0.03, -0.02, 0.02).finished()) * T_gt[f];
   for (auto& p : P.p_w) p += 0.05 * Vec3(n01(rng), n01(rng), n01(rng));
 
   BaConfig cfg;
@@ -165,20 +168,22 @@ namespace {
 // 120 points on a 12 x 10 grid 2.0-2.6 m in front of the identity pose.
 std::vector<Vec3> wall_points() {
   std::vector<Vec3> P_w;
-  for (int i = 0; i < 120; ++i) P_w.emplace_back(-1.0 + 0.2 * (i % 12), -0.6 + 0.15 * (i / 12), 2.0 + 0.1 * (i % 7));
+  for (int i = 0; i < 120; ++i)
+    P_w.emplace_back(-1.0 + 0.2 * (i % 12), -0.6 + 0.15 * (i / 12), 2.0 + 0.1 * (i % 7));
   return P_w;
 }
 
 // Keypoints where the points project from T_w_c, exact depth and right coordinate, one distinct
 // descriptor per point.
-std::shared_ptr<features::FrameFeatures> exact_features(const PinholeCamera& cam, const std::vector<Vec3>& P_w,
-                                                        const SE3& T_w_c) {
+std::shared_ptr<features::FrameFeatures> exact_features(const PinholeCamera& cam,
+                                                        const std::vector<Vec3>& P_w, const SE3& T_w_c) {
   auto f = std::make_shared<features::FrameFeatures>();
   f->pyramid = features::ScalePyramid::make(1.2, 4, 1.0);
   f->descriptors = cv::Mat::zeros(int(P_w.size()), 32, CV_8U);
   for (std::size_t i = 0; i < P_w.size(); ++i) {
     const Vec3 p = T_w_c.inverse() * P_w[i];
-    cv::KeyPoint k(cv::Point2f(float(cam.fx * p.x() / p.z() + cam.cx), float(cam.fy * p.y() / p.z() + cam.cy)), 31.0f);
+    cv::KeyPoint k(
+        cv::Point2f(float(cam.fx * p.x() / p.z() + cam.cx), float(cam.fy * p.y() / p.z() + cam.cy)), 31.0f);
     k.octave = 0;
     f->keypoints.push_back(k);
     f->depth_m.push_back(float(p.z()));
@@ -190,8 +195,8 @@ std::shared_ptr<features::FrameFeatures> exact_features(const PinholeCamera& cam
 }
 
 // A keyframe of `map` that sees P_w exactly from T_true (no map points yet), stored at T_stored.
-KeyframeId add_exact_keyframe(Map& map, const PinholeCamera& cam, const std::vector<Vec3>& P_w, const SE3& T_true,
-                              const SE3& T_stored) {
+KeyframeId add_exact_keyframe(Map& map, const PinholeCamera& cam, const std::vector<Vec3>& P_w,
+                              const SE3& T_true, const SE3& T_stored) {
   KeyFrame k;
   k.features = exact_features(cam, P_w, T_true);
   k.points.assign(P_w.size(), kNoId);
@@ -204,17 +209,21 @@ KeyframeId add_exact_keyframe(Map& map, const PinholeCamera& cam, const std::vec
 // y axis. Returns K's pose after local BA around K and the BA's statistics, or (global) after the
 // end-of-run global BA (hold: with its step limit).
 enum class Solve { kLocal, kGlobal, kGlobalHold };
-std::pair<SE3, LocalBaStats> local_ba_with_wrong_keyframe(double error_deg, const BaConfig& config, SE3& T_w_k_true,
-                                                          Solve solve = Solve::kLocal) {
+std::pair<SE3, LocalBaStats> local_ba_with_wrong_keyframe(double error_deg, const BaConfig& config,
+                                                          SE3& T_w_k_true, Solve solve = Solve::kLocal) {
   const PinholeCamera cam = test_camera();
   const SE3 T_w_f = SE3::Identity();
   T_w_k_true = make_se3(so3_exp(Vec3(0, 0.05, 0)), Vec3(0.2, 0, 0));
   const std::vector<Vec3> P_w = wall_points();
   Map map;
-  auto add = [&](const SE3& T_true, const SE3& T_stored) { return add_exact_keyframe(map, cam, P_w, T_true, T_stored); };
+  auto add = [&](const SE3& T_true, const SE3& T_stored) {
+    return add_exact_keyframe(map, cam, P_w, T_true, T_stored);
+  };
   const KeyframeId f = add(T_w_f, T_w_f);
-  const KeyframeId k = add(T_w_k_true, T_w_k_true * make_se3(so3_exp(Vec3(0, error_deg * M_PI / 180.0, 0)), Vec3::Zero()));
-  for (std::size_t i = 0; i < P_w.size(); ++i) map.add_observation(map.add_point(P_w[i], f, int(i)), k, int(i));
+  const KeyframeId k =
+      add(T_w_k_true, T_w_k_true * make_se3(so3_exp(Vec3(0, error_deg * M_PI / 180.0, 0)), Vec3::Zero()));
+  for (std::size_t i = 0; i < P_w.size(); ++i)
+    map.add_observation(map.add_point(P_w[i], f, int(i)), k, int(i));
   map.update_covisibility(k);  // K's parent is F: the global BA holds only F, the tree's root
   if (solve != Solve::kLocal) {
     global_bundle_adjustment(map, cam, config, solve == Solve::kGlobalHold);
@@ -224,7 +233,9 @@ std::pair<SE3, LocalBaStats> local_ba_with_wrong_keyframe(double error_deg, cons
   return {map.keyframe(k).T_w_c, st};
 }
 
-double deg_between(const SE3& a, const SE3& b) { return rotation_angle_rad((a.inverse() * b).linear()) * 180.0 / M_PI; }
+double deg_between(const SE3& a, const SE3& b) {
+  return rotation_angle_rad((a.inverse() * b).linear()) * 180.0 / M_PI;
+}
 
 TEST(LocalBundleAdjustment, CorrectsSmallKeyframeErrorsAndHoldsKeyframesItWouldMoveTooFar) {
   SE3 truth;

@@ -9,9 +9,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "s3m/core/error.hpp"
-#include "s3m/slam/depth_odometry.hpp"
-#include "s3m/slam/keyframe_links.hpp"
-#include "s3m/slam/tracker.hpp"
+#include "s3m/slam/odometry/depth_odometry.hpp"
+#include "s3m/slam/odometry/keyframe_links.hpp"
+#include "s3m/slam/tracking/tracker.hpp"
 #include "slam_synthetic_room.hpp"
 
 namespace s3m::slam {
@@ -30,7 +30,8 @@ Pair room_pair(double depth_noise) {
   const SE3 kick = make_se3(so3_exp(Vec3(0.0, -1.5 * M_PI / 180.0, 0.0)), Vec3(0.02, 0.0, 0.0));
   const SE3 T_w_cur = test::uav_pose(11, 300) * kick;
   return {test::render_room(test::Room{}, cam, T_w_prev, 10, 0.0, depth_noise),
-          test::render_room(test::Room{}, cam, T_w_cur, 11, 1 / 30.0, depth_noise), T_w_cur.inverse() * T_w_prev};
+          test::render_room(test::Room{}, cam, T_w_cur, 11, 1 / 30.0, depth_noise),
+          T_w_cur.inverse() * T_w_prev};
 }
 
 TEST(DepthOdometry, RecoversTheExactMotionFromNoMotionGuess) {
@@ -109,11 +110,13 @@ TEST(KeyframeLinker, MeasuresTheTrueRelativePoseOfConsecutiveKeyframes) {
 TEST(DepthOdometry, PreparedFramesAlignAsFreshImagesDo) {
   const PinholeCamera cam = test::room_camera();
   std::vector<RgbdFrame> f;
-  for (int i : {20, 25, 30}) f.push_back(test::render_room(test::Room{}, cam, test::uav_pose(i, 300), i, i / 30.0, 0.0));
+  for (int i : {20, 25, 30})
+    f.push_back(test::render_room(test::Room{}, cam, test::uav_pose(i, 300), i, i / 30.0, 0.0));
   DepthOdometryConfig c;
   c.downsample = 1;
   const DepthOdometry odometry(cam, c);
-  const DepthOdometry::PreparedFrame p0 = odometry.prepare(f[0]), p1 = odometry.prepare(f[1]), p2 = odometry.prepare(f[2]);
+  const DepthOdometry::PreparedFrame p0 = odometry.prepare(f[0]), p1 = odometry.prepare(f[1]),
+                                     p2 = odometry.prepare(f[2]);
   // Guesses 0.3 deg / 5 mm off the truth, as tracking gives them.
   const SE3 off = make_se3(so3_exp(Vec3(0.0, 0.3 * M_PI / 180, 0.0)), Vec3(0.005, 0.0, 0.0));
   const auto truth = [](int i, int j) { return test::uav_pose(j, 300).inverse() * test::uav_pose(i, 300); };
@@ -159,7 +162,8 @@ TEST(DepthOdometry, TwoStartsAgreeOnAWellConditionedPairOnly) {
   const TrackerConfig t;
   {
     const Pair p = room_pair(0.0);
-    const auto from_truth = odometry.align(p.prev, p.cur, p.T_cur_prev), from_rest = odometry.align(p.prev, p.cur, SE3::Identity());
+    const auto from_truth = odometry.align(p.prev, p.cur, p.T_cur_prev),
+               from_rest = odometry.align(p.prev, p.cur, SE3::Identity());
     ASSERT_TRUE(from_truth && from_rest);
     EXPECT_TRUE(poses_agree(*from_truth, *from_rest, t.odometry_deg, t.odometry_m));
   }
@@ -169,11 +173,13 @@ TEST(DepthOdometry, TwoStartsAgreeOnAWellConditionedPairOnly) {
   R.col(1) = -Vec3::UnitZ();
   R.col(2) = Vec3::UnitX();
   const SE3 T_w_prev = make_se3(R, Vec3(2.4, 0.0, 1.5)), T_w_cur = make_se3(R, Vec3(2.4, 0.03, 1.5));
-  RgbdFrame prev = test::render_room(test::Room{}, cam, T_w_prev, 0, 0.0), cur = test::render_room(test::Room{}, cam, T_w_cur, 1, 1 / 30.0);
+  RgbdFrame prev = test::render_room(test::Room{}, cam, T_w_prev, 0, 0.0),
+            cur = test::render_room(test::Room{}, cam, T_w_cur, 1, 1 / 30.0);
   prev.rgb.setTo(cv::Scalar(128, 128, 128));
   cur.rgb.setTo(cv::Scalar(128, 128, 128));
   const SE3 truth = T_w_cur.inverse() * T_w_prev;
-  const auto from_truth = odometry.align(prev, cur, truth), from_rest = odometry.align(prev, cur, SE3::Identity());
+  const auto from_truth = odometry.align(prev, cur, truth),
+             from_rest = odometry.align(prev, cur, SE3::Identity());
   std::printf("plain wall: from the truth %s, from no motion %s", from_truth ? "converged" : "failed",
               from_rest ? "converged" : "failed");
   if (from_truth && from_rest)
@@ -192,15 +198,18 @@ namespace {
 // the vertical slide along the corner, which stays at the guess (no motion).
 TEST(DepthOdometry, ObservableAlignmentMeasuresWhatTheRoomsDepthFixes) {
   const Pair p = room_pair(0.0);
-  const auto m = DepthOdometry(test::room_camera(), DepthOdometryConfig{}).align_observable(p.prev, p.cur, SE3::Identity());
+  const auto m = DepthOdometry(test::room_camera(), DepthOdometryConfig{})
+                     .align_observable(p.prev, p.cur, SE3::Identity());
   ASSERT_TRUE(m.has_value());
   EXPECT_EQ(m->observed_directions, 5);
   const SE3 err = m->T_cur_prev * p.T_cur_prev.inverse();
   EXPECT_LT(angle_deg(err), 0.05);
   // What is left is a vertical slide (world z).
-  const SE3 T_w_cur = test::uav_pose(11, 300) * make_se3(so3_exp(Vec3(0.0, -1.5 * M_PI / 180.0, 0.0)), Vec3(0.02, 0.0, 0.0));
+  const SE3 T_w_cur =
+      test::uav_pose(11, 300) * make_se3(so3_exp(Vec3(0.0, -1.5 * M_PI / 180.0, 0.0)), Vec3(0.02, 0.0, 0.0));
   const Vec3 slide_w = T_w_cur.linear() * (m->T_cur_prev.inverse() * p.T_cur_prev).translation();
-  std::printf("left: %.2f %.2f %.2f mm (world)\n", 1000 * slide_w.x(), 1000 * slide_w.y(), 1000 * slide_w.z());
+  std::printf("left: %.2f %.2f %.2f mm (world)\n", 1000 * slide_w.x(), 1000 * slide_w.y(),
+              1000 * slide_w.z());
   EXPECT_GT(slide_w.norm(), 0.002);  // the guess was off along it and nothing in the depth says so
   EXPECT_GT(std::abs(slide_w.z()), 0.99 * slide_w.norm());
   EXPECT_LT(m->rms_m, 0.0005);  // every point back on its surface
@@ -223,7 +232,8 @@ TEST(DepthOdometry, ObservableAlignmentCorrectsWhatOnePlaneShowsAndKeepsTheGuess
   const double deg = M_PI / 180.0;
   const SE3 shown = make_se3(so3_exp(Vec3(0.5 * deg, 0, 0)), Vec3(0, 0, 0.01));
   const SE3 hidden = make_se3(so3_exp(Vec3(0, 0, 0.3 * deg)), Vec3(0.01, 0, 0));
-  const auto m = DepthOdometry(cam, DepthOdometryConfig{}).align_observable(prev, cur, hidden * shown * truth);
+  const auto m =
+      DepthOdometry(cam, DepthOdometryConfig{}).align_observable(prev, cur, hidden * shown * truth);
   ASSERT_TRUE(m.has_value());
   EXPECT_EQ(m->observed_directions, 3);
   EXPECT_LT(m->rms_m, 0.0005);
@@ -286,13 +296,16 @@ TEST(DepthOdometry, AStepAfterAGapIsMeasuredOnlyWithTheGapsScale) {
 // a fraction of the step, but within twice the bounds at most, and a 30 Hz step keeps the bounds.
 TEST(DepthOdometry, StepsAgreeWithinAFractionOfTheStepUpToTwiceTheBounds) {
   const double max_deg = 0.5, max_m = 0.015, fraction = 0.1;
-  auto turned = [](const SE3& T, double deg) { return make_se3(so3_exp(Vec3(deg * M_PI / 180, 0.0, 0.0)), Vec3::Zero()) * T; };
+  auto turned = [](const SE3& T, double deg) {
+    return make_se3(so3_exp(Vec3(deg * M_PI / 180, 0.0, 0.0)), Vec3::Zero()) * T;
+  };
   auto moved = [](const SE3& T, double m) { return make_se3(Mat3::Identity(), Vec3(m, 0.0, 0.0)) * T; };
   // A 12 deg / 30 cm step: 10 % is 1.2 deg / 3 cm, capped at twice the bounds, 1.0 deg / 3 cm.
   const SE3 big = make_se3(so3_exp(Vec3(0.0, 12.0 * M_PI / 180, 0.0)), Vec3(0.0, 0.0, 0.3));
   EXPECT_TRUE(odometry_steps_agree(big, turned(big, 0.9), max_deg, max_m, fraction));
   EXPECT_FALSE(odometry_steps_agree(big, turned(big, 0.9), max_deg, max_m, 0.0)) << "the bounds alone";
-  EXPECT_FALSE(odometry_steps_agree(big, turned(big, 1.1), max_deg, max_m, fraction)) << "over twice the bounds";
+  EXPECT_FALSE(odometry_steps_agree(big, turned(big, 1.1), max_deg, max_m, fraction))
+      << "over twice the bounds";
   EXPECT_TRUE(odometry_steps_agree(big, moved(big, 0.029), max_deg, max_m, fraction));
   EXPECT_FALSE(odometry_steps_agree(big, moved(big, 0.031), max_deg, max_m, fraction));
   // A 6 deg / 20 cm step: 0.6 deg / 2 cm.
@@ -349,7 +362,8 @@ TEST(DepthOdometry, ColourAgreementTellsAViewFromTheOppositeWallsWhereDepthCanno
   const SE3 T_c_a = at_centre(40).inverse() * at_centre(30);
   const std::optional<double> right = colour_agreement(cam, a, c, T_c_a);
   ASSERT_TRUE(right.has_value());
-  std::printf("colour agreement: true 10 deg step %.3f, opposite walls as no motion %.3f\n", *right, *opposite);
+  std::printf("colour agreement: true 10 deg step %.3f, opposite walls as no motion %.3f\n", *right,
+              *opposite);
   EXPECT_GT(*right, 0.95);
   EXPECT_LT(*opposite, 0.2);
   // The grey levels inverted: perfectly anti-correlated. A black image has no contrast to judge.

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <map>
 
-#include "s3m/slam/group_search.hpp"
+#include "s3m/slam/map/group_search.hpp"
 
 namespace s3m::slam {
 namespace {
@@ -19,7 +19,8 @@ void set_descriptor(cv::Mat& d, int row, int i) {
 }
 
 // Features at the given pixels (level 0), descriptor ids[k] for pixel k, depth 2 m.
-std::shared_ptr<features::FrameFeatures> features_at(const std::vector<Eigen::Vector2d>& px, const std::vector<int>& ids) {
+std::shared_ptr<features::FrameFeatures> features_at(const std::vector<Eigen::Vector2d>& px,
+                                                     const std::vector<int>& ids) {
   auto f = std::make_shared<features::FrameFeatures>();
   f->pyramid = features::ScalePyramid::make(1.2, 4, 1.0);
   f->descriptors = cv::Mat::zeros(static_cast<int>(px.size()), 32, CV_8U);

@@ -3,7 +3,7 @@
 
 #include <random>
 
-#include "s3m/slam/loop_geometry.hpp"
+#include "s3m/slam/loop/loop_geometry.hpp"
 
 namespace s3m::slam {
 namespace {
@@ -27,7 +27,8 @@ TEST(LoopGeometry, RansacRecoversPoseWith40PercentOutliers) {
     b.push_back(p_b);
     const bool outlier = i % 5 < 2;
     is_outlier.push_back(outlier);
-    a.push_back(outlier ? Vec3(far(rng), far(rng), z(rng)) : Vec3(T_a_b * p_b + Vec3(noise(rng), noise(rng), noise(rng))));
+    a.push_back(outlier ? Vec3(far(rng), far(rng), z(rng))
+                        : Vec3(T_a_b * p_b + Vec3(noise(rng), noise(rng), noise(rng))));
   }
   const auto r = estimate_se3_ransac(a, b);
   ASSERT_TRUE(r.success);

@@ -15,9 +15,9 @@
 #include "s3m/core/byte_io.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
-#include "s3m/slam/map_io.hpp"
-#include "s3m/slam/reloc.hpp"
+#include "s3m/slam/io/map_io.hpp"
 #include "s3m/slam/system.hpp"
+#include "s3m/slam/tracking/reloc.hpp"
 #include "slam_synthetic_room.hpp"
 
 namespace fs = std::filesystem;

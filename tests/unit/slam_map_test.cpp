@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "s3m/core/error.hpp"
-#include "s3m/slam/map.hpp"
+#include "s3m/slam/map/map.hpp"
 
 namespace s3m::slam {
 namespace {

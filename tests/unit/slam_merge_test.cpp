@@ -14,7 +14,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
-#include "s3m/slam/map_merge.hpp"
+#include "s3m/slam/loop/map_merge.hpp"
 #include "s3m/slam/slam_config.hpp"
 #include "s3m/slam/system.hpp"
 #include "slam_synthetic_room.hpp"

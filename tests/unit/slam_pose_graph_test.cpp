@@ -4,7 +4,7 @@
 #include <random>
 
 #include "s3m/core/error.hpp"
-#include "s3m/slam/pose_graph.hpp"
+#include "s3m/slam/optim/pose_graph.hpp"
 
 namespace s3m::slam {
 namespace {
@@ -46,7 +46,8 @@ TEST(PoseGraph, RecoversAKnownLoopCorrection) {
   for (int i = 0; i + 1 < n; ++i) {
     PoseGraphEdge e = relative_edge(i, i + 1, gt[i], gt[i + 1], 100.0);
     if (i == 10) {
-      e.T_from_to = e.T_from_to * make_se3(Vec3(0.3, 0.0, 0.0), Quat(Eigen::AngleAxisd(0.0873, Vec3::UnitZ())));
+      e.T_from_to =
+          e.T_from_to * make_se3(Vec3(0.3, 0.0, 0.0), Quat(Eigen::AngleAxisd(0.0873, Vec3::UnitZ())));
       e.information = 1e-3 * Mat6::Identity();
     }
     edges.push_back(e);
@@ -61,7 +62,8 @@ TEST(PoseGraph, RecoversAKnownLoopCorrection) {
   EXPECT_TRUE(r.converged);
   EXPECT_LT(r.final_cost, 1e-3 * r.initial_cost);
   EXPECT_LT(max_position_error(poses, gt), 2e-3);  // metres; residual due to the weak edge's pull
-  for (int i = 0; i < n; ++i) EXPECT_LT(rotation_angle_rad(poses[i].linear().transpose() * gt[i].linear()), 1e-3);
+  for (int i = 0; i < n; ++i)
+    EXPECT_LT(rotation_angle_rad(poses[i].linear().transpose() * gt[i].linear()), 1e-3);
   EXPECT_TRUE(poses[0].isApprox(gt[0], 1e-12));  // the fixed node did not move
 }
 
@@ -97,8 +99,10 @@ TEST(PoseGraph, LoopEdgeReducesDriftOfANoisyBiasedLoop) {
 
 TEST(PoseGraph, RejectsUnknownNodesAndMissingGauge) {
   std::map<int, SE3> poses{{0, SE3::Identity()}, {1, SE3::Identity()}};
-  EXPECT_THROW(optimize_pose_graph(poses, {relative_edge(0, 5, SE3::Identity(), SE3::Identity())}, {0}), Error);
-  EXPECT_THROW(optimize_pose_graph(poses, {relative_edge(0, 1, SE3::Identity(), SE3::Identity())}, {}), Error);
+  EXPECT_THROW(optimize_pose_graph(poses, {relative_edge(0, 5, SE3::Identity(), SE3::Identity())}, {0}),
+               Error);
+  EXPECT_THROW(optimize_pose_graph(poses, {relative_edge(0, 1, SE3::Identity(), SE3::Identity())}, {}),
+               Error);
 }
 
 }  // namespace

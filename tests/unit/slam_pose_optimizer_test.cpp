@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "s3m/slam/pose_optimizer.hpp"
+#include "s3m/slam/optim/pose_optimizer.hpp"
 
 namespace s3m::slam {
 namespace {
@@ -53,8 +53,8 @@ TEST(PoseOptimizer, RecoversPoseWithNoiseAndOutliers) {
     if (is_outlier[i] && !res.inlier[i]) ++caught;
     if (!is_outlier[i] && res.inlier[i]) ++kept;
   }
-  EXPECT_EQ(caught, n_out);                                  // every gross outlier rejected
-  EXPECT_GT(kept, 0.85 * (obs.size() - n_out));              // chi2 95 % gate keeps most inliers
+  EXPECT_EQ(caught, n_out);                      // every gross outlier rejected
+  EXPECT_GT(kept, 0.85 * (obs.size() - n_out));  // chi2 95 % gate keeps most inliers
   EXPECT_EQ(res.n_inliers, static_cast<int>(std::count(res.inlier.begin(), res.inlier.end(), 1)));
 }
 
@@ -85,7 +85,6 @@ TEST(PoseOptimizer, PointBehindCameraIsOutlier) {
   double chi2 = 0;
   EXPECT_FALSE(reprojection_chi2(o, SE3::Identity(), cam, chi2));
 }
-
 
 // The inverse-depth row (features::DepthNoiseConfig "sensor"): residual (1/z - rho) / sigma_rho, so
 // a point 2 m ahead measured at rho = 1/2.1 with sigma_rho = 0.01 1/m contributes

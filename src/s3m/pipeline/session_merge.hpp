@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "s3m/pipeline/pipeline_config.hpp"
-#include "s3m/slam/map_merge.hpp"
+#include "s3m/slam/loop/map_merge.hpp"
 
 namespace s3m::pipeline {
 

@@ -6,10 +6,10 @@
 
 #include "s3m/core/se3.hpp"
 #include "s3m/features/frame_features.hpp"
-#include "s3m/slam/local_mapper.hpp"
-#include "s3m/slam/loop_closer.hpp"
-#include "s3m/slam/reloc.hpp"
-#include "s3m/slam/tracker.hpp"
+#include "s3m/slam/local_mapping/local_mapper.hpp"
+#include "s3m/slam/loop/loop_closer.hpp"
+#include "s3m/slam/tracking/reloc.hpp"
+#include "s3m/slam/tracking/tracker.hpp"
 
 namespace s3m::config {
 class FieldVisitor;

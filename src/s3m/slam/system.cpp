@@ -5,8 +5,9 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
-#include "s3m/slam/loop_closer.hpp"  // global_bundle_adjustment
-#include "s3m/slam/reloc.hpp"
+#include "s3m/slam/loop/loop_closer.hpp"
+#include "s3m/slam/optim/bundle_adjustment.hpp"  // global_bundle_adjustment
+#include "s3m/slam/tracking/reloc.hpp"
 
 namespace s3m::slam {
 

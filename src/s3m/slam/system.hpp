@@ -30,12 +30,12 @@
 #include "s3m/core/camera.hpp"
 #include "s3m/core/frame_state.hpp"
 #include "s3m/core/rgbd_frame.hpp"
-#include "s3m/slam/local_mapper.hpp"
-#include "s3m/slam/loop_closer.hpp"
-#include "s3m/slam/map.hpp"
-#include "s3m/slam/map_io.hpp"
+#include "s3m/slam/io/map_io.hpp"
+#include "s3m/slam/local_mapping/local_mapper.hpp"
+#include "s3m/slam/loop/loop_closer.hpp"
+#include "s3m/slam/map/map.hpp"
 #include "s3m/slam/slam_config.hpp"
-#include "s3m/slam/tracker.hpp"
+#include "s3m/slam/tracking/tracker.hpp"
 
 namespace s3m::slam {
 
