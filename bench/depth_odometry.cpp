@@ -82,10 +82,12 @@ int main(int argc, char** argv) {
         if (const auto m = odometry.align(prev, cur, guess)) {
           measured.add(*m * truth.inverse());
           // The tracker's rule (tracker_lost.cpp): agreement with the velocity, else with a restart.
-          bool ok = s3m::poses_agree(*m, guess, tracker.odometry_deg, tracker.odometry_m);
+          bool ok = s3m::poses_agree(*m, guess, tracker.dead_reckoning.odometry_deg,
+                                     tracker.dead_reckoning.odometry_m);
           if (!ok) {
             const auto again = odometry.align(prev, cur, SE3::Identity());
-            ok = again && s3m::poses_agree(*m, *again, tracker.odometry_deg, tracker.odometry_m);
+            ok = again && s3m::poses_agree(*m, *again, tracker.dead_reckoning.odometry_deg,
+                                           tracker.dead_reckoning.odometry_m);
             restarted += ok;
           }
           if (ok) accepted.add(*m * truth.inverse());

@@ -10,7 +10,8 @@
 # which are LOST; and KITCHEN_DIR (e.g. ../shared/data/7scenes_redkitchen_0000-0499), if given.
 # The loop flight runs a second time threaded (mapping on its own thread; slam.mapping_lag_frames 1,
 # the default, makes that deterministic too), so the hand-over between the threads is compared.
-# Prints one line per compared file and exits 1 if any differs.
+# Prints one line per compared file and exits 1 if any differs. REUSE_OLD=1 keeps the old binary's
+# outputs of an earlier check in the same WORKDIR (the inputs and KITCHEN_DIR must be the same).
 set -euo pipefail
 [ $# -ge 3 ] || { sed -n 2,12p "$0"; exit 2; }
 OLD=$(realpath "$1") NEW=$(realpath "$2") W=$3 KITCHEN=${4:-}
@@ -44,7 +45,8 @@ run_all() {  # binary, suffix
 }
 
 make_inputs
-run_all "$OLD" old
+# REUSE_OLD=1: keep the old binary's outputs from an earlier check in the same WORKDIR.
+[ "${REUSE_OLD:-0}" = 1 ] && [ -f "$W/out_loop_old/trajectory_camera.txt" ] || run_all "$OLD" old
 run_all "$NEW" new
 status=0
 for d in loop gap drop threaded ${KITCHEN:+kitchen}; do

@@ -31,7 +31,7 @@ pipeline::RunResult run_loop(const std::string& name, Variant variant, int pixel
   // machine it can lose the fast part of the flight), and these tests count LOST frames exactly.
   o.config.threads.deterministic = true;
   o.config.cloud.pixel_stride = pixel_stride;
-  if (!depth_odometry) o.config.slam.tracker.odometry_frames = 0;
+  if (!depth_odometry) o.config.slam.tracker.dead_reckoning.odometry_frames = 0;
   o.segmenter = "oracle";
   o.report = false;
   return pipeline::run_dataset(o);

@@ -56,7 +56,7 @@ std::unique_ptr<pipeline::Pipeline> run(const Scenario& s) {
   const sim::Simulation& sim = simulation();
   pipeline::PipelineConfig config = sim_preset();
   config.threads.deterministic = true;
-  if (!s.depth_odometry) config.slam.tracker.odometry_frames = 0;
+  if (!s.depth_odometry) config.slam.tracker.dead_reckoning.odometry_frames = 0;
   EXPECT_EQ(config.flow.integrate, pipeline::IntegrateMode::kAllFrames);  // the strictest case
   auto p = std::make_unique<pipeline::Pipeline>(
       config, sim.camera(), pipeline::make_slam_poses(sim.camera(), config),

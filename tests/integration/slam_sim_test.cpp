@@ -213,8 +213,8 @@ TEST(SlamOnSimulator, FastTurnIntoNewSpaceGetsItsKeyframeInTime) {
 TEST(SlamOnSimulator, FastTurnTowardsFarWallsStaysTracked) {
   const RenderedFlight flown(flight("office", "handheld", /*noise=*/false, /*seed=*/101));
   slam::SlamConfig no_bridge;
-  no_bridge.tracker.coast_frames = 0;
-  no_bridge.tracker.odometry_frames = 0;
+  no_bridge.tracker.dead_reckoning.coast_frames = 0;
+  no_bridge.tracker.dead_reckoning.odometry_frames = 0;
   const FlightResult with_300 = fly(flown, no_bridge);
   slam::SlamConfig orb = no_bridge;
   orb.mapper.min_new_points = 100;
@@ -256,10 +256,10 @@ TEST(SlamOnSimulator, TurnPastAPlainWallIsCarriedByDepthOdometry) {
   const RenderedFlight flown(flight("living_room", "loop", /*noise=*/false, /*seed=*/101));
   const FlightResult carried = fly(flown);
   slam::SlamConfig off;
-  off.tracker.odometry_frames = 0;
+  off.tracker.dead_reckoning.odometry_frames = 0;
   const FlightResult without = fly(flown, off);
   slam::SlamConfig distance_only;  // only the wall's distance counts as observed: under 3 directions
-  distance_only.tracker.odometry.min_observed_ratio = 0.9;
+  distance_only.tracker.dead_reckoning.odometry.min_observed_ratio = 0.9;
   const FlightResult refused = fly(flown, distance_only);
   std::printf("carried: %d LOST, %d ODOMETRY, ATE %.2f cm; plane views refused: %d LOST, %.2f cm\n",
               carried.lost, carried.odometry, 100 * carried.ate_cam, refused.lost, 100 * refused.ate_cam);

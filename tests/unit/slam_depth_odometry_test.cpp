@@ -165,7 +165,8 @@ TEST(DepthOdometry, TwoStartsAgreeOnAWellConditionedPairOnly) {
     const auto from_truth = odometry.align(p.prev, p.cur, p.T_cur_prev),
                from_rest = odometry.align(p.prev, p.cur, SE3::Identity());
     ASSERT_TRUE(from_truth && from_rest);
-    EXPECT_TRUE(poses_agree(*from_truth, *from_rest, t.odometry_deg, t.odometry_m));
+    EXPECT_TRUE(
+        poses_agree(*from_truth, *from_rest, t.dead_reckoning.odometry_deg, t.dead_reckoning.odometry_m));
   }
   // Facing the room's +x wall (3 m away) from 0.6 m: camera z along +x, x along -y, y along -z.
   Mat3 R;
@@ -185,7 +186,9 @@ TEST(DepthOdometry, TwoStartsAgreeOnAWellConditionedPairOnly) {
   if (from_truth && from_rest)
     std::printf(", %.1f mm apart", 1000 * (*from_truth * from_rest->inverse()).translation().norm());
   std::printf("\n");
-  EXPECT_FALSE(from_truth && from_rest && poses_agree(*from_truth, *from_rest, t.odometry_deg, t.odometry_m));
+  EXPECT_FALSE(
+      from_truth && from_rest &&
+      poses_agree(*from_truth, *from_rest, t.dead_reckoning.odometry_deg, t.dead_reckoning.odometry_m));
 }
 
 }  // namespace
@@ -287,7 +290,8 @@ TEST(DepthOdometry, AStepAfterAGapIsMeasuredOnlyWithTheGapsScale) {
   // The reverse alignment, the tracker's second estimate when it has no velocity, agrees.
   const auto back = odometry.align(fb, fa, SE3::Identity(), pair.periods);
   ASSERT_TRUE(back.has_value());
-  EXPECT_TRUE(poses_agree(*T, back->inverse(), TrackerConfig{}.odometry_deg, TrackerConfig{}.odometry_m));
+  EXPECT_TRUE(poses_agree(*T, back->inverse(), TrackerConfig{}.dead_reckoning.odometry_deg,
+                          TrackerConfig{}.dead_reckoning.odometry_m));
   EXPECT_THROW(odometry.align(fa, fb, SE3::Identity(), 0.5), Error) << "a scale below one period";
 }
 

@@ -105,7 +105,7 @@ TEST(SlamSparseFrames, AfterAGapAVelocityThatNoLongerHoldsIsNotTheOnlyStart) {
 // odometry_only() without the colour check of a measured motion.
 SlamConfig colour_check_off() {
   SlamConfig config = odometry_only();
-  config.tracker.odometry_min_colour_agreement = -1;
+  config.tracker.dead_reckoning.odometry_min_colour_agreement = -1;
   return config;
 }
 

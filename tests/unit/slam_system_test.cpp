@@ -252,22 +252,22 @@ TEST(SlamConfig, YamlOverridesDefaultsAndRejectsTypos) {
   EXPECT_EQ(c.mapper.ba.max_local_keyframes, 12);
   EXPECT_FALSE(c.mapper.final_global_ba);  // the default is on
   EXPECT_EQ(c.mapper.ba.global_iterations, 7);
-  EXPECT_EQ(c.tracker.odometry_frames, 12);
-  EXPECT_DOUBLE_EQ(c.tracker.odometry_deg, 0.25);
-  EXPECT_DOUBLE_EQ(c.tracker.odometry_m, 0.01);
-  EXPECT_EQ(c.tracker.odometry.downsample, 4);
+  EXPECT_EQ(c.tracker.dead_reckoning.odometry_frames, 12);
+  EXPECT_DOUBLE_EQ(c.tracker.dead_reckoning.odometry_deg, 0.25);
+  EXPECT_DOUBLE_EQ(c.tracker.dead_reckoning.odometry_m, 0.01);
+  EXPECT_EQ(c.tracker.dead_reckoning.odometry.downsample, 4);
   EXPECT_EQ(c.tracker.anchor_keyframes, 2);
   EXPECT_DOUBLE_EQ(c.tracker.keyframe_max_deg, 12.5);
   EXPECT_DOUBLE_EQ(c.tracker.keyframe_max_m, 0.0);    // 0 = off, allowed
   EXPECT_DOUBLE_EQ(c.tracker.wide_match_ratio, 0.0);  // off, allowed
-  EXPECT_DOUBLE_EQ(c.tracker.odometry.max_depth_diff_m, 0.05);
-  EXPECT_DOUBLE_EQ(c.tracker.odometry.max_step_m, 0.2);
-  EXPECT_DOUBLE_EQ(c.tracker.odometry.max_step_deg, 20.0);
-  EXPECT_DOUBLE_EQ(c.tracker.odometry.gap_max_depth_diff_m, 0.25);
-  EXPECT_DOUBLE_EQ(c.tracker.odometry_agree_fraction, 0.05);
+  EXPECT_DOUBLE_EQ(c.tracker.dead_reckoning.odometry.max_depth_diff_m, 0.05);
+  EXPECT_DOUBLE_EQ(c.tracker.dead_reckoning.odometry.max_step_m, 0.2);
+  EXPECT_DOUBLE_EQ(c.tracker.dead_reckoning.odometry.max_step_deg, 20.0);
+  EXPECT_DOUBLE_EQ(c.tracker.dead_reckoning.odometry.gap_max_depth_diff_m, 0.25);
+  EXPECT_DOUBLE_EQ(c.tracker.dead_reckoning.odometry_agree_fraction, 0.05);
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_agree_fraction: -0.1}"), "t.yaml"),
                ParseError);
-  EXPECT_DOUBLE_EQ(c.tracker.odometry_min_colour_agreement, 0.3);
+  EXPECT_DOUBLE_EQ(c.tracker.dead_reckoning.odometry_min_colour_agreement, 0.3);
   EXPECT_THROW(slam_config_from_yaml(YAML::Load("tracker: {odometry_min_colour_agreement: 1.5}"), "t.yaml"),
                ParseError)
       << "a correlation is at most 1";
@@ -321,19 +321,22 @@ TEST(SlamConfig, ShippedDefaultPresetMatchesCompiledDefaults) {
   EXPECT_EQ(c.mapper.ba.global_iterations, d.mapper.ba.global_iterations);
   EXPECT_EQ(c.mapper.ba.max_keyframe_step_deg, d.mapper.ba.max_keyframe_step_deg);
   EXPECT_EQ(c.mapper.ba.max_keyframe_step_m, d.mapper.ba.max_keyframe_step_m);
-  EXPECT_EQ(c.tracker.odometry_frames, d.tracker.odometry_frames);
+  EXPECT_EQ(c.tracker.dead_reckoning.odometry_frames, d.tracker.dead_reckoning.odometry_frames);
   EXPECT_EQ(c.tracker.anchor_keyframes, d.tracker.anchor_keyframes);
   EXPECT_EQ(c.tracker.keyframe_max_deg, d.tracker.keyframe_max_deg);
   EXPECT_EQ(c.tracker.keyframe_max_m, d.tracker.keyframe_max_m);
   EXPECT_EQ(c.tracker.wide_match_ratio, d.tracker.wide_match_ratio);
-  EXPECT_EQ(c.tracker.odometry_deg, d.tracker.odometry_deg);
-  EXPECT_EQ(c.tracker.odometry_m, d.tracker.odometry_m);
-  EXPECT_EQ(c.tracker.odometry.downsample, d.tracker.odometry.downsample);
-  EXPECT_EQ(c.tracker.odometry.max_depth_diff_m, d.tracker.odometry.max_depth_diff_m);
-  EXPECT_EQ(c.tracker.odometry.max_step_m, d.tracker.odometry.max_step_m);
-  EXPECT_EQ(c.tracker.odometry.max_step_deg, d.tracker.odometry.max_step_deg);
-  EXPECT_EQ(c.tracker.odometry.gap_max_depth_diff_m, d.tracker.odometry.gap_max_depth_diff_m);
-  EXPECT_EQ(c.tracker.odometry_min_colour_agreement, d.tracker.odometry_min_colour_agreement);
+  EXPECT_EQ(c.tracker.dead_reckoning.odometry_deg, d.tracker.dead_reckoning.odometry_deg);
+  EXPECT_EQ(c.tracker.dead_reckoning.odometry_m, d.tracker.dead_reckoning.odometry_m);
+  EXPECT_EQ(c.tracker.dead_reckoning.odometry.downsample, d.tracker.dead_reckoning.odometry.downsample);
+  EXPECT_EQ(c.tracker.dead_reckoning.odometry.max_depth_diff_m,
+            d.tracker.dead_reckoning.odometry.max_depth_diff_m);
+  EXPECT_EQ(c.tracker.dead_reckoning.odometry.max_step_m, d.tracker.dead_reckoning.odometry.max_step_m);
+  EXPECT_EQ(c.tracker.dead_reckoning.odometry.max_step_deg, d.tracker.dead_reckoning.odometry.max_step_deg);
+  EXPECT_EQ(c.tracker.dead_reckoning.odometry.gap_max_depth_diff_m,
+            d.tracker.dead_reckoning.odometry.gap_max_depth_diff_m);
+  EXPECT_EQ(c.tracker.dead_reckoning.odometry_min_colour_agreement,
+            d.tracker.dead_reckoning.odometry_min_colour_agreement);
   EXPECT_TRUE(c.T_c_r.isApprox(d.T_c_r));
   EXPECT_EQ(c.queue_capacity, d.queue_capacity);
   EXPECT_THROW(load_slam_config("/nonexistent/slam.yaml"), ParseError);

@@ -9,8 +9,8 @@
 #include "s3m/core/yaml_util.hpp"
 
 // The YAML keys of every SLAM config struct, once each (core/config_table.hpp). The tree is the
-// one users know: flat tracker.odometry_* keys fill TrackerConfig::odometry, and LoopConfig's keys
-// sit at the top of `loop_closing:` next to enabled and relocalisation.
+// one users know: flat tracker.coast_frames and tracker.odometry_* keys fill TrackerConfig::dead_reckoning,
+// and LoopConfig's keys sit at the top of `loop_closing:` next to enabled and relocalisation.
 namespace s3m::features {
 
 void fields(config::FieldVisitor& v, OrbConfig& c) {
@@ -69,21 +69,21 @@ void fields(config::FieldVisitor& v, TrackerConfig& c) {
   v("max_pending_keyframes", c.max_pending_keyframes);
   v("min_init_depth_points", c.min_init_depth_points);
   v("anchor_keyframes", c.anchor_keyframes);
-  v("coast_frames", c.coast_frames);
+  v("coast_frames", c.dead_reckoning.coast_frames);
   v("bridge_deg", c.bridge_deg);
   v("bridge_m", c.bridge_m);
   v("bridge_min_inliers", c.bridge_min_inliers);
-  v("odometry_frames", c.odometry_frames);
-  v("odometry_deg", c.odometry_deg);
-  v("odometry_m", c.odometry_m);
-  v("odometry_agree_fraction", c.odometry_agree_fraction);
-  v("odometry_min_colour_agreement", c.odometry_min_colour_agreement);
-  v("odometry_downsample", c.odometry.downsample);
-  v("odometry_max_depth_diff_m", c.odometry.max_depth_diff_m);
-  v("odometry_min_observed_ratio", c.odometry.min_observed_ratio);
-  v("odometry_max_step_m", c.odometry.max_step_m);
-  v("odometry_max_step_deg", c.odometry.max_step_deg);
-  v("odometry_gap_max_depth_diff_m", c.odometry.gap_max_depth_diff_m);
+  v("odometry_frames", c.dead_reckoning.odometry_frames);
+  v("odometry_deg", c.dead_reckoning.odometry_deg);
+  v("odometry_m", c.dead_reckoning.odometry_m);
+  v("odometry_agree_fraction", c.dead_reckoning.odometry_agree_fraction);
+  v("odometry_min_colour_agreement", c.dead_reckoning.odometry_min_colour_agreement);
+  v("odometry_downsample", c.dead_reckoning.odometry.downsample);
+  v("odometry_max_depth_diff_m", c.dead_reckoning.odometry.max_depth_diff_m);
+  v("odometry_min_observed_ratio", c.dead_reckoning.odometry.min_observed_ratio);
+  v("odometry_max_step_m", c.dead_reckoning.odometry.max_step_m);
+  v("odometry_max_step_deg", c.dead_reckoning.odometry.max_step_deg);
+  v("odometry_gap_max_depth_diff_m", c.dead_reckoning.odometry.gap_max_depth_diff_m);
 }
 
 void fields(config::FieldVisitor& v, BaConfig& c) {
@@ -290,14 +290,9 @@ void TrackerConfig::validate() const {
           "tracker.keyframe_max_deg / keyframe_max_m must be >= 0");
   require(max_pending_keyframes >= 1 && min_init_depth_points >= 3, "tracker: bad pending/init limits");
   require(anchor_keyframes >= 1, "tracker.anchor_keyframes must be >= 1");
-  require(
-      coast_frames >= 0 && bridge_deg >= 0 && bridge_m >= 0 && bridge_min_inliers >= min_pose_inliers,
-      "tracker: coast_frames, bridge_deg and bridge_m must be >= 0, bridge_min_inliers >= min_pose_inliers");
-  require(odometry_frames >= 0 && odometry_deg >= 0 && odometry_m >= 0 && odometry_agree_fraction >= 0,
-          "tracker: odometry_frames, odometry_deg, odometry_m and odometry_agree_fraction must be >= 0");
-  require(odometry_min_colour_agreement >= -1 && odometry_min_colour_agreement <= 1,
-          "tracker.odometry_min_colour_agreement must be in [-1, 1] (-1 = off)");
-  odometry.validate();
+  require(bridge_deg >= 0 && bridge_m >= 0 && bridge_min_inliers >= min_pose_inliers,
+          "tracker: bridge_deg and bridge_m must be >= 0, bridge_min_inliers >= min_pose_inliers");
+  dead_reckoning.validate();
 }
 
 void LoopClosingConfig::validate() const {

@@ -12,10 +12,10 @@ namespace {
 // next frame. A pending keyframe's are the mapper's min_new_points (pending_new_points_).
 constexpr int kMinVoPoints = 100;
 
-DepthOdometryConfig odometry_config(const TrackerConfig& tracker, const features::FeatureConfig& features) {
-  DepthOdometryConfig c = tracker.odometry;
-  c.min_depth_m = features.min_depth_m;  // the depth the features trust
-  c.max_depth_m = features.max_depth_m;
+DeadReckonerConfig reckoner_config(const TrackerConfig& tracker, const features::FeatureConfig& features) {
+  DeadReckonerConfig c = tracker.dead_reckoning;
+  c.odometry.min_depth_m = features.min_depth_m;  // the depth the features trust
+  c.odometry.max_depth_m = features.max_depth_m;
   return c;
 }
 }  // namespace
@@ -47,7 +47,7 @@ Tracker::Tracker(const PinholeCamera& camera, const features::FeatureConfig& fea
       config_(config),
       pending_new_points_(pending_new_points),
       extractor_(features.orb),
-      odometry_(camera, odometry_config(config, features)) {
+      reckoner_(camera, reckoner_config(config, features)) {
   camera_.validate();
   require(pending_new_points_ >= 0, "tracker: pending_new_points must be >= 0");
   feature_config_.validate();
@@ -63,7 +63,7 @@ void Tracker::set_snapshot(std::shared_ptr<const LocalMapSnapshot> snapshot) {
       if (k.id == ref_kf_) {
         const SE3 correction = k.T_w_c * T_w_ref_.inverse();
         last_.T_c_w = last_.T_c_w * correction.inverse();
-        T_c_w_last_frame_ = T_c_w_last_frame_ * correction.inverse();
+        reckoner_.move_world(correction);
         for (std::size_t i = 0; i < last_.p_w.size(); ++i)
           if (last_.matched[i]) last_.p_w[i] = correction * last_.p_w[i];
         T_w_ref_ = k.T_w_c;
@@ -81,8 +81,8 @@ void Tracker::set_pose(const SE3& T_w_c) {
   last_.T_c_w = T_w_c.inverse();
   std::fill(last_.matched.begin(), last_.matched.end(), 0);
   velocity_.reset();
-  coast_velocity_.reset();
-  last_frame_ = RgbdFrame{};   // no odometry from images of before the new pose
+  reckoner_.forget_velocity();
+  reckoner_.forget_images();   // no odometry from images of before the new pose
   state_ = FrameState::kLost;  // the next frame tracks against the local map from this pose
   resume_from_pose_ = true;
 }
@@ -107,7 +107,7 @@ bool Tracker::follow_merges(const LocalMapSnapshot& snapshot) {
   }
   if (s == submap_) return true;
   last_.T_c_w = last_.T_c_w * T.inverse();
-  T_c_w_last_frame_ = T_c_w_last_frame_ * T.inverse();
+  reckoner_.move_world(T);
   for (std::size_t i = 0; i < last_.p_w.size(); ++i)
     if (last_.matched[i]) last_.p_w[i] = T * last_.p_w[i];
   T_w_ref_ = T * T_w_ref_;
@@ -125,7 +125,7 @@ void Tracker::start_new_map(int submap) {
   pending_.clear();
   visibility_.clear();
   velocity_.reset();
-  coast_velocity_.reset();
+  reckoner_.forget_velocity();
   resume_from_pose_ = false;
   ref_kf_ = kNoId;
   T_w_ref_ = SE3::Identity();
@@ -155,16 +155,8 @@ TrackerOutput Tracker::retrack(const RgbdFrame& frame,
                                std::shared_ptr<const features::FrameFeatures> features,
                                int pending_keyframes) {
   TrackerOutput out = track(frame, std::move(features), pending_keyframes);
-  if (!out.deferred && out.state != FrameState::kLost) keep_images(frame, last_.T_c_w);
+  if (!out.deferred && out.state != FrameState::kLost) reckoner_.keep(frame, last_.T_c_w);
   return out;
-}
-
-void Tracker::keep_images(const RgbdFrame& frame, const SE3& T_c_w) {
-  T_c_w_last_frame_ = T_c_w;
-  last_frame_.index = frame.index;
-  last_frame_.t_s = frame.t_s;
-  last_frame_.rgb = frame.rgb;  // shared, not copied (process()'s contract)
-  last_frame_.depth_m = frame.depth_m;
 }
 
 TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
@@ -199,7 +191,7 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   }
   if (!ok) {
     const bool from_rest = state_ == FrameState::kOk && !velocity_;
-    if (state_ == FrameState::kOk) coast_velocity_ = velocity_, coasted_ = 0;
+    if (state_ == FrameState::kOk) reckoner_.start_coasting(velocity_);
     track_lost(cur, frame, from_rest, out);
     return out;
   }

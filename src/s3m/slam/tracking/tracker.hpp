@@ -16,8 +16,8 @@
 #include "s3m/features/frame_features.hpp"
 #include "s3m/features/orb_extractor.hpp"
 #include "s3m/slam/map/local_map.hpp"
-#include "s3m/slam/odometry/depth_odometry.hpp"
 #include "s3m/slam/optim/pose_optimizer.hpp"
+#include "s3m/slam/tracking/dead_reckoner.hpp"
 
 namespace s3m::slam {
 
@@ -56,50 +56,19 @@ struct TrackerConfig {
   // A frame's pose is stored relative to up to this many keyframes of the local map, weighted by
   // how many of its inlier points each observes; the trajectory averages what they say after BA.
   int anchor_keyframes = 4;
-  // After tracking is lost: for this many frames the last velocity keeps predicting the pose. A
-  // frame whose local-map pose, searched from that prediction, agrees with it (bridge_deg,
-  // bridge_m) on at least bridge_min_inliers map points, although fewer than min_local_inliers, is
-  // tracked and becomes a keyframe with all its depth: two independent estimates agree. Without it,
-  // fast turns into unmapped space or past a plain wall, while the motion stays smooth, are LOST
-  // until a sub-map starts (see docs/DECISIONS.md, "Tracking: lost frames, coasting and the bridge").
-  // 0 = off.
-  int coast_frames = 10;
+  // After tracking is lost, the dead-reckoned pose (depth odometry, else the velocity for
+  // dead_reckoning.coast_frames frames) is searched in the local map: a frame whose local-map pose
+  // agrees with it (bridge_deg, bridge_m) on at least bridge_min_inliers map points, although fewer
+  // than min_local_inliers, is tracked and becomes a keyframe with all its depth: two independent
+  // estimates agree. Without it, fast turns into unmapped space or past a plain wall, while the
+  // motion stays smooth, are LOST until a sub-map starts (see docs/DECISIONS.md, "Tracking: lost
+  // frames, coasting and the bridge").
   double bridge_deg = 1.0;      // rotation between prediction and measured pose [deg]
   double bridge_m = 0.03;       // translation between them [m]
   int bridge_min_inliers = 10;  // = min_pose_inliers: the agreement is the guard
-  // After tracking is lost, for up to this many frames dense depth odometry (DepthOdometry) from
-  // the last frame measures the motion the velocity only predicts. A measured motion within
-  // odometry_deg / odometry_m of that prediction, or of the same alignment started from no motion,
-  // replaces it: the bridge searches from it, and a frame not bridged is ODOMETRY (in the
-  // trajectory at that pose) instead of LOST. Why: plain walls in a turn leave ORB too little to
-  // track while their depth still fixes the motion. A single plane in view makes the alignment
-  // degenerate: it lands centimetres from the velocity and from the other start
-  // (DepthOdometry.TwoStartsAgreeOnAWellConditionedPairOnly), while a well-conditioned one agrees
-  // with the other start. Such a view is then measured along the directions it fixes
-  // and kept at the velocity along the rest (DepthOdometry::align_observable; at least 3 of 6,
-  // half its points on the last frame's surfaces, within the same bounds of the velocity). The
-  // frame right after a map's first, with no velocity yet, is measured from no motion and confirmed
-  // by the reverse alignment. Measurements start from the last frame with a pose that is not a
-  // guess and may move as far as the time since then allows (DepthOdometryConfig::max_step_m per
-  // 30 Hz period), so a sparse recording is measured end to end. After such a gap the
-  // velocity is no better a start than no motion: when its alignment fails, the one from no motion
-  // is kept if the reverse alignment confirms it, or, when the two disagree, the one that explains
-  // both depth images clearly better (depth_agreement). Measurements: docs/DECISIONS.md,
-  // "Tracking: depth odometry across gaps". 0 = off.
-  int odometry_frames = 30;
-  double odometry_deg = 0.5;  // agreement of the measured motion with a second estimate, rotation [deg]
-  double odometry_m = 0.015;  // ... translation [m]
-  // ... or, for two alignments of one step, this fraction of the step's rotation and translation
-  // where that is more, up to twice the bounds (odometry_steps_agree): estimates of a step across
-  // a gap (a sparse recording, dropped frames) differ by a few percent of it. 0 = the bounds alone.
-  double odometry_agree_fraction = 0.1;
-  // A measured motion must also explain the colour images (colour_agreement, a correlation in
-  // [-1, 1], at least this): in a box-like room depth odometry can align a view with the opposite
-  // wall's as the same view, and both starts confirm it. Right steps score 0.79-0.99 on real and
-  // simulated data (see docs/DECISIONS.md, "Tracking: colour agreement"); images without contrast
-  // are not judged. -1 = off.
-  double odometry_min_colour_agreement = 0.5;
-  DepthOdometryConfig odometry;  // depth range from the feature config; downsample settable
+  // The poses of lost frames (dead_reckoner.hpp); a frame depth odometry measured but the map does
+  // not reach is ODOMETRY (in the trajectory at that pose) instead of LOST.
+  DeadReckonerConfig dead_reckoning;
   void validate() const;
 };
 
@@ -198,26 +167,6 @@ class Tracker {
   // from_rest: the last frame was tracked but there is no velocity yet (the frame after a map's
   // first): depth odometry measures the motion from no motion, with no prediction to fall back on.
   void track_lost(Frame& cur, const RgbdFrame& frame, bool from_rest, TrackerOutput& out);
-  // T_c_w of this frame.
-  std::optional<SE3> dead_reckon(const RgbdFrame& frame, bool from_rest, bool& measured);
-  // The motion T_cur_last depth odometry measures and a second estimate confirms, else nullopt.
-  // predicted: the velocity's motion over the same frames.
-  std::optional<SE3> measure_motion(const RgbdFrame& frame, const SE3& predicted) const;
-  std::optional<SE3> measure_motion_from_rest(const RgbdFrame& frame) const;
-  // The last frame's view and one turned by T_cur_last (the velocity's prediction) may share
-  // something: the turn is less than the camera's wider field of view.
-  bool views_may_overlap(const SE3& T_cur_last) const;
-  // A measured motion T_cur_last explains the colour images too (odometry_min_colour_agreement).
-  bool colours_agree(const RgbdFrame& frame, const SE3& T_cur_last) const;
-  // motion (T_cur_last) if the reverse alignment (this frame onto the last, from no motion) agrees;
-  // after a gap between two posed frames, the better of the two by depth_agreement when they do not.
-  std::optional<SE3> confirm_by_reverse(const RgbdFrame& frame, const DepthOdometry::PreparedFrame& last,
-                                        const DepthOdometry::PreparedFrame& cur, const SE3& motion,
-                                        double scale) const;
-  // Two alignments of one step agree (odometry_steps_agree with odometry_deg, _m, _agree_fraction).
-  bool odometry_agree(const SE3& motion, const SE3& other) const;
-  // How far one alignment may move, in 30 Hz frame periods since the last frame (at least 1).
-  double odometry_step_scale(const RgbdFrame& frame) const;
   // Lost: track from the dead-reckoned pose guess when the local map agrees with it.
   bool bridge(Frame& cur, const RgbdFrame& frame, const SE3& guess, TrackerOutput& out);
   // Lost, measured by depth odometry, nothing to bridge to: a keyframe at that pose.
@@ -247,21 +196,14 @@ class Tracker {
   // the tracker's close depth except right after the first keyframe (all of them, like its points).
   void prepare_last_frame(Frame cur, double depth_limit_m);
   void note_visible(PointId id, int visible, int found);
-  bool follow_merges(const LocalMapSnapshot& snapshot);        // false: a sub-map this one never joined
-  void keep_images(const RgbdFrame& frame, const SE3& T_c_w);  // last_frame_ = frame's images, posed
+  bool follow_merges(const LocalMapSnapshot& snapshot);  // false: a sub-map this one never joined
 
   PinholeCamera camera_;
   features::FeatureConfig feature_config_;
   TrackerConfig config_;
   int pending_new_points_;
   features::OrbExtractor extractor_;
-  DepthOdometry odometry_;
-  // The images (shallow) of the last frame with a pose not guessed, for depth odometry, and that
-  // pose: a LOST frame's pose is only the velocity's guess, so its images are not kept and the
-  // next frame is measured from the frame before it (see docs/DECISIONS.md, "Tracking: depth
-  // odometry across gaps").
-  RgbdFrame last_frame_;
-  SE3 T_c_w_last_frame_ = SE3::Identity();
+  DeadReckoner reckoner_;  // the poses of lost frames
   std::shared_ptr<const LocalMapSnapshot> snapshot_;
   FrameState state_ = FrameState::kNotInitialized;
   Frame last_;
@@ -269,8 +211,6 @@ class Tracker {
   bool localize_only_ = false;
   int submap_ = 0;               // the sub-map being tracked (requests carry it; poses are in its frame)
   std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
-  std::optional<SE3> coast_velocity_;  // the velocity when tracking was lost (coast_frames)
-  int coasted_ = 0;                    // lost frames dead-reckoned so far
   int last_keyframe_frame_ = 0;
   int peak_inliers_ = 0;       // most map points tracked in one frame since the last keyframe
   KeyframeId n_requests_ = 0;  // keyframe ids are assigned by the Map in request order
