@@ -6,8 +6,8 @@
 #include <utility>
 
 #include <fmt/format.h>
-#include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
+#include <opencv2/imgproc.hpp>
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/input_file.hpp"
@@ -15,8 +15,8 @@
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/io/camera_yaml.hpp"
 #include "s3m/io/depth_to_colour.hpp"
-#include "s3m/io/image_io.hpp"
 #include "s3m/io/frame_folders.hpp"
+#include "s3m/io/image_io.hpp"
 #include "s3m/io/text_lines.hpp"
 
 namespace s3m::io {
@@ -61,7 +61,8 @@ std::string association_file(const std::string& dir) {
   return "";
 }
 
-std::vector<TumDataset::Entry> read_associations(const std::string& dir, const std::string& name, bool check_files) {
+std::vector<TumDataset::Entry> read_associations(const std::string& dir, const std::string& name,
+                                                 bool check_files) {
   LineReader reader((fs::path(dir) / name).string(), "associations 't_rgb rgb_path t_depth depth_path'");
   std::vector<TumDataset::Entry> out;
   std::vector<std::string_view> tok;
@@ -84,7 +85,8 @@ std::vector<TumDataset::Entry> read_associations(const std::string& dir, const s
     }
     out.push_back(std::move(e));
   }
-  if (out.empty()) throw ParseError(reader.path(), 0, "no entries", "lines 't_rgb rgb_path t_depth depth_path'");
+  if (out.empty())
+    throw ParseError(reader.path(), 0, "no entries", "lines 't_rgb rgb_path t_depth depth_path'");
   return out;
 }
 
@@ -105,8 +107,8 @@ std::vector<TumDataset::Entry> associate_lists(const std::string& dir, const Tum
                      fmt::format("no depth timestamp within {} s of any rgb timestamp", opt.max_dt_s),
                      "overlapping rgb.txt and depth.txt timestamps (or a larger max_dt_s)");
   if (out.size() < rgb.size())
-    spdlog::warn("{}: {} of {} rgb frames have no depth within {} s and are not used", dir, rgb.size() - out.size(),
-                 rgb.size(), opt.max_dt_s);
+    spdlog::warn("{}: {} of {} rgb frames have no depth within {} s and are not used", dir,
+                 rgb.size() - out.size(), rgb.size(), opt.max_dt_s);
   return out;
 }
 
@@ -125,19 +127,23 @@ PinholeCamera read_calibration_txt(const std::string& path) {
   if (!(cam.fx > 0 && cam.fy > 0)) reader.fail("focal length <= 0", "fx, fy > 0 [px]");
   cam.depth_factor = 5000.0;
   cam.width = cam.height = 0;
-  spdlog::info("{}: camera fx {} fy {} cx {} cy {}, depth factor 5000 (ETH3D, TUM); a camera.yaml beside it "
-               "or dataset.camera overrides it", path, cam.fx, cam.fy, cam.cx, cam.cy);
+  spdlog::info(
+      "{}: camera fx {} fy {} cx {} cy {}, depth factor 5000 (ETH3D, TUM); a camera.yaml beside it "
+      "or dataset.camera overrides it",
+      path, cam.fx, cam.fy, cam.cx, cam.cy);
   return cam;
 }
 
 // The camera and where it came from (for TumDataset::camera_source()).
 std::pair<CameraFile, std::string> dataset_camera(const std::string& dir, const TumDatasetOptions& opt) {
   if (!opt.camera.empty())
-    return {load_camera_file(opt.camera), (camera_file_preset(opt.camera) ? "preset " : "") + opt.camera + " (dataset.camera)"};
+    return {load_camera_file(opt.camera),
+            (camera_file_preset(opt.camera) ? "preset " : "") + opt.camera + " (dataset.camera)"};
   const fs::path yaml = fs::path(dir) / "camera.yaml";
   if (fs::exists(yaml)) return {load_camera_file(yaml.string()), yaml.string()};
   if (const fs::path calib = fs::path(dir) / "calibration.txt"; fs::exists(calib))
-    return {{read_calibration_txt(calib.string()), std::nullopt}, calib.string() + " (ETH3D; depth factor 5000)"};
+    return {{read_calibration_txt(calib.string()), std::nullopt},
+            calib.string() + " (ETH3D; depth factor 5000)"};
   const std::string name = folder_path(dir).filename().string();  // "seq/" and "." too
   for (const char* fr : {"freiburg1", "freiburg2", "freiburg3"}) {
     if (name.find(fr) == std::string::npos) continue;
@@ -145,9 +151,10 @@ std::pair<CameraFile, std::string> dataset_camera(const std::string& dir, const 
     spdlog::info("{}: no camera.yaml, using preset {} from the directory name", dir, preset);
     return {{*camera_preset(preset), std::nullopt}, "preset " + preset + " (from the folder name)"};
   }
-  throw ParseError(yaml.string(), 0, "file not found",
-                   "a camera.yaml (or ETH3D's calibration.txt) in the sequence directory, or a camera file / preset "
-                   "(tum_fr1, tum_fr2, tum_fr3, 7scenes, 7scenes_kinect_v1, replica)");
+  throw ParseError(
+      yaml.string(), 0, "file not found",
+      "a camera.yaml (or ETH3D's calibration.txt) in the sequence directory, or a camera file / preset "
+      "(tum_fr1, tum_fr2, tum_fr3, 7scenes, 7scenes_kinect_v1, replica)");
 }
 
 }  // namespace
@@ -158,7 +165,8 @@ void TumDatasetOptions::validate() const {
 
 TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& options) {
   options.validate();
-  if (!fs::is_directory(dir)) throw ParseError(dir, 0, "directory not found", "a TUM RGB-D sequence directory");
+  if (!fs::is_directory(dir))
+    throw ParseError(dir, 0, "directory not found", "a TUM RGB-D sequence directory");
   TumDataset ds;
   ds.dir_ = dir;
   // A folder as 7-Scenes ships it (no lists, frame-NNNNNN.* files) is read as it is.
@@ -166,10 +174,11 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
   if (!fs::exists(fs::path(dir) / "rgb.txt") && associations.empty()) {
     if (const FolderLayout layout = folder_layout(dir); layout != FolderLayout::kNone)
       return open_folder(dir, options, layout);
-    throw ParseError((fs::path(dir) / "rgb.txt").string(), 0, "file not found",
-                     "a TUM RGB-D sequence (rgb.txt, depth.txt, optional associations.txt), a 7-Scenes folder "
-                     "(frame-NNNNNN.color.png, frame-NNNNNN.depth.png), a ScanNet export (color/, depth/) or a "
-                     "Replica scene (results/, traj.txt)");
+    throw ParseError(
+        (fs::path(dir) / "rgb.txt").string(), 0, "file not found",
+        "a TUM RGB-D sequence (rgb.txt, depth.txt, optional associations.txt), a 7-Scenes folder "
+        "(frame-NNNNNN.color.png, frame-NNNNNN.depth.png), a ScanNet export (color/, depth/) or a "
+        "Replica scene (results/, traj.txt)");
   }
   ds.layout_ = associations == "associated.txt" ? "TUM layout (ETH3D's associated.txt)" : "TUM layout";
   // 1. Camera first: without intrinsics and depth factor no frame can be used.
@@ -195,7 +204,8 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
     for (const auto& m : matches) ds.frames_[m.a].labels = labels[m.b].path;
     ds.has_labels_ = true;
     if (matches.size() < ds.frames_.size())
-      spdlog::warn("{}: {} of {} frames have no label image", dir, ds.frames_.size() - matches.size(), ds.frames_.size());
+      spdlog::warn("{}: {} of {} frames have no label image", dir, ds.frames_.size() - matches.size(),
+                   ds.frames_.size());
   }
   // 4. Optional ground truth.
   if (fs::exists(fs::path(dir) / "groundtruth.txt")) {
@@ -205,7 +215,8 @@ TumDataset TumDataset::open(const std::string& dir, const TumDatasetOptions& opt
   return ds;
 }
 
-TumDataset TumDataset::open_folder(const std::string& dir, const TumDatasetOptions& options, FolderLayout layout) {
+TumDataset TumDataset::open_folder(const std::string& dir, const TumDatasetOptions& options,
+                                   FolderLayout layout) {
   TumDataset ds;
   ds.dir_ = dir;
   ds.layout_ = layout_name(layout);
@@ -230,13 +241,15 @@ TumDataset TumDataset::open_folder(const std::string& dir, const TumDatasetOptio
     ds.camera_source_ = c.source;
     ds.colour_size_ = c.colour_size;
   }
-  spdlog::info("{}: {} frames ({} to {}), timestamps frame number / {} s, {} ground-truth poses", dir, frames.size(),
-               frames.front().rgb, frames.back().rgb, kFolderFrameRateHz, ds.groundtruth_.size());
+  spdlog::info("{}: {} frames ({} to {}), timestamps frame number / {} s, {} ground-truth poses", dir,
+               frames.size(), frames.front().rgb, frames.back().rgb, kFolderFrameRateHz,
+               ds.groundtruth_.size());
   return ds;
 }
 
 RgbdFrame TumDataset::load(std::size_t i) const {
-  require(i < frames_.size(), fmt::format("TumDataset::load: frame {} out of range (size {})", i, frames_.size()));
+  require(i < frames_.size(),
+          fmt::format("TumDataset::load: frame {} out of range (size {})", i, frames_.size()));
   const Entry& e = frames_[i];
   const cv::Size size(camera_.width, camera_.height);
   RgbdFrame f;
@@ -250,7 +263,8 @@ RgbdFrame TumDataset::load(std::size_t i) const {
   f.depth_m = read_depth_png((fs::path(dir_) / e.depth).string(), camera_.depth_factor,
                              cv::Size(depth_cam.width, depth_cam.height));
   // 7-Scenes writes 65535 where the Kinect measured nothing; read as it is, it would be 65 m of depth.
-  if (saturated_depth_is_hole_) f.depth_m.setTo(0.0f, f.depth_m >= static_cast<float>(65534.5 / camera_.depth_factor));
+  if (saturated_depth_is_hole_)
+    f.depth_m.setTo(0.0f, f.depth_m >= static_cast<float>(65534.5 / camera_.depth_factor));
   if (to_colour_) f.depth_m = (*to_colour_)(f.depth_m);
   if (!e.labels.empty()) f.labels = read_label_png((fs::path(dir_) / e.labels).string(), size);
   return f;
@@ -262,21 +276,23 @@ void TumDataset::use_depth_camera(const DepthCamera& depth) {
   const std::string first = (fs::path(dir_) / frames_.front().depth).string();
   const cv::Mat depth0 = read_depth_png(first, camera_.depth_factor);
   if (depth0.cols != d.width || depth0.rows != d.height)
-    throw ParseError(first, 0,
-                     fmt::format("depth image is {}x{}, camera file {} has a depth_camera of {}x{}{}", depth0.cols,
-                                 depth0.rows, camera_source_, d.width, d.height,
-                                 depth0.cols == camera_.width && depth0.rows == camera_.height
-                                     ? " (the colour camera's size: is this depth already aligned to colour?)"
-                                     : ""),
-                     "depth images of the depth camera's size, or no depth_camera section for depth registered to "
-                     "colour");
+    throw ParseError(
+        first, 0,
+        fmt::format("depth image is {}x{}, camera file {} has a depth_camera of {}x{}{}", depth0.cols,
+                    depth0.rows, camera_source_, d.width, d.height,
+                    depth0.cols == camera_.width && depth0.rows == camera_.height
+                        ? " (the colour camera's size: is this depth already aligned to colour?)"
+                        : ""),
+        "depth images of the depth camera's size, or no depth_camera section for depth registered to "
+        "colour");
   to_colour_ = std::make_shared<const DepthToColour>(d, camera_, depth.T_c_d);
   registered_by_ = "s3m, with the depth_camera of " + camera_source_;
   spdlog::info("{}: {} ({})", dir_, to_colour_->describe(), camera_source_);
 }
 
 double TumDataset::timestamp(std::size_t i) const {
-  require(i < frames_.size(), fmt::format("TumDataset::timestamp: frame {} out of range (size {})", i, frames_.size()));
+  require(i < frames_.size(),
+          fmt::format("TumDataset::timestamp: frame {} out of range (size {})", i, frames_.size()));
   return frames_[i].t_rgb_s;
 }
 
@@ -308,19 +324,27 @@ TumWriter::~TumWriter() {
   }
 }
 
-void TumWriter::add(const RgbdFrame& frame, const std::optional<SE3>& T_w_c) {
+void TumWriter::add(const RgbdFrame& frame, const std::optional<SE3>& T_w_c,
+                    std::optional<double> depth_t_s) {
   require(!finished_, "TumWriter::add after finish()");
-  require(std::isfinite(frame.t_s), "TumWriter::add: non-finite timestamp");
-  const std::string stamp = tum_stamp(frame.t_s);
+  const double t_depth = depth_t_s.value_or(frame.t_s);
+  require(std::isfinite(frame.t_s) && std::isfinite(t_depth), "TumWriter::add: non-finite timestamp");
+  const std::string stamp = tum_stamp(frame.t_s), depth_stamp = tum_stamp(t_depth);
   // Compare the printed stamps: two frames closer than 1 us would overwrite each other's files.
   require(times_.empty() || (frame.t_s > times_.back() && stamp != tum_stamp(times_.back())),
           fmt::format("TumWriter::add: timestamp {} is not after the previous one ({})", stamp,
                       times_.empty() ? "" : tum_stamp(times_.back())));
+  require(depth_times_.empty() ||
+              (t_depth > depth_times_.back() && depth_stamp != tum_stamp(depth_times_.back())),
+          fmt::format("TumWriter::add: depth timestamp {} is not after the previous one ({})", depth_stamp,
+                      depth_times_.empty() ? "" : tum_stamp(depth_times_.back())));
   const cv::Size size(camera_.width, camera_.height);
   require(frame.rgb.size() == size && frame.depth_m.size() == size,
-          fmt::format("TumWriter::add: frame {} images must be {}x{} like the camera", stamp, size.width, size.height));
+          fmt::format("TumWriter::add: frame {} images must be {}x{} like the camera", stamp, size.width,
+                      size.height));
   write_rgb_png((fs::path(dir_) / "rgb" / (stamp + ".png")).string(), frame.rgb);
-  write_depth_png((fs::path(dir_) / "depth" / (stamp + ".png")).string(), frame.depth_m, camera_.depth_factor);
+  write_depth_png((fs::path(dir_) / "depth" / (depth_stamp + ".png")).string(), frame.depth_m,
+                  camera_.depth_factor);
   const bool labels = !frame.labels.empty();
   if (labels) {
     require(frame.labels.size() == size, "TumWriter::add: label image size differs from the camera");
@@ -328,6 +352,7 @@ void TumWriter::add(const RgbdFrame& frame, const std::optional<SE3>& T_w_c) {
   }
   if (T_w_c) groundtruth_.push_back({frame.t_s, *T_w_c});
   times_.push_back(frame.t_s);
+  depth_times_.push_back(t_depth);
   has_labels_.push_back(labels);
 }
 
@@ -335,14 +360,15 @@ void TumWriter::finish() {
   finished_ = true;
   std::ostringstream rgb, depth, labels, assoc;
   rgb << "# color images\n# timestamp filename\n";
-  depth << "# depth maps (16-bit PNG, metres = value / " << camera_.depth_factor << ")\n# timestamp filename\n";
+  depth << "# depth maps (16-bit PNG, metres = value / " << camera_.depth_factor
+        << ")\n# timestamp filename\n";
   labels << "# class-id label images (16-bit PNG, s3m extension)\n# timestamp filename\n";
   bool any_labels = false;
   for (std::size_t i = 0; i < times_.size(); ++i) {
-    const std::string s = tum_stamp(times_[i]);
+    const std::string s = tum_stamp(times_[i]), d = tum_stamp(depth_times_[i]);
     rgb << s << " rgb/" << s << ".png\n";
-    depth << s << " depth/" << s << ".png\n";
-    assoc << s << " rgb/" << s << ".png " << s << " depth/" << s << ".png\n";
+    depth << d << " depth/" << d << ".png\n";
+    assoc << s << " rgb/" << s << ".png " << d << " depth/" << d << ".png\n";
     if (has_labels_[i]) {
       labels << s << " labels/" << s << ".png\n";
       any_labels = true;

@@ -42,7 +42,7 @@ class TumDataset {
   // Reads frame i: rgb (CV_8UC3), depth_m (CV_32FC1 metres), labels (CV_16UC1, empty without labels.txt).
   // Images must match the camera size; depth must be 16-bit.
   RgbdFrame load(std::size_t i) const;
-  double timestamp(std::size_t i) const;  // rgb timestamp [s]
+  double timestamp(std::size_t i) const;                          // rgb timestamp [s]
   const Trajectory& groundtruth() const { return groundtruth_; }  // empty when absent
   // Ground-truth pose with the nearest timestamp within max_dt_s, else nullopt.
   std::optional<SE3> groundtruth_at(double t_s, double max_dt_s = 0.02) const;
@@ -73,11 +73,14 @@ class TumDataset {
   bool has_labels_ = false;
   bool saturated_depth_is_hole_ = false;  // 7-Scenes: raw 65535 = no measurement
   cv::Size colour_size_;                  // colour images on disk, when not the camera's size (ScanNet)
-  std::shared_ptr<const DepthToColour> to_colour_;  // a depth camera beside the colour camera (shared: ~10 MB)
+  std::shared_ptr<const DepthToColour>
+      to_colour_;  // a depth camera beside the colour camera (shared: ~10 MB)
 
-  void use_depth_camera(const DepthCamera& depth);  // after the frames are known: checks the first depth image
+  void use_depth_camera(
+      const DepthCamera& depth);  // after the frames are known: checks the first depth image
 
-  static TumDataset open_folder(const std::string& dir, const TumDatasetOptions& options, FolderLayout layout);
+  static TumDataset open_folder(const std::string& dir, const TumDatasetOptions& options,
+                                FolderLayout layout);
 };
 
 // Writes a TUM-layout sequence: rgb/<t>.png, depth/<t>.png (16-bit, camera.depth_factor),
@@ -91,15 +94,18 @@ class TumWriter {
   TumWriter(const TumWriter&) = delete;
   TumWriter& operator=(const TumWriter&) = delete;
 
-  // Timestamps must strictly increase; images must match the camera size.
-  void add(const RgbdFrame& frame, const std::optional<SE3>& T_w_c = std::nullopt);
+  // Timestamps must strictly increase; images must match the camera size. depth_t_s: the depth
+  // image's own stamp when the streams were captured at different instants (default frame.t_s);
+  // associations.txt pairs the frame's colour and depth stamps.
+  void add(const RgbdFrame& frame, const std::optional<SE3>& T_w_c = std::nullopt,
+           std::optional<double> depth_t_s = std::nullopt);
   void finish();
   std::size_t size() const { return times_.size(); }
 
  private:
   std::string dir_;
   PinholeCamera camera_;
-  std::vector<double> times_;
+  std::vector<double> times_, depth_times_;
   std::vector<bool> has_labels_;
   Trajectory groundtruth_;
   bool finished_ = false;
