@@ -15,7 +15,8 @@ namespace s3m::apps {
 namespace {
 
 struct SimArgs {
-  std::string config_path, out_dir, scene = "office", trajectory = "uav_sweep", camera = "kinect", snapshots;
+  std::string config_path, out_dir, scene = "office", trajectory = "uav_sweep", camera = "kinect", snapshots,
+                                    sensor_profile;
   int frames = 300, width = 640, height = 480, drop_frames = 0, motion_blur = 1;
   std::uint64_t seed = 7, layout_seed = 0;
   double fps = 30.0, voxel_res_m = 0.05;
@@ -29,7 +30,8 @@ cv::Mat label_legend(const cv::Mat& labels, int width) {
   for (const ClassInfo& c : indoor_classes().all()) {
     if (c.id == cls::kUnknown || cv::countNonZero(labels == c.id) == 0) continue;
     cv::rectangle(strip, cv::Rect(x, 9, 18, 18), cv::Scalar(c.b, c.g, c.r), cv::FILLED);
-    cv::putText(strip, c.name, {x + 24, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    cv::putText(strip, c.name, {x + 24, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1,
+                cv::LINE_AA);
     x += 24 + 11 * static_cast<int>(c.name.size()) + 18;
   }
   return strip;
@@ -43,14 +45,16 @@ void write_snapshots(const sim::SimConfig& cfg, const std::string& list, const s
   std::filesystem::create_directories(std::filesystem::path(out_dir) / "snapshots");
   while (std::getline(ss, item, ',')) {
     const int i = std::stoi(item);
-    require(i >= 0 && i < static_cast<int>(sim.size()), "--snapshots: frame " + item + " is outside the sequence");
+    require(i >= 0 && i < static_cast<int>(sim.size()),
+            "--snapshots: frame " + item + " is outside the sequence");
     const RgbdFrame f = sim.frame(i);
     cv::Mat row;
-    cv::hconcat(std::vector<cv::Mat>{f.rgb, sim::colourise_depth(f.depth_m, 5.0),
-                                     sim::colourise_labels(f.labels)},
-                row);
+    cv::hconcat(
+        std::vector<cv::Mat>{f.rgb, sim::colourise_depth(f.depth_m, 5.0), sim::colourise_labels(f.labels)},
+        row);
     cv::vconcat(row, label_legend(f.labels, row.cols), row);
-    const std::string path = (std::filesystem::path(out_dir) / "snapshots" / ("frame_" + item + ".png")).string();
+    const std::string path =
+        (std::filesystem::path(out_dir) / "snapshots" / ("frame_" + item + ".png")).string();
     if (!cv::imwrite(path, row)) throw Error("cannot write " + path);
   }
 }
@@ -67,8 +71,13 @@ void run(const SimArgs& a, const CLI::App& cmd) {
   if (given("--fps")) cfg.trajectory.fps = a.fps;
   if (given("--drop-frames")) cfg.drop_frames = a.drop_frames;
   if (given("--voxel-res")) cfg.voxel_resolution_m = a.voxel_res_m;
-  if (given("--motion-blur")) cfg.sensor.motion_blur_samples = a.motion_blur;
-  if (given("--noise") || cmd.count("--no-noise")) cfg.sensor.noise = a.noise;
+  // A profile sets noise and motion blur itself; only options written out override it then.
+  if (!a.sensor_profile.empty()) sim::apply_sensor_profile(a.sensor_profile, cfg.sensor);
+  auto sensor_given = [&](const char* name) {
+    return a.sensor_profile.empty() ? given(name) : cmd.count(name) > 0;
+  };
+  if (sensor_given("--motion-blur")) cfg.sensor.motion_blur_samples = a.motion_blur;
+  if (sensor_given("--noise") || cmd.count("--no-noise")) cfg.sensor.noise = a.noise;
   if (given("--camera") || given("--width") || given("--height"))
     cfg.sensor.camera = sim::sensor_camera(a.camera, a.width, a.height);
   cfg.validate();
@@ -76,24 +85,28 @@ void run(const SimArgs& a, const CLI::App& cmd) {
   if (a.snapshots_only) {
     require(!a.snapshots.empty(), "--snapshots-only needs --snapshots");
     write_snapshots(cfg, a.snapshots, a.out_dir);
-    std::fprintf(stderr, "s3m sim: wrote snapshots %s to %s/snapshots\n", a.snapshots.c_str(), a.out_dir.c_str());
+    std::fprintf(stderr, "s3m sim: wrote snapshots %s to %s/snapshots\n", a.snapshots.c_str(),
+                 a.out_dir.c_str());
     return;
   }
-  std::fprintf(stderr, "s3m sim: scene %s (layout seed %llu, seed %llu), trajectory %s, %d frames at %dx%d -> %s\n", cfg.scene.c_str(),
-               static_cast<unsigned long long>(cfg.layout()), static_cast<unsigned long long>(cfg.seed),
-               cfg.trajectory.type.c_str(), cfg.trajectory.frames,
+  std::fprintf(stderr,
+               "s3m sim: scene %s (layout seed %llu, seed %llu), trajectory %s, %d frames at %dx%d -> %s\n",
+               cfg.scene.c_str(), static_cast<unsigned long long>(cfg.layout()),
+               static_cast<unsigned long long>(cfg.seed), cfg.trajectory.type.c_str(), cfg.trajectory.frames,
                cfg.sensor.camera.width, cfg.sensor.camera.height, a.out_dir.c_str());
   Stopwatch sw;
   const sim::SimSummary s = sim::simulate_sequence(cfg, a.out_dir, [&](int done, int total) {
     const double fps = done / std::max(1e-3, sw.elapsed_ms() / 1000.0);
-    std::fprintf(stderr, "\r  frame %d/%d  %.1f frames/s  ETA %.0f s   ", done, total, fps, (total - done) / fps);
+    std::fprintf(stderr, "\r  frame %d/%d  %.1f frames/s  ETA %.0f s   ", done, total, fps,
+                 (total - done) / fps);
     std::fflush(stderr);
   });
-  std::fprintf(stderr,
-               "\ndone: %d frames (%d dropped) in %.1f s, %.1f ms/frame rendering; trajectory %.2f m, max speed "
-               "%.2f m/s; %zu ground-truth voxels at %.3f m\n",
-               s.frames, s.dropped, s.seconds, s.render_ms_mean, s.length_m, s.max_speed_mps, s.voxels,
-               cfg.voxel_resolution_m);
+  std::fprintf(
+      stderr,
+      "\ndone: %d frames (%d dropped) in %.1f s, %.1f ms/frame rendering; trajectory %.2f m, max speed "
+      "%.2f m/s; %zu ground-truth voxels at %.3f m\n",
+      s.frames, s.dropped, s.seconds, s.render_ms_mean, s.length_m, s.max_speed_mps, s.voxels,
+      cfg.voxel_resolution_m);
   if (!a.snapshots.empty()) write_snapshots(cfg, a.snapshots, a.out_dir);
 }
 
@@ -101,28 +114,44 @@ void run(const SimArgs& a, const CLI::App& cmd) {
 
 void register_sim(CLI::App& app) {
   auto args = std::make_shared<SimArgs>();
-  auto* cmd = app.add_subcommand("sim", "Render a synthetic indoor RGB-D sequence with ground-truth poses and labels");
+  auto* cmd = app.add_subcommand(
+      "sim", "Render a synthetic indoor RGB-D sequence with ground-truth poses and labels");
   cmd->add_option("--out,-o", args->out_dir, "Output directory (TUM layout)")->required();
-  cmd->add_option("--config", args->config_path, "YAML config (see config/sim_*.yaml); options below override it")
+  cmd->add_option("--config", args->config_path,
+                  "YAML config (see config/sim_*.yaml); options below override it")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--scene", args->scene, "Scene preset: office, living_room, corridor")->capture_default_str();
+  cmd->add_option("--scene", args->scene, "Scene preset: office, living_room, corridor")
+      ->capture_default_str();
   cmd->add_option("--trajectory", args->trajectory,
-                  "uav_sweep, figure8, loop, lawnmower, handheld, hover, forward")->capture_default_str();
+                  "uav_sweep, figure8, loop, lawnmower, handheld, hover, forward")
+      ->capture_default_str();
   cmd->add_option("--frames", args->frames, "Number of frames")->capture_default_str();
   cmd->add_option("--fps", args->fps, "Frame rate [Hz]")->capture_default_str();
-  cmd->add_option("--seed", args->seed, "Seed for trajectory variation and noise (and the layout without --layout-seed)")
+  cmd->add_option("--seed", args->seed,
+                  "Seed for trajectory variation and noise (and the layout without --layout-seed)")
       ->capture_default_str();
-  cmd->add_option("--layout-seed", args->layout_seed,
-                  "Seed for the scene layout only (default: --seed); same value = same building, other flights");
+  cmd->add_option(
+      "--layout-seed", args->layout_seed,
+      "Seed for the scene layout only (default: --seed); same value = same building, other flights");
   cmd->add_option("--camera", args->camera, "Intrinsics: kinect (fx 525 at 640 px) or d455 (fx 382.6)")
       ->capture_default_str();
   cmd->add_option("--width", args->width, "Image width [px]")->capture_default_str();
   cmd->add_option("--height", args->height, "Image height [px]")->capture_default_str();
   cmd->add_flag("--noise,!--no-noise", args->noise, "Sensor noise and dropouts on/off (default on)");
-  cmd->add_option("--drop-frames", args->drop_frames, "Number of blank (dropped) frames")->capture_default_str();
-  cmd->add_option("--motion-blur", args->motion_blur, "Motion blur samples per frame (1 = off)")->capture_default_str();
-  cmd->add_option("--voxel-res", args->voxel_res_m, "Ground-truth voxel map resolution [m]")->capture_default_str();
-  cmd->add_option("--snapshots", args->snapshots, "Comma-separated frame indices to save as rgb|depth|labels PNGs");
+  cmd->add_option("--drop-frames", args->drop_frames, "Number of blank (dropped) frames")
+      ->capture_default_str();
+  cmd->add_option("--motion-blur", args->motion_blur, "Motion blur samples per frame (1 = off)")
+      ->capture_default_str();
+  cmd->add_option(
+         "--sensor-profile", args->sensor_profile,
+         "Sensor mix over the config's sensor: default (noise, no lies), ideal (no noise) or realistic "
+         "(Kinect v1: colour-depth offset, jitter, rolling shutter, motion blur, disparity steps, "
+         "edge fattening, misregistration); --noise / --motion-blur given as well override it")
+      ->check(CLI::IsMember(sim::sensor_profiles()));
+  cmd->add_option("--voxel-res", args->voxel_res_m, "Ground-truth voxel map resolution [m]")
+      ->capture_default_str();
+  cmd->add_option("--snapshots", args->snapshots,
+                  "Comma-separated frame indices to save as rgb|depth|labels PNGs");
   cmd->add_flag("--snapshots-only", args->snapshots_only, "Only write the --snapshots pictures, no sequence");
   cmd->callback([args, cmd] { run(*args, *cmd); });
 }

@@ -3,10 +3,11 @@
 #include <array>
 #include <cmath>
 
-#include <opencv2/imgproc.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <opencv2/imgproc.hpp>
 
+#include "s3m/core/error.hpp"
 #include "s3m/sim/texture.hpp"
 
 namespace s3m::sim {
@@ -48,8 +49,7 @@ Eigen::Vector3f local_normal(Shape shape, const Eigen::Vector3f& h, const Eigen:
       if (h.z() - std::abs(p.z()) < h.x() - rxy || rxy < 1e-6f) return {0, 0, p.z() >= 0 ? 1.0f : -1.0f};
       return {p.x() / rxy, p.y() / rxy, 0};
     }
-    case Shape::kSphere:
-      return p.normalized();
+    case Shape::kSphere: return p.normalized();
   }
   return {0, 0, 1};
 }
@@ -74,7 +74,15 @@ Renderer::Renderer(const Scene& scene, const SensorConfig& sensor)
   }
 }
 
-IdealView Renderer::render_ideal(const SE3& T_w_c) const {
+IdealView Renderer::render_ideal(const SE3& T_w_c) const { return render_rows(&T_w_c, false); }
+
+IdealView Renderer::render_ideal(const std::vector<SE3>& T_w_c_of_row) const {
+  require(static_cast<int>(T_w_c_of_row.size()) == sensor_.camera.height,
+          "Renderer::render_ideal: need one pose per image row");
+  return render_rows(T_w_c_of_row.data(), true);
+}
+
+IdealView Renderer::render_rows(const SE3* T_w_c, bool per_row) const {
   const PinholeCamera& cam = sensor_.camera;
   const int W = cam.width, H = cam.height;
   IdealView v;
@@ -84,19 +92,21 @@ IdealView Renderer::render_ideal(const SE3& T_w_c) const {
   v.prim_ids.create(H, W, CV_32SC1);
   v.albedo_lum.create(H, W, CV_32FC1);
   v.cos_incidence.create(H, W, CV_32FC1);
-  const Eigen::Matrix3f R_w_c = T_w_c.linear().cast<float>();
-  const Eigen::Vector3f o_w = T_w_c.translation().cast<float>();
   struct Light {  // position and gain, in float
     Eigen::Vector3f p;
     float gain;
   };
   std::vector<Light> lights;
   const std::uint8_t* srgb = srgb_table().data();
-  for (const auto& l : scene_.lights) lights.push_back({l.position_w.cast<float>(), kLightGain * l.intensity});
+  for (const auto& l : scene_.lights)
+    lights.push_back({l.position_w.cast<float>(), kLightGain * l.intensity});
 
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 4), [&](const tbb::blocked_range<int>& rows) {
     RayPacket pk;
     for (int r = rows.begin(); r < rows.end(); ++r) {
+      const SE3& T = T_w_c[per_row ? r : 0];
+      const Eigen::Matrix3f R_w_c = T.linear().cast<float>();
+      const Eigen::Vector3f o_w = T.translation().cast<float>();
       const float* inv_len = inv_ray_length_.ptr<float>(r);
       for (int u0 = 0; u0 < W; u0 += kPacket) {
         // 1. Rays with camera-frame direction (x, y, 1): the hit parameter t is the z depth.

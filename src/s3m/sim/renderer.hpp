@@ -3,6 +3,8 @@
 // then applies the sensor model. Rows are shaded in parallel with TBB; the result does not
 // depend on the number of threads.
 #include <cstdint>
+#include <functional>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -16,12 +18,18 @@ namespace s3m::sim {
 
 // Exact, noise-free render of one view.
 struct IdealView {
-  cv::Mat rgb;         // CV_8UC3 BGR, shaded albedo (no optics blur, no noise)
-  cv::Mat depth_m;     // CV_32FC1 exact z depth [m]; 0 where the ray hit nothing
-  cv::Mat labels;      // CV_16UC1 class id of the surface hit (0 = none)
-  cv::Mat prim_ids;    // CV_32SC1 index into Scene::primitives (-1 = none)
-  cv::Mat albedo_lum;  // CV_32FC1 albedo luminance in [0, 1] (drives dark-surface dropout)
+  cv::Mat rgb;            // CV_8UC3 BGR, shaded albedo (no optics blur, no noise)
+  cv::Mat depth_m;        // CV_32FC1 exact z depth [m]; 0 where the ray hit nothing
+  cv::Mat labels;         // CV_16UC1 class id of the surface hit (0 = none)
+  cv::Mat prim_ids;       // CV_32SC1 index into Scene::primitives (-1 = none)
+  cv::Mat albedo_lum;     // CV_32FC1 albedo luminance in [0, 1] (drives dark-surface dropout)
   cv::Mat cos_incidence;  // CV_32FC1 |cos| of the angle between ray and surface normal
+};
+
+// Capture instants of one frame's two streams [s].
+struct FrameTimes {
+  double colour_s = 0;  // end of the exposure of the colour image's first row
+  double depth_s = 0;   // the depth snapshot
 };
 
 class Renderer {
@@ -34,13 +42,26 @@ class Renderer {
 
   // 1. cast one ray per pixel, 2. shade the hits. No sensor effects, no range limits.
   IdealView render_ideal(const SE3& T_w_c) const;
+  // The same with image row r seen from T_w_c_of_row[r] (a rolling shutter); one pose per row.
+  IdealView render_ideal(const std::vector<SE3>& T_w_c_of_row) const;
 
   // A sensor frame at T_w_c: ideal render + sensor model (range limits, noise, dropouts, blur).
   // noise_seed selects the random draws (use a different one per frame). When
   // motion_blur_samples > 1, T_w_c_open is the pose when the shutter opened (else ignored).
   RgbdFrame render(const SE3& T_w_c, std::uint64_t noise_seed, const SE3* T_w_c_open = nullptr) const;
 
+  // A sensor frame whose parts are captured at different instants, for the sensor lies
+  // (SensorConfig::timed()). T_w_c_at(t) is the colour camera's pose at time t [s]. Colour row r is
+  // exposed until times.colour_s + rolling_shutter_s * r / (height - 1), motion-blurred over the
+  // exposure_s before (motion_blur_samples > 1); depth is a snapshot at times.depth_s from the depth
+  // camera, turned by depth_registration_error_px against the colour camera. Labels follow colour.
+  RgbdFrame render_timed(const std::function<SE3(double)>& T_w_c_at, const FrameTimes& times,
+                         std::uint64_t noise_seed) const;
+
  private:
+  IdealView render_rows(const SE3* T_w_c, bool per_row) const;
+  cv::Mat sensor_depth_image(IdealView& depth_view, std::uint64_t noise_seed) const;
+
   Scene scene_;
   SensorConfig sensor_;
   Raycaster raycaster_;

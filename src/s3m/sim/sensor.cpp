@@ -22,6 +22,16 @@ void SensorConfig::validate() const {
   require(motion_blur_samples >= 1 && motion_blur_samples <= 32,
           "sensor: motion_blur_samples must be in 1..32");
   require(exposure_s >= 0, "sensor: exposure_s must be >= 0");
+  require(std::abs(depth_time_offset_s) <= 0.5, "sensor: depth_time_offset_s must be within [-0.5, 0.5] s");
+  require(time_jitter_s >= 0 && time_jitter_s <= 0.05, "sensor: time_jitter_s must be in [0, 0.05] s");
+  require(rolling_shutter_s >= 0 && rolling_shutter_s <= 0.1,
+          "sensor: rolling_shutter_s must be in [0, 0.1] s");
+  require(disparity_step_px >= 0 && disparity_step_px <= 1, "sensor: disparity_step_px must be in [0, 1] px");
+  require(disparity_baseline_m > 0 && disparity_baseline_m <= 1,
+          "sensor: disparity_baseline_m must be in (0, 1] m");
+  require(edge_fattening_px >= 0 && edge_fattening_px <= 10, "sensor: edge_fattening_px must be in 0..10");
+  require(std::abs(depth_registration_error_px) <= 20,
+          "sensor: depth_registration_error_px must be within [-20, 20] px");
 }
 
 void fields(config::FieldVisitor& v, SensorConfig& c) {
@@ -48,6 +58,13 @@ void fields(config::FieldVisitor& v, SensorConfig& c) {
   v("optics_blur_px", c.optics_blur_px);
   v("motion_blur_samples", c.motion_blur_samples);
   v("exposure_s", c.exposure_s);
+  v("depth_time_offset_s", c.depth_time_offset_s);
+  v("time_jitter_s", c.time_jitter_s);
+  v("rolling_shutter_s", c.rolling_shutter_s);
+  v("disparity_step_px", c.disparity_step_px);
+  v("disparity_baseline_m", c.disparity_baseline_m);
+  v("edge_fattening_px", c.edge_fattening_px);
+  v("depth_registration_error_px", c.depth_registration_error_px);
 }
 
 void load_sensor_config(const YAML::Node& n, SensorConfig& c, const std::string& ctx) {
@@ -72,6 +89,39 @@ PinholeCamera sensor_camera(const std::string& name, int width, int height) {
   c.height = height;
   c.depth_factor = 5000.0;
   return c;
+}
+
+std::vector<std::string> sensor_profiles() { return {"ideal", "default", "realistic"}; }
+
+void apply_sensor_profile(const std::string& name, SensorConfig& c) {
+  require(name == "ideal" || name == "default" || name == "realistic",
+          "unknown sensor profile '" + name + "' (expected ideal, default or realistic)");
+  // A profile decides what goes wrong and whether; how noisy (sigmas, dropout rates), the range and
+  // the camera stay as configured.
+  const SensorConfig off;
+  c.noise = name != "ideal";
+  c.motion_blur_samples = off.motion_blur_samples;
+  c.exposure_s = off.exposure_s;
+  c.depth_time_offset_s = off.depth_time_offset_s;
+  c.time_jitter_s = off.time_jitter_s;
+  c.rolling_shutter_s = off.rolling_shutter_s;
+  c.disparity_step_px = off.disparity_step_px;
+  c.disparity_baseline_m = off.disparity_baseline_m;
+  c.edge_fattening_px = off.edge_fattening_px;
+  c.depth_registration_error_px = off.depth_registration_error_px;
+  if (name != "realistic") return;
+  // Kinect v1: colour and depth are free-running streams (up to a frame apart, typically half of
+  // one), the colour sensor's rolling readout takes most of the 33 ms frame, and depth is
+  // triangulated over a 7.5 cm baseline by block matching in 1/8 px disparity steps.
+  c.depth_time_offset_s = 0.015;
+  c.time_jitter_s = 0.002;
+  c.rolling_shutter_s = 0.025;
+  c.motion_blur_samples = 4;
+  c.exposure_s = 0.012;
+  c.disparity_step_px = 0.125;
+  c.disparity_baseline_m = 0.075;
+  c.edge_fattening_px = 1;
+  c.depth_registration_error_px = 1.0;
 }
 
 }  // namespace s3m::sim

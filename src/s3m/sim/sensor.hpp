@@ -6,8 +6,19 @@
 // - depth is missing at depth discontinuities (edge_dropout), on dark surfaces (dark_dropout),
 //   at grazing incidence and at random (random_dropout);
 // - the colour image is slightly blurred (optics), noisy, and optionally motion-blurred.
+// Off by default (so that sequences rendered before them stay byte-identical), the ways real RGB-D
+// cameras deceive a SLAM system beyond noise (sensor_effects.hpp, profile "realistic"):
+// - timing: depth captured depth_time_offset_s after colour, each stream's instant jittered, the
+//   colour rows read out one after another (rolling shutter);
+// - structured-light depth: disparity quantised in sub-pixel steps, foreground fattened at edges;
+// - registration: depth rendered from a camera turned slightly against the colour camera and
+//   stored as if registered to it.
+// Time stamps written for each stream are its true capture instants (device clocks, as OpenNI and
+// librealsense report them): the colour stamp is the end of row 0's exposure, the depth stamp the
+// depth snapshot's instant. Poses in groundtruth.txt are the colour camera's at the colour stamp.
 // All random draws are seeded per frame and pixel (see rng.hpp): deterministic and thread-independent.
 #include <string>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
@@ -36,10 +47,32 @@ struct SensorConfig {
   double optics_blur_px = 0.6;    // Gaussian blur sigma of the lens [px]; 0 = off
   int motion_blur_samples = 1;    // > 1: average this many poses over the exposure
   double exposure_s = 0.012;      // exposure time for motion blur [s]
+  // Sensor lies (sensor_effects.hpp); 0 = off.
+  double depth_time_offset_s = 0.0;          // depth instant minus colour instant [s]; < 0: depth leads
+  double time_jitter_s = 0.0;                // sigma of each stream's capture instant, per frame [s]
+  double rolling_shutter_s = 0.0;            // colour readout time from the first row to the last [s]
+  double disparity_step_px = 0.0;            // depth quantised to this disparity step [px] (Kinect v1: 1/8)
+  double disparity_baseline_m = 0.075;       // projector-camera baseline of that quantisation [m]
+  int edge_fattening_px = 0;                 // foreground depth bleeds this far into the background [px]
+  double depth_registration_error_px = 0.0;  // depth image shifted against colour along u [px]
 
   void validate() const;  // throws s3m::Error naming the bad field
   double depth_sigma_m(double z_m) const { return depth_sigma0_m + depth_sigma_k * z_m * z_m; }
+  // True when frames need poses at other instants or a second camera (Renderer::render_timed).
+  bool timed() const {
+    return depth_time_offset_s != 0 || time_jitter_s > 0 || rolling_shutter_s > 0 ||
+           depth_registration_error_px != 0;
+  }
 };
+
+// Named sensor mixes for `s3m sim --sensor-profile`. Each sets `noise`, the motion blur and every
+// lie above; sigmas, dropout rates, range and camera stay as configured. "default": noise on, no
+// lies, no motion blur (the built-in SensorConfig); "ideal": the same with noise off; "realistic": a
+// Kinect v1 as it behaves: 15 ms colour-depth offset, 2 ms jitter, 25 ms rolling shutter, motion
+// blur over 12 ms (4 samples), 1/8 px disparity steps, 1 px fattening, 1 px misregistration.
+// Throws s3m::Error for an unknown name.
+void apply_sensor_profile(const std::string& name, SensorConfig& cfg);
+std::vector<std::string> sensor_profiles();
 
 // Reads the keys of SensorConfig (plus fx, fy, cx, cy, width, height) from a YAML map.
 void load_sensor_config(const YAML::Node& node, SensorConfig& cfg, const std::string& ctx);

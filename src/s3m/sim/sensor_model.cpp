@@ -1,12 +1,13 @@
 // Renderer::render: the sensor model applied to an ideal view. One visible sequence of steps.
 #include <cmath>
 
-#include <opencv2/imgproc.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <opencv2/imgproc.hpp>
 
 #include "s3m/sim/renderer.hpp"
 #include "s3m/sim/rng.hpp"
+#include "s3m/sim/sensor_effects.hpp"
 
 namespace s3m::sim {
 namespace {
@@ -16,7 +17,9 @@ enum Stream : std::uint64_t { kEdge = 1, kDark, kRandom, kDepthA, kDepthB, kColo
 
 // One hash per draw: stream keys are mixed once per frame, pixels are counters within a stream.
 inline std::uint64_t stream_key(std::uint64_t seed, Stream s) { return hash3(seed, s, 0x5E4Dull); }
-inline std::uint64_t draw(std::uint64_t key, std::uint64_t pixel) { return mix64(key + pixel * 0x9E3779B97F4A7C15ull); }
+inline std::uint64_t draw(std::uint64_t key, std::uint64_t pixel) {
+  return mix64(key + pixel * 0x9E3779B97F4A7C15ull);
+}
 
 bool is_depth_edge(const cv::Mat& z, int r, int u, float rel) {
   const float zc = z.at<float>(r, u);
@@ -43,11 +46,11 @@ cv::Mat sensor_depth(const IdealView& v, const SensorConfig& s, std::uint64_t se
         o = (z > 0.0f && z >= s.min_depth_m && z <= s.max_depth_m) ? z : 0.0f;
         if (o == 0.0f || !s.noise) continue;
         const std::uint64_t px = static_cast<std::uint64_t>(r) * out.cols + u;
-        const bool drop = (is_depth_edge(v.depth_m, r, u, static_cast<float>(s.edge_jump_rel)) &&
-                           u01(draw(k_edge, px)) < s.edge_dropout) ||
-                          (v.albedo_lum.at<float>(r, u) < s.dark_albedo && u01(draw(k_dark, px)) < s.dark_dropout) ||
-                          v.cos_incidence.at<float>(r, u) < s.grazing_cos ||
-                          u01(draw(k_rand, px)) < s.random_dropout;
+        const bool drop =
+            (is_depth_edge(v.depth_m, r, u, static_cast<float>(s.edge_jump_rel)) &&
+             u01(draw(k_edge, px)) < s.edge_dropout) ||
+            (v.albedo_lum.at<float>(r, u) < s.dark_albedo && u01(draw(k_dark, px)) < s.dark_dropout) ||
+            v.cos_incidence.at<float>(r, u) < s.grazing_cos || u01(draw(k_rand, px)) < s.random_dropout;
         if (drop) {
           o = 0.0f;
           continue;
@@ -101,10 +104,52 @@ RgbdFrame Renderer::render(const SE3& T_w_c, std::uint64_t noise_seed, const SE3
               : ideal.rgb;
   if (sensor_.optics_blur_px > 0) cv::GaussianBlur(f.rgb, f.rgb, cv::Size(0, 0), sensor_.optics_blur_px);
   if (sensor_.noise && sensor_.rgb_sigma > 0) add_colour_noise(f.rgb, sensor_.rgb_sigma, noise_seed);
-  // 3. Depth: range limits, dropouts, noise.
-  f.depth_m = sensor_depth(ideal, sensor_, noise_seed);
+  // 3. Depth: range limits, dropouts, noise (and the structured-light artefacts when on).
+  f.depth_m = sensor_depth_image(ideal, noise_seed);
   // 4. Labels are ground truth: every pixel that sees a surface keeps its class.
   f.labels = ideal.labels;
+  return f;
+}
+
+cv::Mat Renderer::sensor_depth_image(IdealView& v, std::uint64_t noise_seed) const {
+  // Fattening happens in the matching, before noise; the quantisation is the last step of the
+  // depth computation, so the delivered values sit on the disparity grid.
+  fatten_edges(v.depth_m, sensor_.edge_fattening_px, sensor_.edge_jump_rel);
+  cv::Mat depth = sensor_depth(v, sensor_, noise_seed);
+  quantise_disparity(depth, sensor_.camera.fx * sensor_.disparity_baseline_m, sensor_.disparity_step_px);
+  return depth;
+}
+
+RgbdFrame Renderer::render_timed(const std::function<SE3(double)>& T_w_c_at, const FrameTimes& times,
+                                 std::uint64_t noise_seed) const {
+  const SensorConfig& s = sensor_;
+  const int H = s.camera.height, blur = std::max(1, s.motion_blur_samples);
+  // 1. Colour: each exposure sample renders every row at its own instant; the last sample (the
+  //    shutter closing) gives the labels.
+  cv::Mat acc = cv::Mat::zeros(H, s.camera.width, CV_32FC3);
+  IdealView closing;
+  for (int k = 0; k < blur; ++k) {
+    const double t0 =
+        times.colour_s - (blur > 1 ? s.exposure_s * (1.0 - static_cast<double>(k) / (blur - 1)) : 0.0);
+    closing = s.rolling_shutter_s > 0
+                  ? render_ideal(rolling_shutter_poses(T_w_c_at, t0, s.rolling_shutter_s, H))
+                  : render_ideal(T_w_c_at(t0));
+    if (blur > 1) cv::accumulate(closing.rgb, acc);
+  }
+  RgbdFrame f;
+  if (blur > 1)
+    acc.convertTo(f.rgb, CV_8UC3, 1.0 / blur);
+  else
+    f.rgb = closing.rgb;
+  if (s.optics_blur_px > 0) cv::GaussianBlur(f.rgb, f.rgb, cv::Size(0, 0), s.optics_blur_px);
+  if (s.noise && s.rgb_sigma > 0) add_colour_noise(f.rgb, s.rgb_sigma, noise_seed);
+  // 2. Depth: a global snapshot at its own instant from the depth camera, stored as if registered.
+  SE3 T_w_d = T_w_c_at(times.depth_s);
+  if (s.depth_registration_error_px != 0)
+    T_w_d = T_w_d * misregistered_depth_camera(s.depth_registration_error_px, s.camera.fx);
+  IdealView depth_view = render_ideal(T_w_d);
+  f.depth_m = sensor_depth_image(depth_view, noise_seed);
+  f.labels = closing.labels;
   return f;
 }
 

@@ -29,6 +29,14 @@ std::set<std::size_t> choose_dropped(int frames, int count, std::uint64_t seed) 
   return out;
 }
 
+// A stream's capture instant minus its nominal one [s]: Gaussian, bounded to 3 sigma so that the
+// stamps of each stream stay in order (SimConfig::validate).
+double jitter_s(std::uint64_t seed, std::size_t frame, std::uint64_t stream, double sigma) {
+  if (sigma <= 0) return 0.0;
+  const double n = gaussian(hash3(seed, frame, stream), hash3(seed, frame, stream + 1));
+  return sigma * std::clamp(n, -3.0, 3.0);
+}
+
 const SimConfig& validated(const SimConfig& c) {
   c.validate();
   return c;
@@ -49,6 +57,25 @@ void emit_pose(YAML::Emitter& e, const char* key, const SE3& T) {
   e << YAML::EndMap;
 }
 
+// The true values of the sensor's lies, for whoever estimates them from the data; nothing when all
+// are off (sequences without them stay as they were).
+void emit_sensor_lies(YAML::Emitter& e, const SensorConfig& s) {
+  if (!s.timed() && s.disparity_step_px == 0 && s.edge_fattening_px == 0) return;
+  e << YAML::Key << "sensor_lies" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "depth_time_offset_s" << YAML::Value << s.depth_time_offset_s;
+  e << YAML::Key << "time_jitter_s" << YAML::Value << s.time_jitter_s;
+  e << YAML::Key << "rolling_shutter_s" << YAML::Value << s.rolling_shutter_s;
+  e << YAML::Key << "motion_blur_samples" << YAML::Value << s.motion_blur_samples;
+  e << YAML::Key << "exposure_s" << YAML::Value << s.exposure_s;
+  e << YAML::Key << "disparity_step_px" << YAML::Value << s.disparity_step_px;
+  e << YAML::Key << "disparity_baseline_m" << YAML::Value << s.disparity_baseline_m;
+  e << YAML::Key << "edge_fattening_px" << YAML::Value << s.edge_fattening_px;
+  e << YAML::Key << "depth_registration_error_px" << YAML::Value << s.depth_registration_error_px;
+  e << YAML::Key << "depth_sigma0_m" << YAML::Value << s.depth_sigma0_m;
+  e << YAML::Key << "depth_sigma_k" << YAML::Value << s.depth_sigma_k;
+  e << YAML::EndMap;
+}
+
 // sim.yaml: what produced the sequence, and the camera-to-robot calibration.
 std::string sim_yaml(const SimConfig& c, const Trajectory& t, const SimSummary& s) {
   YAML::Emitter e;
@@ -65,6 +92,7 @@ std::string sim_yaml(const SimConfig& c, const Trajectory& t, const SimSummary& 
   e << YAML::Key << "trajectory_length_m" << YAML::Value << s.length_m;
   e << YAML::Key << "max_speed_mps" << YAML::Value << s.max_speed_mps;
   emit_pose(e, "T_c_r", t.T_c_r);
+  emit_sensor_lies(e, c.sensor);
   e << YAML::EndMap;
   return std::string("# s3m simulated sequence; T_c_r maps robot-frame points into the camera frame\n") +
          e.c_str() + "\n";
@@ -76,6 +104,8 @@ void SimConfig::validate() const {
   trajectory.validate();
   sensor.validate();
   require(drop_frames >= 0, "sim: drop_frames must be >= 0");
+  require(6.0 * sensor.time_jitter_s < 1.0 / trajectory.fps,
+          "sim: sensor.time_jitter_s must be below 1 / (6 fps), or a stream's stamps could swap order");
   require(voxel_resolution_m > 0.005 && voxel_resolution_m <= 1.0,
           "sim: voxel_resolution_m must be in (0.005, 1] m");
   make_scene(scene, layout());  // throws for an unknown preset
@@ -129,11 +159,28 @@ RgbdFrame Simulation::frame(std::size_t i) const {
         i > 0 ? interpolate(trajectory_.samples[i - 1].T_w_c, s.T_w_c,
                             std::clamp(1.0 - cfg_.sensor.exposure_s * cfg_.trajectory.fps, 0.0, 1.0))
               : s.T_w_c;
-    f = renderer_.render(s.T_w_c, hash3(cfg_.seed, i, 0xF4A3Eull), &T_open);
+    const std::uint64_t seed = hash3(cfg_.seed, i, 0xF4A3Eull);
+    if (cfg_.sensor.timed())
+      f = renderer_.render_timed([this](double t) { return trajectory_.T_w_c_at(t); }, frame_times(i), seed);
+    else
+      f = renderer_.render(s.T_w_c, seed, &T_open);
   }
   f.index = static_cast<int>(i);
-  f.t_s = s.t_s;
+  f.t_s = frame_times(i).colour_s;
   return f;
+}
+
+FrameTimes Simulation::frame_times(std::size_t i) const {
+  const double t = trajectory_.samples.at(i).t_s;
+  if (!cfg_.sensor.timed()) return {t, t};
+  const SensorConfig& s = cfg_.sensor;
+  return {t + jitter_s(cfg_.seed, i, 0xC0107ull, s.time_jitter_s),
+          t + s.depth_time_offset_s + jitter_s(cfg_.seed, i, 0xDE97ull, s.time_jitter_s)};
+}
+
+SE3 Simulation::T_w_c(std::size_t i) const {
+  return cfg_.sensor.timed() ? trajectory_.T_w_c_at(frame_times(i).colour_s)
+                             : trajectory_.samples.at(i).T_w_c;
 }
 
 SimSummary simulate_sequence(const SimConfig& cfg, const std::string& out_dir,
@@ -148,11 +195,15 @@ SimSummary simulate_sequence(const SimConfig& cfg, const std::string& out_dir,
   std::filesystem::create_directories(out_dir);
   // 2. Render frames here; a writer thread encodes PNGs, fed through a bounded queue.
   io::TumWriter writer(out_dir, sim.camera());
-  BoundedQueue<std::pair<RgbdFrame, SE3>> queue(4);
+  struct Stamped {  // what the writer needs beside the images: ground truth and the depth stamp
+    SE3 T_w_c;
+    double depth_t_s;
+  };
+  BoundedQueue<std::pair<RgbdFrame, Stamped>> queue(4);
   std::exception_ptr writer_error;
   std::thread writer_thread([&] {
     try {
-      while (auto item = queue.pop()) writer.add(item->first, item->second);
+      while (auto item = queue.pop()) writer.add(item->first, item->second.T_w_c, item->second.depth_t_s);
     } catch (...) {
       writer_error = std::current_exception();
       queue.close();
@@ -165,7 +216,7 @@ SimSummary simulate_sequence(const SimConfig& cfg, const std::string& out_dir,
       RgbdFrame f = sim.frame(i);
       render_ms += sw.elapsed_ms();
       sum.dropped += sim.is_dropped(i) ? 1 : 0;
-      if (!queue.push({std::move(f), sim.trajectory().samples[i].T_w_c})) break;
+      if (!queue.push({std::move(f), {sim.T_w_c(i), sim.frame_times(i).depth_s}})) break;
       if (progress) progress(static_cast<int>(i) + 1, sum.frames);
     }
   } catch (...) {

@@ -61,8 +61,14 @@ class Simulation {
   const PinholeCamera& camera() const { return renderer_.camera(); }
   bool is_dropped(std::size_t i) const { return dropped_.count(i) > 0; }
 
-  // Frame i as the sensor delivers it (noise per config; blank if dropped). Thread-safe.
+  // Frame i as the sensor delivers it (noise per config; blank if dropped); t_s is its colour
+  // stamp. Thread-safe.
   RgbdFrame frame(std::size_t i) const;
+  // Frame i's capture instants [s]: the trajectory sample's time, unless the sensor's timing lies
+  // (offset, jitter) move them; jitter is drawn per seed and frame.
+  FrameTimes frame_times(std::size_t i) const;
+  // The colour camera's pose at frame i's colour stamp (groundtruth.txt).
+  SE3 T_w_c(std::size_t i) const;
 
  private:
   SimConfig cfg_;

@@ -121,6 +121,19 @@ double Trajectory::max_speed_mps() const {
   return v;
 }
 
+SE3 Trajectory::T_w_r_at(double t_s) const {
+  if (robot_path) return robot_path(t_s);
+  require(!samples.empty(), "Trajectory::T_w_r_at: no samples");
+  const auto after = std::upper_bound(samples.begin(), samples.end(), t_s,
+                                      [](double t, const TrajectorySample& s) { return t < s.t_s; });
+  if (after == samples.begin()) return samples.front().T_w_r;
+  if (after == samples.end()) return samples.back().T_w_r;
+  const TrajectorySample& a = *(after - 1);
+  return interpolate(a.T_w_r, after->T_w_r, (t_s - a.t_s) / (after->t_s - a.t_s));
+}
+
+SE3 Trajectory::T_w_c_at(double t_s) const { return T_w_r_at(t_s) * T_c_r.inverse(); }
+
 double Trajectory::length_m() const {
   double l = 0;
   for (std::size_t i = 1; i < samples.size(); ++i)
@@ -147,6 +160,9 @@ Trajectory make_trajectory(const Scene& scene, const TrajectoryConfig& cfg, std:
   traj.T_c_r = camera_to_robot(cfg.mount);
   const SE3 T_r_c = traj.T_c_r.inverse();
   const bool uav = detail::is_uav(cfg.type);
+  traj.robot_path = [path, duration_s, uav, t0 = cfg.start_time_s](double t_s) {
+    return robot_pose_on_path(path, (t_s - t0) / duration_s, duration_s, uav);
+  };
   for (int i = 0; i < cfg.frames; ++i) {
     const double s = (i / cfg.fps) / duration_s;
     TrajectorySample smp;

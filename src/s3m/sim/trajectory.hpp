@@ -3,6 +3,7 @@
 // them with the camera-to-robot calibration: T_w_c = T_w_r * T_r_c, T_r_c = T_c_r^-1.
 // Robot body frame: x forward, y left, z up (ROS REP 103). Camera frame: x right, y down, z forward.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,13 @@ struct Trajectory {
   std::string type;
   SE3 T_c_r = SE3::Identity();
   std::vector<TrajectorySample> samples;
+  // The robot pose T_w_r at any time t_s [s], also between and beyond the samples: the flight's own
+  // smooth path, which sensor timing effects need. Empty for hand-made trajectories.
+  std::function<SE3(double t_s)> robot_path;
+  // Robot / camera pose at t_s: robot_path, or without it geodesic interpolation between the
+  // samples (held constant outside them).
+  SE3 T_w_r_at(double t_s) const;
+  SE3 T_w_c_at(double t_s) const;
   double max_speed_mps() const;
   double length_m() const;
 };
