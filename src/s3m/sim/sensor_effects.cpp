@@ -47,8 +47,10 @@ std::vector<SE3> rolling_shutter_poses(const std::function<SE3(double)>& T_w_c_a
                                        double readout_s, int rows) {
   std::vector<SE3> out;
   out.reserve(rows);
-  for (int r = 0; r < rows; ++r)
-    out.push_back(T_w_c_at(t_first_s + (rows > 1 ? readout_s * r / (rows - 1) : 0.0)));
+  for (int r = 0; r < rows; ++r) {  // the fraction first: the last row is exactly readout_s late
+    const double fraction = rows > 1 ? static_cast<double>(r) / (rows - 1) : 0.0;
+    out.push_back(T_w_c_at(t_first_s + readout_s * fraction));
+  }
   return out;
 }
 
