@@ -18,6 +18,7 @@ struct SimArgs {
   std::string config_path, out_dir, scene = "office", trajectory = "uav_sweep", camera = "kinect", snapshots,
                                     sensor_profile;
   int frames = 300, width = 640, height = 480, drop_frames = 0, motion_blur = 1;
+  double depth_time_offset_s = 0.0;
   std::uint64_t seed = 7, layout_seed = 0;
   double fps = 30.0, voxel_res_m = 0.05;
   bool noise = true, snapshots_only = false;
@@ -78,6 +79,7 @@ void run(const SimArgs& a, const CLI::App& cmd) {
   };
   if (sensor_given("--motion-blur")) cfg.sensor.motion_blur_samples = a.motion_blur;
   if (sensor_given("--noise") || cmd.count("--no-noise")) cfg.sensor.noise = a.noise;
+  if (cmd.count("--depth-time-offset")) cfg.sensor.depth_time_offset_s = a.depth_time_offset_s;
   if (given("--camera") || given("--width") || given("--height"))
     cfg.sensor.camera = sim::sensor_camera(a.camera, a.width, a.height);
   cfg.validate();
@@ -123,7 +125,7 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--scene", args->scene, "Scene preset: office, living_room, corridor")
       ->capture_default_str();
   cmd->add_option("--trajectory", args->trajectory,
-                  "uav_sweep, figure8, loop, lawnmower, handheld, hover, forward")
+                  "uav_sweep, figure8, loop, lawnmower, handheld, handheld_pan, hover, forward")
       ->capture_default_str();
   cmd->add_option("--frames", args->frames, "Number of frames")->capture_default_str();
   cmd->add_option("--fps", args->fps, "Frame rate [Hz]")->capture_default_str();
@@ -148,6 +150,8 @@ void register_sim(CLI::App& app) {
          "(Kinect v1: colour-depth offset, jitter, rolling shutter, motion blur, disparity steps, "
          "edge fattening, misregistration); --noise / --motion-blur given as well override it")
       ->check(CLI::IsMember(sim::sensor_profiles()));
+  cmd->add_option("--depth-time-offset", args->depth_time_offset_s,
+                  "Depth captured this many seconds after colour (sensor.depth_time_offset_s; < 0: before)");
   cmd->add_option("--voxel-res", args->voxel_res_m, "Ground-truth voxel map resolution [m]")
       ->capture_default_str();
   cmd->add_option("--snapshots", args->snapshots,

@@ -82,7 +82,7 @@ void TrajectoryConfig::validate() const {
 }
 
 std::vector<std::string> trajectory_types() {
-  return {"uav_sweep", "figure8", "loop", "lawnmower", "handheld", "hover", "forward"};
+  return {"uav_sweep", "figure8", "loop", "lawnmower", "handheld", "handheld_pan", "hover", "forward"};
 }
 
 void fields(config::FieldVisitor& v, TrajectoryConfig& c) {

@@ -33,6 +33,7 @@ struct TrajectoryConfig {
   // figure8: lemniscate at constant height, heading along the path, ends where it started;
   // lawnmower: back-and-forth rows across the zone; loop: a circuit looking outwards that
   // passes the start again (loop closure); handheld: walking with head bob and hand shake;
+  // handheld_pan: the same walk while panning +-60 deg every 4 s (~65 deg/s median turn rate);
   // hover: near-static hovering with slow drift; forward: straight flight along the long axis and back.
   std::string type = "uav_sweep";
   int frames = 300;

@@ -12,6 +12,11 @@ namespace {
 using V3 = Eigen::Vector3d;
 using V2 = Eigen::Vector2d;
 
+// handheld_pan: a user sweeping the camera left and right while walking, +-60 deg every 4 s, i.e.
+// about 65 deg/s median turn rate, like a fast hand-held recording.
+constexpr double kPanAmplitudeRad = M_PI / 3.0;
+constexpr double kPanPeriodS = 4.0;
+
 // Smooth 0 -> 1 over [a, b] with zero velocity at both ends.
 double ease(double s, double a, double b) {
   const double x = std::clamp((s - a) / (b - a), 0.0, 1.0);
@@ -98,7 +103,8 @@ PathFn lawnmower(const ShapeParams& P) {
   // every leg the same peak acceleration (hence the same moderate tilt).
   const std::vector<V2> pts = {{-f.A, -f.B}, {f.A, -f.B}, {f.A, 0}, {-f.A, 0}, {-f.A, f.B}, {f.A, f.B}};
   std::vector<double> t_end{0.0};
-  for (std::size_t i = 1; i < pts.size(); ++i) t_end.push_back(t_end.back() + std::sqrt((pts[i] - pts[i - 1]).norm()));
+  for (std::size_t i = 1; i < pts.size(); ++i)
+    t_end.push_back(t_end.back() + std::sqrt((pts[i] - pts[i - 1]).norm()));
   for (double& t : t_end) t /= t_end.back();
   // Face across the rows, unless the zone is a narrow strip (a corridor): then look along it.
   const double yaw0 = f.B < 0.5 ? heading(f, 1, 0) : heading(f, 0, 1);
@@ -117,7 +123,7 @@ PathFn lawnmower(const ShapeParams& P) {
   };
 }
 
-PathFn handheld(const ShapeParams& P) {
+PathFn handheld(const ShapeParams& P, double pan_rad) {
   const Frame2 f = zone_frame(P.zone, P.extent);
   Rng rng(P.seed ^ 0x4A4Dull);
   double ph[6], fr[6];
@@ -129,9 +135,12 @@ PathFn handheld(const ShapeParams& P) {
     Kinematic k;
     k.p_w = at(f, f.A * std::cos(th), f.B * std::sin(th), z + 0.02 * std::sin(2 * M_PI * 1.8 * t));
     k.yaw_rad = heading(f, -std::sin(th), std::cos(th)) + 0.3 * std::sin(2 * M_PI * t / 7.0) +
-                shake * std::sin(fr[0] * 2 * M_PI * t + ph[0]);
-    k.pitch_rad = shake * (std::sin(fr[1] * 2 * M_PI * t + ph[1]) + 0.5 * std::sin(fr[2] * 5 * M_PI * t + ph[2]));
-    k.roll_rad = shake * (std::sin(fr[3] * 2 * M_PI * t + ph[3]) + 0.5 * std::sin(fr[4] * 5 * M_PI * t + ph[4]));
+                shake * std::sin(fr[0] * 2 * M_PI * t + ph[0]) +
+                pan_rad * std::sin(2 * M_PI * t / kPanPeriodS);
+    k.pitch_rad =
+        shake * (std::sin(fr[1] * 2 * M_PI * t + ph[1]) + 0.5 * std::sin(fr[2] * 5 * M_PI * t + ph[2]));
+    k.roll_rad =
+        shake * (std::sin(fr[3] * 2 * M_PI * t + ph[3]) + 0.5 * std::sin(fr[4] * 5 * M_PI * t + ph[4]));
     return k;
   };
 }
@@ -142,7 +151,8 @@ PathFn hover(const ShapeParams& P) {
   return [=](double s) {
     const double t = s * T;
     Kinematic k;
-    k.p_w = at(f, 0.05 * std::sin(0.7 * t), 0.05 * std::sin(0.5 * t + 1.0), f.z_fly + 0.03 * std::sin(0.9 * t));
+    k.p_w =
+        at(f, 0.05 * std::sin(0.7 * t), 0.05 * std::sin(0.5 * t + 1.0), f.z_fly + 0.03 * std::sin(0.9 * t));
     k.yaw_rad = yaw0 + 0.35 * std::sin(2 * M_PI * s);
     return k;
   };
@@ -166,17 +176,18 @@ PathFn make_shape(const std::string& type, const ShapeParams& p) {
   if (type == "figure8") return figure8(p);
   if (type == "loop") return loop(p);
   if (type == "lawnmower") return lawnmower(p);
-  if (type == "handheld") return handheld(p);
+  if (type == "handheld") return handheld(p, 0.0);
+  if (type == "handheld_pan") return handheld(p, kPanAmplitudeRad);
   if (type == "hover") return hover(p);
   if (type == "forward") return forward(p);
   return {};
 }
 
-bool is_uav(const std::string& type) { return type != "handheld"; }
+bool is_uav(const std::string& type) { return type != "handheld" && type != "handheld_pan"; }
 
 double nominal_duration_s(const std::string& type) {
   if (type == "hover") return 4.0;
-  if (type == "handheld") return 12.0;
+  if (type == "handheld" || type == "handheld_pan") return 12.0;
   if (type == "forward") return 14.0;
   if (type == "lawnmower") return 16.0;
   return 10.0;
