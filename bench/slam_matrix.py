@@ -19,6 +19,18 @@ simulator needs --rerender. Deterministic runs go through a pool of --jobs worke
 
 --stride N replays every Nth frame of each sequence at 30/N Hz (tools/resequence_tum.py, links only,
 cached next to the sequences): a camera that drops frames or runs slowly; row ids get ' @every N'.
+
+Sensor axis (--sensor): the simulator's sensor profile. ideal and default are the rows this matrix
+always had (ids and cache directories 'clean' and 'noisy', as --noise off/on selects them);
+realistic is `s3m sim --sensor-profile realistic` (a Kinect v1's lies: colour-depth offset, jitter,
+rolling shutter, motion blur, disparity steps, edge fattening, misregistration); offset20 is the
+default sensor with depth 20 ms after colour. "Wrong config" axis (--slam-noise 0.3,3): the SLAM
+config's depth noise model at that multiple of the simulator's truth, through a two-line --config
+(factor 1: no --config; the built-in model is the truth). --quick-sensors: 7 rows on these axes,
+including the handheld_pan flight (~70 deg/s median turn rate) with the 20 ms offset.
+
+  bench/slam_matrix.py --binary S3M --quick-sensors --modes deterministic --no-kitchen --jobs 1
+  bench/slam_matrix.py --binary S3M --sensor default,realistic --scenes office --seeds 1 --no-kitchen
 """
 import argparse
 import concurrent.futures as cf
@@ -50,29 +62,79 @@ QUICK = [("office", "uav_sweep", False, 101), ("office", "figure8", True, 101),
          ("corridor", "figure8", False, 303), ("living_room", "uav_sweep", True, 303)]
 
 
+# Sensor axis: profile -> (row and cache tag, `s3m sim` options).
+SENSORS = {"ideal": ("clean", ["--no-noise"]), "default": ("noisy", []),
+           "realistic": ("realistic", ["--sensor-profile", "realistic"]),
+           "offset20": ("offset20ms", ["--depth-time-offset", "0.02"])}
+# The simulator's depth noise (sim::SensorConfig's default, which every profile keeps) in the SLAM
+# config's terms; the "wrong config" rows scale it.
+SIM_DEPTH_NOISE = {"sigma0_m": 0.001, "k_per_m": 0.0015}
+# --quick-sensors: (scene, trajectory, sensor, seed, SLAM noise factor).
+QUICK_SENSORS = [("office", "handheld_pan", "default", 101, 1), ("office", "handheld_pan", "offset20", 101, 1),
+                 ("office", "handheld_pan", "realistic", 101, 1), ("living_room", "figure8", "default", 202, 1),
+                 ("living_room", "figure8", "realistic", 202, 1), ("living_room", "figure8", "realistic", 202, 0.3),
+                 ("living_room", "figure8", "realistic", 202, 3)]
+
+
+def sensor_row(scene, traj, sensor, seed, factor, suffix=""):
+    """A simulator row; twin / target_ratio name the row it is judged against (sensor_lines)."""
+    tag = SENSORS[sensor][0]
+    base = f"{scene}/{traj}/{{}}/s{seed}{suffix}"
+    row = {"row": base.format(tag) + (f" slam-noise x{factor:g}" if factor != 1 else ""), "kind": "sim",
+           "scene": scene, "trajectory": traj, "sensor": sensor, "noise": sensor != "ideal", "seed": seed,
+           "slam_noise": factor, "combo": (scene, traj, sensor != "ideal", seed),
+           "group": tag if factor == 1 and sensor in ("ideal", "default", "realistic") else
+           ("wrong_config" if factor != 1 else "offset")}
+    if factor != 1:
+        row.update(twin=base.format(tag), target_ratio=rep.TARGETS["wrong_config_over_right"])
+    elif sensor == "offset20":
+        row.update(twin=base.format("noisy"), target_ratio=rep.TARGETS["offset_over_synced"])
+    elif sensor == "realistic":
+        row.update(twin=base.format("noisy"))
+    return row
+
+
 def sim_rows(args):
-    """The selected simulator rows as dicts (row id, scene, trajectory, noise, seed, group)."""
+    """The selected simulator rows as dicts (row id, scene, trajectory, sensor, seed, group, ...)."""
     if args.scenes == "none":
         return []
     seeds = None if args.seeds is None else {SEEDS[int(k) - 1] if int(k) <= len(SEEDS) else int(k)
                                              for k in args.seeds.split(",")}
-    if args.quick:
-        combos = QUICK
+    factors = [float(f) for f in args.slam_noise.split(",")]
+    if args.sensor:
+        sensors = args.sensor.split(",")
+    elif args.quick_sensors:
+        sensors = list(SENSORS)
+    else:
+        sensors = {"on": ["default"], "off": ["ideal"], "both": ["ideal", "default"]}[args.noise]
+    if args.quick_sensors:
+        combos = QUICK_SENSORS
+    elif args.quick:
+        combos = [(s, t, "default" if n else "ideal", k, f) for s, t, n, k in QUICK for f in factors]
     else:  # the selected seeds, also values beyond the fixed three (--seeds 404)
         flown = SEEDS if seeds is None else sorted(seeds)
-        combos = [(s, t, n, k) for s, t, n, k in itertools.product(SCENES, TRAJECTORIES, (False, True), flown)]
+        combos = list(itertools.product(SCENES, TRAJECTORIES, sensors, flown, factors))
     pick = lambda value, allowed: allowed is None or value in allowed  # noqa: E731
-    noise = {"on": {True}, "off": {False}, "both": {True, False}}[args.noise]
     rows = []
-    for scene, traj, noisy, seed in combos:
+    for scene, traj, sensor, seed, factor in combos:
         if pick(scene, args.scenes and args.scenes.split(",")) and pick(traj, args.trajectories and
-                args.trajectories.split(",")) and noisy in noise and pick(seed, seeds):
+                args.trajectories.split(",")) and sensor in sensors and pick(seed, seeds):
             suffix = f" +{os.path.basename(args.sim_config)}" if args.sim_config else ""
-            rows.append({"row": f"{scene}/{traj}/{'noisy' if noisy else 'clean'}/s{seed}{suffix}", "kind": "sim",
-                         "scene": scene, "trajectory": traj, "noise": noisy, "seed": seed,
-                         "group": "noisy" if noisy else "clean", "combo": (scene, traj, noisy, seed),
-                         "config": os.path.abspath(args.sim_config) if args.sim_config else None})
+            row = sensor_row(scene, traj, sensor, seed, factor, suffix)
+            row["config"] = os.path.abspath(args.sim_config) if args.sim_config else None
+            rows.append(row)
     return rows
+
+
+def slam_noise_config(args, factor):
+    """A --config that only sets SLAM's depth noise model to factor x the simulator's truth."""
+    path = os.path.join(args.work, "configs", f"slam_noise_x{factor:g}.yaml")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        f.write(f"# bench/slam_matrix.py wrong-config axis: depth noise {factor:g} x the simulator's\n"
+                f"slam:\n  features:\n    depth_noise: {{model: sensor, sigma0_m: {SIM_DEPTH_NOISE['sigma0_m'] * factor:g}, "
+                f"k_per_m: {SIM_DEPTH_NOISE['k_per_m'] * factor:g}}}\n")
+    return path
 
 
 def kitchen_rows(args):
@@ -87,7 +149,7 @@ def kitchen_rows(args):
 def seq_dir(args, row):
     if row["kind"] == "kitchen":
         return row["dataset"]
-    return os.path.join(args.cache, f"{row['scene']}_{row['trajectory']}_{'noisy' if row['noise'] else 'clean'}"
+    return os.path.join(args.cache, f"{row['scene']}_{row['trajectory']}_{SENSORS[row['sensor']][0]}"
                                     f"_s{row['seed']}_n{args.frames}")
 
 
@@ -125,13 +187,13 @@ def render(args, row):
     stamp = os.path.join(out, "matrix_stamp.json")
     if os.path.exists(stamp) and not args.rerender:
         st = read_json(stamp)
-        return {"row": row["row"], "cached": True, "seconds": st.get("render_s"),
+        turn = st.get("turn_deg_s") or rep.turn_rate_deg_s(read_tum(os.path.join(out, "groundtruth.txt")))
+        return {"row": row["row"], "cached": True, "seconds": st.get("render_s"), "turn_deg_s": turn,
                 "sim_sha256_12": st.get("sim_binary", {}).get("sha256_12")}
     tmp = out + ".tmp"
     shutil.rmtree(tmp, ignore_errors=True)
     cmd = [args.sim_binary["path"], "sim", "--scene", row["scene"], "--trajectory", row["trajectory"],
-           "--frames", str(args.frames), "--seed", str(row["seed"])] + ([] if row["noise"] else ["--no-noise"]) + \
-          ["--out", tmp]
+           "--frames", str(args.frames), "--seed", str(row["seed"])] + SENSORS[row["sensor"]][1] + ["--out", tmp]
     t0 = time.time()
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
@@ -140,12 +202,18 @@ def render(args, row):
     secs = time.time() - t0
     if p.returncode != 0:
         return {"row": row["row"], "error": f"sim exit {p.returncode}: {p.stderr.strip()[-300:]}", "seconds": secs}
+    turn = rep.turn_rate_deg_s(read_tum(os.path.join(tmp, "groundtruth.txt")))
     with open(os.path.join(tmp, "matrix_stamp.json"), "w") as f:
-        json.dump({"command": cmd[1:], "sim_binary": args.sim_binary, "render_s": secs,
+        json.dump({"command": cmd[1:], "sim_binary": args.sim_binary, "render_s": secs, "turn_deg_s": turn,
                    "date": datetime.datetime.now().isoformat(timespec="seconds")}, f, indent=1)
     shutil.rmtree(out, ignore_errors=True)
     os.rename(tmp, out)
-    return {"row": row["row"], "cached": False, "seconds": secs}
+    return {"row": row["row"], "cached": False, "seconds": secs, "turn_deg_s": turn}
+
+
+def read_tum(path):
+    with open(path) as f:
+        return [tuple(float(x) for x in line.split()) for line in f if line.strip() and not line.startswith("#")]
 
 
 def tracking_ms(timings):
@@ -191,7 +259,8 @@ def run_once(args, binary, row, mode, k, under_load):
     seq = row.get("seq") or seq_dir(args, row)
     cmd = [binary["path"], "run", seq, "--slam-only", "--no-report", "--out", out]
     cmd += ["--deterministic"] if mode == "deterministic" else []
-    cmd += ["--config", row["config"]] if row.get("config") else []
+    config = slam_noise_config(args, row["slam_noise"]) if row.get("slam_noise", 1) != 1 else row.get("config")
+    cmd += ["--config", config] if config else []
     r = {"out": out, "command": " ".join(cmd), "load_before": os.getloadavg()[0], "timing_under_load": under_load,
          "error": None}
     t0 = time.time()
@@ -269,7 +338,8 @@ def rows_for(label, rows, runs):
             if (label, row["row"], mode) in runs:
                 agg = rep.aggregate(runs[(label, row["row"], mode)])
                 agg.update(row=row["row"], group=row["group"], mode=mode, binary=label,
-                           **{k: row[k] for k in ("scene", "trajectory", "noise", "seed") if k in row})
+                           **{k: row[k] for k in ("scene", "trajectory", "noise", "seed", "sensor", "slam_noise",
+                                                  "twin", "target_ratio", "turn_deg_s") if k in row})
                 out.append(agg)
     return out
 
@@ -300,6 +370,10 @@ def markdown(meta, results, labels):
         lines += ["", f"#### {label} ({b.get('path', 'baseline JSON')}, sha256 {b.get('sha256_12', '?')})", ""]
         lines += rep.table_lines(results[label]) + [""] + rep.summary_lines(results[label])
         for mode in ("deterministic", "threaded"):
+            twins = rep.sensor_lines(results[label], mode)
+            lines += ["", f"Sensor realism and wrong config ({mode}): each row against its twin "
+                      f"(ratio = ATE / twin's ATE)", ""] + twins if twins else []
+        for mode in ("deterministic", "threaded"):
             pivot = rep.pivot_lines(results[label], mode)
             lines += [""] + pivot if pivot else []
     return "\n".join(lines) + "\n"
@@ -323,6 +397,13 @@ def parse_args(argv):
     p.add_argument("--noise", choices=["on", "off", "both"], default="both")
     p.add_argument("--seeds", help="seed indices 1..3 (= 101, 202, 303) or seed values, comma-separated")
     p.add_argument("--quick", action="store_true", help="the fixed 12-row subset (every scene, trajectory, noise)")
+    p.add_argument("--sensor", help="simulator sensor profiles, comma-separated: " + ", ".join(SENSORS) +
+                   " (default: from --noise; ideal = the clean rows, default = the noisy rows)")
+    p.add_argument("--slam-noise", default="1", help="SLAM depth-noise model as multiples of the simulator's "
+                   "truth, comma-separated (default 1: no --config); e.g. 1,0.3,3")
+    p.add_argument("--quick-sensors", action="store_true",
+                   help="the fixed 7-row sensor subset: default / 20 ms offset / realistic on handheld_pan, "
+                        "default / realistic / realistic with SLAM noise x0.3 and x3 on figure8")
     p.add_argument("--no-kitchen", action="store_true", help="leave out the two shared-kitchen rows")
     p.add_argument("--kitchen", default=KITCHEN, help="kitchen sequence (default %(default)s)")
     p.add_argument("--modes", default="deterministic,threaded", help="deterministic, threaded or both (default)")
@@ -341,6 +422,11 @@ def parse_args(argv):
     args = p.parse_args(argv)
     if args.stride < 1:
         p.error(f"--stride must be >= 1 (got {args.stride})")
+    unknown = [x for x in (args.sensor or "").split(",") if x and x not in SENSORS]
+    if unknown:
+        p.error(f"--sensor: unknown {', '.join(unknown)} (expected {', '.join(SENSORS)})")
+    if args.sim_config and args.slam_noise != "1":
+        p.error("--sim-config and --slam-noise both set the run's --config; give one")
     return args
 
 
@@ -368,16 +454,25 @@ def main(argv):
     t0 = time.time()
     os.makedirs(args.cache, exist_ok=True)
     renders = []
+    firsts = {}  # rows that differ only in the SLAM config share a sequence: render it once
+    for row in sims:
+        firsts.setdefault(seq_dir(args, row), row)
+    by_seq = {}
     with cf.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        for r in pool.map(lambda row: render(args, row), sims):
+        for seq, r in zip(firsts, pool.map(lambda row: render(args, row), firsts.values())):
             renders.append(r)
+            by_seq[seq] = r
             if not r.get("cached"):
-                print(f"[render {len(renders)}/{len(sims)}] {(time.time() - t0) / 60:.1f} min  {r['row']}: "
-                      f"{r.get('error') or '%.0f s' % r['seconds']}", file=sys.stderr, flush=True)
+                turn = r.get("turn_deg_s") or (None, None)
+                print(f"[render {len(renders)}/{len(firsts)}] {(time.time() - t0) / 60:.1f} min  {r['row']}: "
+                      f"{r.get('error') or '%.0f s' % r['seconds']}, turn rate median {rep._f(turn[0], '{:.0f}')} "
+                      f"p90 {rep._f(turn[1], '{:.0f}')} deg/s", file=sys.stderr, flush=True)
+    for row in sims:
+        row["turn_deg_s"] = by_seq[seq_dir(args, row)].get("turn_deg_s")
     new = [r for r in renders if not r.get("cached")]
     render_s = time.time() - t0
-    print(f"sequences: {len(sims)} ({len(new)} rendered in {render_s:.0f} s, "
-          f"{rep.median([r['seconds'] for r in new]) or 0:.1f} s median each; {len(sims) - len(new)} cached "
+    print(f"sequences: {len(firsts)} ({len(new)} rendered in {render_s:.0f} s, "
+          f"{rep.median([r['seconds'] for r in new]) or 0:.1f} s median each; {len(firsts) - len(new)} cached "
           f"in {args.cache})", file=sys.stderr)
     other = [r for r in renders if r.get("cached") and r.get("sim_sha256_12") != args.sim_binary["sha256_12"]]
     if other:

@@ -6,12 +6,14 @@ A *run* is one `s3m run` scored by `s3m eval` (a dict: ate_cm, scale, rpe_cm, rp
 relocalised, keyframes, states, track_ms, timing_under_load, error). A *row* is one (binary, sequence,
 mode): 1 run for deterministic, N (3) for threaded; its headline numbers come from the run with the
 median ATE."""
+import math
 import statistics
 
-TARGETS = {  # issue #20
+TARGETS = {  # issue #20; the sensor-realism ones from issue #53
     "clean_worst_ate_cm": 0.5, "clean_worst_scale_pct": 0.3,
     "noisy_median_ate_cm": 1.0, "noisy_worst_ate_cm": 2.5,
     "threaded_over_det": 1.05, "kitchen_ate_cm": 3.2, "kitchen_track_ms": 10.0,
+    "wrong_config_over_right": 1.10, "offset_over_synced": 1.20,
 }
 
 
@@ -136,7 +138,7 @@ def summary_lines(rows):
     out = ["| group | mode | rows | median ATE cm | worst ATE cm (row) | worst abs(scale-1) % (row) | rows with lost frames | "
            "median / worst ATE of rows without lost frames | errors | targets | met |",
            "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for group in ("clean", "noisy"):
+    for group in ("clean", "noisy", "realistic"):
         for mode in ("deterministic", "threaded"):
             rs = [r for r in rows if r["group"] == group and r["mode"] == mode]
             if not rs:
@@ -154,7 +156,8 @@ def summary_lines(rows):
                 met = False
             lost = f"{len(s['lost_rows'])}" + (f" ({len(s['partial_rows'])} scored on < {PARTIAL:.0%} of the "
                                                f"frames)" if s["partial_rows"] else "")
-            out.append(f"| {'noise-free' if group == 'clean' else 'sensor noise'} | {mode} | {s['n']} | "
+            name = {"clean": "noise-free", "noisy": "sensor noise", "realistic": "realistic sensor"}[group]
+            out.append(f"| {name} | {mode} | {s['n']} | "
                        f"{_f(s['median_ate_cm'])} | {_f(s['worst_ate_cm'])} ({s['worst_ate_row']}) | "
                        f"{_f(s['worst_scale_pct'])} ({s['worst_scale_row']}) | {lost} | {_f(s['median_ate_full_cm'])} / "
                        f"{_f(s['worst_ate_full_cm'])} ({s['n_full']} rows) | {len(s['error_rows'])} | "
@@ -182,6 +185,48 @@ def summary_lines(rows):
                    f"target <= {t['threaded_over_det']} on every row: {len(over)} rows over"
                    + (f" ({', '.join(over)})" if over else "") + f"; rows where a threaded run's tracking-state "
                    f"counts differ from deterministic: {len(diff)}" + (f" ({', '.join(diff)})" if diff else "") + ".")
+    return out
+
+
+def turn_rate_deg_s(poses):
+    """Median and 90th percentile of the turn rate [deg/s] of TUM poses (t, tx, ty, tz, qx, qy, qz, qw).
+    >>> import math; c, s = math.cos(math.radians(1)), math.sin(math.radians(1))  # 2 deg per 0.1 s
+    >>> turn_rate_deg_s([(0, 0, 0, 0, 0, 0, 0, 1), (0.1, 0, 0, 0, 0, 0, s, c), (0.2, 0, 0, 0, 0, 0, s, c)])
+    (10.0, 20.0)
+    """
+    rates = []
+    for a, b in zip(poses, poses[1:]):
+        dot = min(1.0, abs(sum(x * y for x, y in zip(a[4:8], b[4:8]))))
+        rates.append(2.0 * math.degrees(math.acos(dot)) / (b[0] - a[0]))
+    if not rates:
+        return None, None
+    ordered = sorted(rates)
+    return round(statistics.median(ordered), 6), round(ordered[min(len(ordered) - 1, int(0.9 * len(ordered)))], 6)
+
+
+def sensor_lines(rows, mode="deterministic"):
+    """Rows measured against a twin (row["twin"]: the same flight with the default sensor, or the
+    correctly configured run): ATE of both, the ratio and, where the issue sets one, its target.
+    >>> a = {"row": "f8/noisy", "mode": "deterministic", "ate_cm": 1.0}
+    >>> b = {"row": "f8/realistic x3", "mode": "deterministic", "ate_cm": 1.05, "twin": "f8/noisy",
+    ...      "target_ratio": 1.1, "turn_deg_s": (30.0, 70.0)}
+    >>> sensor_lines([a, b])[2]
+    '| f8/realistic x3 | f8/noisy | 30 / 70 | 1.05 | 1.00 | 1.05 | <= 1.1 | yes |'
+    """
+    by_row = {r["row"]: r for r in rows if r["mode"] == mode}
+    twinned = [r for r in by_row.values() if r.get("twin")]
+    if not twinned:
+        return []
+    out = [f"| row | against | turn deg/s median / p90 | ATE cm | ATE cm against | ratio | target | met |",
+           "|---|---|---|---|---|---|---|---|"]
+    for r in twinned:
+        t = by_row.get(r["twin"], {})
+        q = ratio(t.get("ate_cm"), r.get("ate_cm"))
+        goal = r.get("target_ratio")
+        turn = " / ".join(_f(x, "{:.0f}") for x in (r.get("turn_deg_s") or (None, None)))
+        out.append(f"| {r['row']} | {r['twin']} | {turn} | {_f(r.get('ate_cm'))} | {_f(t.get('ate_cm'))} | "
+                   f"{_f(q)} | {'<= ' + str(goal) if goal else '–'} | "
+                   f"{_pass(None if goal is None or q is None else q <= goal)} |")
     return out
 
 

@@ -79,6 +79,33 @@ class Summary(unittest.TestCase):
         self.assertIn("differ from deterministic: 1 (b)", text)
 
 
+class SensorRealism(unittest.TestCase):
+    def test_realistic_rows_have_their_own_summary_line(self):
+        rows = [row("a/noisy", "noisy", "deterministic", [run(0.5)]),
+                row("a/realistic", "realistic", "deterministic", [run(2.6)])]
+        lines = [x for x in rep.summary_lines(rows) if x.startswith("| realistic sensor")]
+        self.assertEqual(len(lines), 1)
+        self.assertTrue(lines[0].endswith("| **no** |"))  # worst 2.6 > 2.5
+
+    def test_twins_give_ratio_and_verdict(self):
+        right = row("f8/realistic", "realistic", "deterministic", [run(1.0)])
+        wrong = row("f8/realistic x3", "wrong_config", "deterministic", [run(1.2)])
+        wrong.update(twin="f8/realistic", target_ratio=1.1)
+        offset = row("pan/offset20ms", "offset", "deterministic", [run(1.1)])
+        offset.update(twin="pan/noisy", target_ratio=1.2, turn_deg_s=(70.0, 120.0))
+        synced = row("pan/noisy", "noisy", "deterministic", [run(1.0)])
+        lines = rep.sensor_lines([right, wrong, offset, synced])
+        self.assertEqual(len(lines), 4)  # header, separator, the two twinned rows
+        self.assertIn("| f8/realistic x3 | f8/realistic | – / – | 1.20 | 1.00 | 1.20 | <= 1.1 | **no** |", lines)
+        self.assertIn("| pan/offset20ms | pan/noisy | 70 / 120 | 1.10 | 1.00 | 1.10 | <= 1.2 | yes |", lines)
+        self.assertEqual(rep.sensor_lines([right, synced]), [])  # nothing twinned: no table
+
+    def test_missing_twin_is_shown_not_judged(self):
+        alone = row("f8/realistic x3", "wrong_config", "deterministic", [run(1.2)])
+        alone.update(twin="f8/realistic", target_ratio=1.1)
+        self.assertTrue(rep.sensor_lines([alone])[2].endswith("| – | <= 1.1 | – |"))
+
+
 class Pivot(unittest.TestCase):
     def test_cell_is_median_over_seeds_per_noise_with_lost_rows(self):
         def sim(seed, group, ate, lost=0):
