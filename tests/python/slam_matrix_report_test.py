@@ -8,6 +8,7 @@ import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench"))
 import slam_matrix_report as rep  # noqa: E402
+import slam_matrix_rows as rows  # noqa: E402
 
 
 def run(ate, scale=1.0, lost=0, states=None, error=None):
@@ -104,6 +105,30 @@ class SensorRealism(unittest.TestCase):
         alone = row("f8/realistic x3", "wrong_config", "deterministic", [run(1.2)])
         alone.update(twin="f8/realistic", target_ratio=1.1)
         self.assertTrue(rep.sensor_lines([alone])[2].endswith("| – | <= 1.1 | – |"))
+
+
+class Rows(unittest.TestCase):
+    def args(self, **kw):
+        base = dict(scenes=None, trajectories=None, seeds=None, quick=False, quick_sensors=False, sensor=None,
+                    noise="both", slam_noise="1", sim_config=None, cache="/c", frames=300, work="/w")
+        return type("Args", (), dict(base, **kw))()
+
+    def test_ideal_and_default_keep_the_old_ids_and_caches(self):
+        r = rows.sensor_row("office", "loop", "default", 101, 1)
+        self.assertEqual(r["row"], "office/loop/noisy/s101")
+        self.assertEqual(rows.seq_dir(self.args(), r), "/c/office_loop_noisy_s101_n300")
+        self.assertEqual(rows.sensor_row("office", "loop", "ideal", 101, 1)["group"], "clean")
+        self.assertEqual(len(rows.sim_rows(self.args(quick=True))), 12)
+
+    def test_sensor_and_wrong_config_rows_name_their_twins(self):
+        wrong = rows.sensor_row("office", "loop", "realistic", 101, 0.3)
+        self.assertEqual((wrong["row"], wrong["twin"], wrong["group"]),
+                         ("office/loop/realistic/s101 slam-noise x0.3", "office/loop/realistic/s101", "wrong_config"))
+        offset = rows.sensor_row("office", "handheld_pan", "offset20", 101, 1)
+        self.assertEqual((offset["twin"], offset["target_ratio"]), ("office/handheld_pan/noisy/s101", 1.2))
+        picked = rows.sim_rows(self.args(sensor="default,realistic", scenes="office", seeds="1", slam_noise="1,3"))
+        self.assertEqual(len(picked), 5 * 2 * 2)
+        self.assertEqual(len(rows.sim_rows(self.args(quick_sensors=True))), 7)
 
 
 class Pivot(unittest.TestCase):
