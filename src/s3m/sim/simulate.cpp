@@ -154,16 +154,15 @@ RgbdFrame Simulation::frame(std::size_t i) const {
     f.rgb = cv::Mat::zeros(c.height, c.width, CV_8UC3);
     f.depth_m = cv::Mat::zeros(c.height, c.width, CV_32FC1);
     f.labels = cv::Mat::zeros(c.height, c.width, CV_16UC1);
+  } else if (cfg_.sensor.timed()) {  // parts of the frame at other instants: the continuous path
+    f = renderer_.render_timed([this](double t) { return trajectory_.T_w_c_at(t); }, frame_times(i),
+                               hash3(cfg_.seed, i, 0xF4A3Eull));
   } else {
     const SE3 T_open =
         i > 0 ? interpolate(trajectory_.samples[i - 1].T_w_c, s.T_w_c,
                             std::clamp(1.0 - cfg_.sensor.exposure_s * cfg_.trajectory.fps, 0.0, 1.0))
               : s.T_w_c;
-    const std::uint64_t seed = hash3(cfg_.seed, i, 0xF4A3Eull);
-    if (cfg_.sensor.timed())
-      f = renderer_.render_timed([this](double t) { return trajectory_.T_w_c_at(t); }, frame_times(i), seed);
-    else
-      f = renderer_.render(s.T_w_c, seed, &T_open);
+    f = renderer_.render(s.T_w_c, hash3(cfg_.seed, i, 0xF4A3Eull), &T_open);
   }
   f.index = static_cast<int>(i);
   f.t_s = frame_times(i).colour_s;
