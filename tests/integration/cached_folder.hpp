@@ -3,6 +3,7 @@
 // parallel): built into a private folder and renamed into place, so no process ever sees it half
 // written. Only for content that is deterministic, so a complete cached copy equals a fresh one.
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -39,8 +40,8 @@ inline std::string cached_folder(const std::filesystem::path& requested, const s
   return dir.string();
 }
 
-// Removes the copies of stamped's run that other builds made (stamped: base_<size>_<time>, see
-// build_stamped), finished or not: they are never read again, and a session's cached runs are
+// Removes the copies of stamped's run that other builds of the same build folder made (stamped:
+// base_<size>_<time>, see build_stamped), finished or not: they are never read again, and a session's cached runs are
 // ~400 MB per build, which repeated builds would otherwise pile up in the temp folder.
 inline void remove_other_builds(const std::filesystem::path& stamped, const std::string& base_name) {
   namespace fs = std::filesystem;
@@ -70,8 +71,12 @@ inline std::filesystem::path build_stamped(const std::filesystem::path& path) {
   if (ec) return path;
   const auto size = fs::file_size(exe, ec);
   const auto time = fs::last_write_time(exe, ec).time_since_epoch().count();
-  const fs::path stamped = path.string() + "_" + std::to_string(size) + "_" + std::to_string(time);
-  remove_other_builds(stamped, path.filename().string());
+  // Keyed by the build folder too: two checkouts testing at once must not remove each other's runs.
+  char key[20];
+  std::snprintf(key, sizeof key, "b%zx", std::hash<std::string>{}(exe.parent_path().string()));
+  const fs::path base = path.string() + "_" + key;
+  const fs::path stamped = base.string() + "_" + std::to_string(size) + "_" + std::to_string(time);
+  remove_other_builds(stamped, base.filename().string());
   return stamped;
 }
 
