@@ -41,8 +41,8 @@ inline std::string cached_folder(const std::filesystem::path& requested, const s
 }
 
 // Removes the copies of stamped's run that other builds of the same build folder made (stamped:
-// base_<size>_<time>, see build_stamped), finished or not: they are never read again, and a session's cached runs are
-// ~400 MB per build, which repeated builds would otherwise pile up in the temp folder.
+// base_<size>_<time>, see build_stamped), finished or not: they are never read again, and a session's cached
+// runs are ~400 MB per build, which repeated builds would otherwise pile up in the temp folder.
 inline void remove_other_builds(const std::filesystem::path& stamped, const std::string& base_name) {
   namespace fs = std::filesystem;
   static const std::regex kStamp("[0-9]+_-?[0-9]+(\\.tmp[0-9]+)?");
