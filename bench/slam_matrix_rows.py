@@ -76,6 +76,8 @@ def sim_rows(args):
     pick = lambda value, allowed: allowed is None or value in allowed  # noqa: E731
     rows = []
     for scene, traj, sensor, seed, factor in combos:
+        if args.sim_config and factor != 1:  # the preset is the run's config: no wrong-config twin
+            continue
         if pick(scene, args.scenes and args.scenes.split(",")) and pick(traj, args.trajectories and
                 args.trajectories.split(",")) and sensor in sensors and pick(seed, seeds):
             suffix = f" +{os.path.basename(args.sim_config)}" if args.sim_config else ""

@@ -129,6 +129,10 @@ class Rows(unittest.TestCase):
         picked = rows.sim_rows(self.args(sensor="default,realistic", scenes="office", seeds="1", slam_noise="1,3"))
         self.assertEqual(len(picked), 5 * 2 * 2)
         self.assertEqual(len(rows.sim_rows(self.args(quick_sensors=True))), 7)
+        # A preset is the run's config: the two wrong-config rows cannot be run with it.
+        preset = rows.sim_rows(self.args(quick_sensors=True, sim_config="/p/vr.yaml"))
+        self.assertEqual(len(preset), 5)
+        self.assertTrue(all(r["config"] == "/p/vr.yaml" and r["row"].endswith(" +vr.yaml") for r in preset))
 
 
 class Pivot(unittest.TestCase):
