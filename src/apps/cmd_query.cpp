@@ -18,7 +18,7 @@ struct QueryOptions {
   std::string map;
   std::string cls;
   std::vector<double> at;
-  std::size_t min_voxels = 1;
+  std::size_t min_voxels = 10;  // the viewer's instance_min_voxels: specks are not objects
   bool json = false;
 };
 
@@ -49,22 +49,26 @@ ClassId class_by_name(const mapping::SemanticOcTree& tree, const std::string& na
 void print_text(const nlohmann::json& result) {
   if (result.contains("at")) {
     const auto& a = result["at"];
-    if (a.is_null()) std::printf("no occupied, labelled voxel there\n");
+    if (a.is_null())
+      std::printf("no occupied, labelled voxel there\n");
     else
-      std::printf("%s (p=%.3f, occupancy %.3f, voxel %.3f m at %.3f %.3f %.3f)\n", a["class"].get<std::string>().c_str(),
-                  a["confidence"].get<double>(), a["occupancy"].get<double>(), a["size_m"].get<double>(),
-                  a["center_m"][0].get<double>(), a["center_m"][1].get<double>(), a["center_m"][2].get<double>());
+      std::printf("%s (p=%.3f, occupancy %.3f, voxel %.3f m at %.3f %.3f %.3f)\n",
+                  a["class"].get<std::string>().c_str(), a["confidence"].get<double>(),
+                  a["occupancy"].get<double>(), a["size_m"].get<double>(), a["center_m"][0].get<double>(),
+                  a["center_m"][1].get<double>(), a["center_m"][2].get<double>());
   }
   if (result.contains("instances")) {
     std::printf("%zu instance(s)\n", result["instances"].size());
     for (const auto& o : result["instances"])
       std::printf("  %-12s %6zu voxels  %.4f m3  centroid (%.3f, %.3f, %.3f)  p=%.3f\n",
-                  o["class"].get<std::string>().c_str(), o["voxels"].get<std::size_t>(), o["volume_m3"].get<double>(),
-                  o["centroid_m"][0].get<double>(), o["centroid_m"][1].get<double>(), o["centroid_m"][2].get<double>(),
+                  o["class"].get<std::string>().c_str(), o["voxels"].get<std::size_t>(),
+                  o["volume_m3"].get<double>(), o["centroid_m"][0].get<double>(),
+                  o["centroid_m"][1].get<double>(), o["centroid_m"][2].get<double>(),
                   o["mean_confidence"].get<double>());
   }
   if (result.contains("classes"))
-    for (const auto& [name, n] : result["classes"].items()) std::printf("  %-12s %zu voxels\n", name.c_str(), n.get<std::size_t>());
+    for (const auto& [name, n] : result["classes"].items())
+      std::printf("  %-12s %zu voxels\n", name.c_str(), n.get<std::size_t>());
 }
 
 void run_query(const QueryOptions& o) {
@@ -92,22 +96,26 @@ void run_query(const QueryOptions& o) {
       if (n > 0) result["classes"][c.name] = n;
     }
   }
-  if (o.json) std::cout << result.dump(2) << "\n";
-  else print_text(result);
+  if (o.json)
+    std::cout << result.dump(2) << "\n";
+  else
+    print_text(result);
 }
 
 }  // namespace
 
 void register_query(CLI::App& app) {
   auto opts = std::make_shared<QueryOptions>();
-  auto* cmd = app.add_subcommand("query", "Query a semantic map: object instances of a class, class at a point");
+  auto* cmd =
+      app.add_subcommand("query", "Query a semantic map: object instances of a class, class at a point");
   cmd->add_option("map", opts->map, "semantic map (.ot written by s3m run); or the run's --out folder")
       ->required()
       ->transform(map_or_run_folder())
       ->check(CLI::ExistingFile);
   cmd->add_option("--class,-c", opts->cls, "class name: list its object instances (connected components)");
   cmd->add_option("--at", opts->at, "x y z [m]: class of the voxel at this world point")->expected(3);
-  cmd->add_option("--min-voxels", opts->min_voxels, "ignore instances smaller than this")->capture_default_str();
+  cmd->add_option("--min-voxels", opts->min_voxels, "ignore instances smaller than this")
+      ->capture_default_str();
   cmd->add_flag("--json", opts->json, "print JSON instead of text");
   cmd->callback([opts] { run_query(*opts); });
 }
