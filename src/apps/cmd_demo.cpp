@@ -63,6 +63,7 @@ pipeline::PipelineConfig demo_pipeline_config() {
 }
 
 void run_demo(const DemoArgs& a) {
+  require_folder_path(a.out, "--out");
   const std::atomic<bool>& stop = install_interrupt_handler();
   const std::string seq = a.out + "/sequence", run = a.out + "/run";
   std::cout << "s3m demo: 1/3 simulating " << a.frames << " frames (" << a.scene << ", " << a.trajectory
@@ -75,7 +76,7 @@ void run_demo(const DemoArgs& a) {
   sim_progress.finish(static_cast<std::size_t>(s.frames), "rendered");
   std::printf("  %d frames in %.1f s (%.1f ms/frame), path %.1f m\n", s.frames, s.seconds, s.render_ms_mean,
               s.length_m);
-  if (stop.load()) throw Error("interrupted while simulating; nothing to run");
+  if (stop.load()) throw Interrupted("demo: stopped while simulating; nothing was run");
 
   std::cout << "s3m demo: 2/3 running SLAM + segmentation + semantic mapping into " << run << "\n";
   pipeline::RunOptions o;
@@ -93,30 +94,42 @@ void run_demo(const DemoArgs& a) {
   std::printf("  frames %zu/%zu%s, keyframes %d, %.1f frames/s\n", r.frames_done, r.frames_total,
               r.interrupted ? " (interrupted)" : "", m.value("keyframes", 0), m.value("fps", 0.0));
   if (m["trajectory"].contains("ate_rmse_m"))
-    std::printf("  ATE RMSE %.2f cm, RPE %.2f cm / %.2f deg per s\n", 100 * m["trajectory"]["ate_rmse_m"].get<double>(),
-                100 * m["trajectory"]["rpe_trans_rmse_m"].get<double>(), m["trajectory"]["rpe_rot_rmse_deg"].get<double>());
+    std::printf("  ATE RMSE %.2f cm, RPE %.2f cm / %.2f deg per s\n",
+                100 * m["trajectory"]["ate_rmse_m"].get<double>(),
+                100 * m["trajectory"]["rpe_trans_rmse_m"].get<double>(),
+                m["trajectory"]["rpe_rot_rmse_deg"].get<double>());
   if (m["map"].contains("reprojected")) {
     const auto& rp = m["map"]["reprojected"];
-    std::printf("  labels in the images, mIoU:  single frames %.3f -> fused map seen from the same cameras %.3f\n",
-                rp["frame_miou"].get<double>(), rp["miou"].get<double>());
+    std::printf(
+        "  labels in the images, mIoU:  single frames %.3f -> fused map seen from the same cameras %.3f\n",
+        rp["frame_miou"].get<double>(), rp["miou"].get<double>());
   } else if (m["segmentation"].contains("miou")) {
     std::printf("  segmentation mIoU (single frames) %.3f\n", m["segmentation"]["miou"].get<double>());
   }
   if (m["map"].contains("miou"))
-    std::printf("  3-D map vs ground-truth voxels, mIoU %.3f   (%zu voxels, map.ot %.2f MB)\n", m["map"]["miou"].get<double>(),
-                m["map"].value("voxels", std::size_t{0}), m["map"].value("file_bytes", std::size_t{0}) / 1e6);
-  std::cout << "outputs: " << run << "/ (trajectory_camera.txt, trajectory_robot.txt, map.ot, map.ply, metrics.json)\n";
-  if (!r.report_html.empty()) std::cout << "report:  " << fs::absolute(r.report_html).string() << "\n";
-  else std::cout << "report:  not made (" << r.report_error << ")\n";
+    std::printf("  3-D map vs ground-truth voxels, mIoU %.3f   (%zu voxels, map.ot %.2f MB)\n",
+                m["map"]["miou"].get<double>(), m["map"].value("voxels", std::size_t{0}),
+                m["map"].value("file_bytes", std::size_t{0}) / 1e6);
+  std::cout << "outputs: " << run
+            << "/ (trajectory_camera.txt, trajectory_robot.txt, map.ot, map.ply, metrics.json)\n";
+  if (!r.report_html.empty())
+    std::cout << "report:  " << fs::absolute(r.report_html).string() << "\n";
+  else
+    std::cout << "report:  not made (" << r.report_error << ")\n";
+  if (r.interrupted)
+    throw Interrupted("demo: the run stopped after " + std::to_string(r.frames_done) + " frames");
 }
 
 }  // namespace
 
 void register_demo(CLI::App& app) {
   auto a = std::make_shared<DemoArgs>();
-  auto* cmd = app.add_subcommand("demo", "Simulate an indoor UAV flight, run the full pipeline, evaluate, report");
+  auto* cmd =
+      app.add_subcommand("demo", "Simulate an indoor UAV flight, run the full pipeline, evaluate, report");
   cmd->add_option("--out", a->out, "output directory (sequence/ and run/ inside)")->capture_default_str();
-  cmd->add_option("--frames", a->frames, "frames to simulate")->capture_default_str()->check(CLI::Range(10, 100000));
+  cmd->add_option("--frames", a->frames, "frames to simulate")
+      ->capture_default_str()
+      ->check(CLI::Range(10, 100000));
   cmd->add_option("--scene", a->scene, "simulator scene preset")->capture_default_str();
   cmd->add_option("--trajectory", a->trajectory, "simulator trajectory type")->capture_default_str();
   cmd->add_option("--model", a->model, "segmentation model card or folder")->capture_default_str();

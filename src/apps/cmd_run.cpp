@@ -99,7 +99,7 @@ void register_run(CLI::App& app) {
   cmd->add_flag(
       "--localize-only", args->localize_only,
       "with --map: localise only, the SLAM map stays as loaded (the semantic map still fuses this run)");
-  cmd->add_option("--max-frames", args->max_frames, "process at most N frames");
+  cmd->add_option("--max-frames", args->max_frames, "process at most N frames")->check(count_option());
   cmd->add_flag("--no-report", args->no_report, "skip the plots and report.html");
   cmd->add_flag("--force", args->force,
                 "run even when the map's cost estimate (voxel updates per frame, checked before the first "
@@ -146,7 +146,11 @@ void register_run(CLI::App& app) {
     o.force = args->force;
     o.progress = pipeline::stderr_is_tty();
     o.stop = &install_interrupt_handler();
-    print_summary(pipeline::run_dataset(o), args->out);
+    const pipeline::RunResult r = pipeline::run_dataset(o);
+    print_summary(r, args->out);
+    if (r.interrupted)
+      throw Interrupted("run: stopped after " + std::to_string(r.frames_done) + " of " +
+                        std::to_string(r.frames_total) + " frames; " + args->out + " holds those frames");
   });
 }
 

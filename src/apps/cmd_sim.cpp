@@ -1,7 +1,10 @@
 // `s3m sim`: render a synthetic RGB-D sequence with ground truth (see s3m/sim/simulate.hpp).
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -39,15 +42,29 @@ cv::Mat label_legend(const cv::Mat& labels, int width) {
 }
 
 // One picture per requested frame: colour | depth (turbo, 0-5 m, black = missing) | labels, and a legend.
-void write_snapshots(const sim::SimConfig& cfg, const std::string& list, const std::string& out_dir) {
-  const sim::Simulation sim(cfg);
+// "0,120,240" -> the frame numbers; anything else is refused naming the item.
+std::vector<int> snapshot_frames(const std::string& list, std::size_t frames) {
+  std::vector<int> out;
   std::stringstream ss(list);
   std::string item;
-  std::filesystem::create_directories(std::filesystem::path(out_dir) / "snapshots");
   while (std::getline(ss, item, ',')) {
-    const int i = std::stoi(item);
-    require(i >= 0 && i < static_cast<int>(sim.size()),
-            "--snapshots: frame " + item + " is outside the sequence");
+    const bool digits =
+        !item.empty() && item.size() <= 9 &&
+        std::all_of(item.begin(), item.end(), [](unsigned char c) { return std::isdigit(c); });
+    require(digits, "--snapshots: '" + item + "' is not a frame number (expected e.g. 0,120,240)");
+    out.push_back(std::stoi(item));
+    require(std::size_t(out.back()) < frames, "--snapshots: frame " + item + " is outside the sequence (" +
+                                                  std::to_string(frames) + " frames)");
+  }
+  return out;
+}
+
+void write_snapshots(const sim::SimConfig& cfg, const std::string& list, const std::string& out_dir) {
+  const sim::Simulation sim(cfg);
+  const std::vector<int> frames = snapshot_frames(list, sim.size());
+  std::filesystem::create_directories(std::filesystem::path(out_dir) / "snapshots");
+  for (const int i : frames) {
+    const std::string item = std::to_string(i);
     const RgbdFrame f = sim.frame(i);
     cv::Mat row;
     cv::hconcat(
@@ -83,6 +100,9 @@ void run(const SimArgs& a, const CLI::App& cmd) {
   if (given("--camera") || given("--width") || given("--height"))
     cfg.sensor.camera = sim::sensor_camera(a.camera, a.width, a.height);
   cfg.validate();
+  require_folder_path(a.out_dir, "--out");
+  if (!a.snapshots.empty())
+    snapshot_frames(a.snapshots, std::size_t(cfg.trajectory.frames));  // before the work
 
   if (a.snapshots_only) {
     require(!a.snapshots.empty(), "--snapshots-only needs --snapshots");

@@ -15,13 +15,15 @@ namespace s3m::apps {
 namespace {
 
 [[noreturn, maybe_unused]] void no_ros(const std::string& what) {
-  throw Error(what + ": this s3m binary was built without ROS; install ROS with scripts/setup.sh --with-ros "
+  throw Error(what +
+              ": this s3m binary was built without ROS; install ROS with scripts/setup.sh --with-ros "
               "and configure with -DS3M_WITH_ROS=ON");
 }
 
 struct Tum2BagArgs {
   std::string dataset, out, depth_encoding = "32FC1", frame = "camera_rgb_optical_frame";
-  RosbagArgs topics{"", "/camera/rgb/image_color", "/camera/depth/image", "/camera/rgb/camera_info", "", "/groundtruth"};
+  RosbagArgs topics{
+      "", "/camera/rgb/image_color", "/camera/depth/image", "/camera/rgb/camera_info", "", "/groundtruth"};
   bool labels = true;
   long max_frames = -1;
 };
@@ -36,24 +38,31 @@ ros1::BagTopics bag_topics(const RosbagArgs& a) {
 
 void add_rosbag_options(CLI::App& cmd, RosbagArgs& a) {
   cmd.add_option("--rosbag", a.bag, "read frames from a ROS1 bag instead of a directory (ROS builds)");
-  cmd.add_option("--rgb-topic", a.rgb_topic,
-                 "with --rosbag: colour sensor_msgs/Image topic (default: recognised from the bag's topics: TUM "
-                 "RGB-D, RealSense SDK, realsense2_camera, openni_launch, Azure Kinect)");
-  cmd.add_option("--depth-topic", a.depth_topic,
-                 "with --rosbag: depth image topic registered to colour (16UC1 mm or 32FC1 m; default: recognised)");
-  cmd.add_option("--camera-info-topic", a.camera_info_topic,
-                 "with --rosbag: sensor_msgs/CameraInfo topic (default: recognised, or the colour topic's "
-                 "camera_info; a RealSense's or Azure Kinect's own calibration wins over the config's dataset.camera, "
-                 "which wins over other recordings'; \"none\": dataset.camera)");
-  cmd.add_option("--labels-topic", a.labels_topic, "with --rosbag: optional mono16 ground-truth class ids (oracle)");
-  cmd.add_option("--gt-topic", a.gt_topic, "with --rosbag: optional geometry_msgs/PoseStamped ground truth (T_w_c)")
+  cmd.add_option(
+      "--rgb-topic", a.rgb_topic,
+      "with --rosbag: colour sensor_msgs/Image topic (default: recognised from the bag's topics: TUM "
+      "RGB-D, RealSense SDK, realsense2_camera, openni_launch, Azure Kinect)");
+  cmd.add_option(
+      "--depth-topic", a.depth_topic,
+      "with --rosbag: depth image topic registered to colour (16UC1 mm or 32FC1 m; default: recognised)");
+  cmd.add_option(
+      "--camera-info-topic", a.camera_info_topic,
+      "with --rosbag: sensor_msgs/CameraInfo topic (default: recognised, or the colour topic's "
+      "camera_info; a RealSense's or Azure Kinect's own calibration wins over the config's dataset.camera, "
+      "which wins over other recordings'; \"none\": dataset.camera)");
+  cmd.add_option("--labels-topic", a.labels_topic,
+                 "with --rosbag: optional mono16 ground-truth class ids (oracle)");
+  cmd.add_option("--gt-topic", a.gt_topic,
+                 "with --rosbag: optional geometry_msgs/PoseStamped ground truth (T_w_c)")
       ->capture_default_str();
 }
 
 std::function<std::unique_ptr<pipeline::FrameSource>(const pipeline::PipelineConfig&)> rosbag_source(
     const RosbagArgs& a) {
 #ifdef S3M_HAVE_ROS
-  return [a](const pipeline::PipelineConfig& c) { return ros1::open_bag_source(a.bag, bag_topics(a), c.dataset); };
+  return [a](const pipeline::PipelineConfig& c) {
+    return ros1::open_bag_source(a.bag, bag_topics(a), c.dataset);
+  };
 #else
   (void)a;
   no_ros("--rosbag");
@@ -77,7 +86,7 @@ void register_tum2bag(CLI::App& app) {
       ->check(CLI::IsMember({"32FC1", "16UC1"}))
       ->capture_default_str();
   cmd->add_option("--frame-id", args->frame, "header frame_id of the images")->capture_default_str();
-  cmd->add_option("--max-frames", args->max_frames, "write at most N frames");
+  cmd->add_option("--max-frames", args->max_frames, "write at most N frames")->check(count_option());
   cmd->callback([args] {
 #ifdef S3M_HAVE_ROS
     ros1::BagWriteOptions o;

@@ -1,12 +1,40 @@
 #pragma once
 // Each sub-command lives in its own cmd_<name>.cpp and registers itself on the root app.
-// The callback throws s3m::Error on failure; main() turns that into a message and exit code 1.
+// The callback throws s3m::Error on failure; main() turns that into a message and exit code 1
+// (Interrupted: 130).
 #include <filesystem>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "s3m/core/error.hpp"
+
 namespace s3m::apps {
+
+// A command stopped by Ctrl-C (or SIGTERM) after writing what it had: main() says so and exits 130,
+// as a shell does for a process killed by SIGINT, so a script can tell it from a complete result.
+struct Interrupted : Error {
+  using Error::Error;
+};
+
+// A count option: a whole number >= 0 (CLI's own range check prints the largest double as the limit).
+inline CLI::Validator count_option() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        const bool digits = !value.empty() && value.find_first_not_of("0123456789") == std::string::npos;
+        return digits && value.size() <= 18 ? "" : "'" + value + "' is not a count (a whole number >= 0)";
+      },
+      "COUNT");
+}
+
+// An output folder option: refused up front when the path is an existing file (creating the
+// folder would fail halfway through the work otherwise).
+inline void require_folder_path(const std::string& path, const std::string& option) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(path, ec) && !fs::is_directory(path, ec))
+    throw Error(option + " '" + path + "' is a file, not a folder: give a folder to write into");
+}
 
 // A file argument that also takes the folder holding it under its usual name: the folder
 // `s3m run --out` wrote (what a user has just seen printed as "outputs: OUT") for its map.ot or

@@ -23,6 +23,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const s3m::apps::Interrupted& e) {
+    std::cerr << "s3m: interrupted: " << e.what() << "\n";
+    return 130;
   } catch (const s3m::Error& e) {
     std::cerr << "s3m: error: " << e.what() << "\n";
     return 1;
