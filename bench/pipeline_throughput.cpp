@@ -17,7 +17,7 @@
 #include "s3m/core/error.hpp"
 #include "s3m/core/shipped_files.hpp"
 #include "s3m/pipeline/factories.hpp"
-#include "s3m/pipeline/run.hpp"
+#include "s3m/run/run.hpp"
 #include "s3m/sim/simulate.hpp"
 
 namespace {
@@ -53,7 +53,7 @@ std::string segmenter() {
 }
 
 void run(benchmark::State& state, bool deterministic) {
-  pipeline::RunOptions o;
+  run::RunOptions o;
   o.dataset_dir = dataset();
   o.config = pipeline::load_pipeline_config(env("S3M_BENCH_CONFIG", s3m::shipped_file("config/sim.yaml")));
   o.config.threads.deterministic = deterministic;
@@ -62,14 +62,16 @@ void run(benchmark::State& state, bool deterministic) {
   o.out_dir = (fs::temp_directory_path() / "s3m_bench_out").string();
   o.report = false;
   nlohmann::json m;
-  for (auto _ : state) m = pipeline::run_dataset(o).metrics;
+  for (auto _ : state) m = run::run_dataset(o).metrics;
   state.counters["fps"] = m["fps"].get<double>();
   state.counters["frames"] = m["frames"].get<double>();
   // Guards against measuring a pipeline that lost track: how many frames reached the map, and how good it is.
   state.counters["integrated"] = m["integrated"].get<double>();
-  if (m.contains("map") && m["map"].contains("miou")) state.counters["map_miou"] = m["map"]["miou"].get<double>();
+  if (m.contains("map") && m["map"].contains("miou"))
+    state.counters["map_miou"] = m["map"]["miou"].get<double>();
   if (m.contains("segmentation")) state.counters["seg_miou"] = m["segmentation"]["miou"].get<double>();
-  for (const auto& [stage, t] : m["timings_ms"].items()) state.counters[stage + "_ms"] = t["mean"].get<double>();
+  for (const auto& [stage, t] : m["timings_ms"].items())
+    state.counters[stage + "_ms"] = t["mean"].get<double>();
   state.SetLabel(o.segmenter);
 }
 

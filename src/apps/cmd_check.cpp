@@ -6,8 +6,8 @@
 #include "commands.hpp"
 #include "ros_support.hpp"
 #include "s3m/core/error.hpp"
-#include "s3m/pipeline/dataset_check.hpp"
 #include "s3m/pipeline/factories.hpp"
+#include "s3m/run/dataset_check.hpp"
 
 namespace s3m::apps {
 
@@ -42,13 +42,12 @@ void register_check(CLI::App& app) {
       pipeline::mark_written(config, "dataset.camera");
     }
     if (!args->dataset.empty()) {
-      std::cout << pipeline::format_dataset_check(pipeline::check_dataset(args->dataset, config),
-                                                  args->all_settings);
+      std::cout << run::format_dataset_check(run::check_dataset(args->dataset, config), args->all_settings);
       return;
     }
     const auto source = rosbag_source(args->bag)(config);
-    std::cout << pipeline::format_dataset_check(
-        pipeline::check_frame_source(*source, config, pipeline::simulator_sign("", source->has_labels())),
+    std::cout << run::format_dataset_check(
+        run::check_frame_source(*source, config, pipeline::simulator_sign("", source->has_labels())),
         args->all_settings);
   });
 }

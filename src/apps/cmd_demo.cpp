@@ -12,8 +12,8 @@
 #include "s3m/core/error.hpp"
 #include "s3m/core/shipped_files.hpp"
 #include "s3m/pipeline/factories.hpp"
-#include "s3m/pipeline/progress.hpp"
-#include "s3m/pipeline/run.hpp"
+#include "s3m/run/progress.hpp"
+#include "s3m/run/run.hpp"
 #include "s3m/sim/simulate.hpp"
 
 namespace s3m::apps {
@@ -68,8 +68,8 @@ void run_demo(const DemoArgs& a) {
   const std::string seq = a.out + "/sequence", run = a.out + "/run";
   std::cout << "s3m demo: 1/3 simulating " << a.frames << " frames (" << a.scene << ", " << a.trajectory
             << ") into " << seq << "\n";
-  const bool tty = pipeline::stderr_is_tty();
-  pipeline::ProgressLine sim_progress(static_cast<std::size_t>(a.frames), tty);
+  const bool tty = run::stderr_is_tty();
+  run::ProgressLine sim_progress(static_cast<std::size_t>(a.frames), tty);
   const sim::SimSummary s = sim::simulate_sequence(demo_sim_config(a), seq, [&](int done, int) {
     sim_progress.update(static_cast<std::size_t>(done), "rendering");
   });
@@ -79,7 +79,7 @@ void run_demo(const DemoArgs& a) {
   if (stop.load()) throw Interrupted("demo: stopped while simulating; nothing was run");
 
   std::cout << "s3m demo: 2/3 running SLAM + segmentation + semantic mapping into " << run << "\n";
-  pipeline::RunOptions o;
+  run::RunOptions o;
   o.dataset_dir = seq;
   o.out_dir = run;
   o.config = demo_pipeline_config();
@@ -87,7 +87,7 @@ void run_demo(const DemoArgs& a) {
   o.segmenter = choose_segmenter(a.model);
   o.progress = tty;
   o.stop = &stop;
-  const pipeline::RunResult r = pipeline::run_dataset(o);
+  const run::RunResult r = run::run_dataset(o);
 
   std::cout << "s3m demo: 3/3 evaluation against the simulator's ground truth\n";
   const auto& m = r.metrics;

@@ -9,8 +9,8 @@
 #include "s3m/core/error.hpp"
 #include "s3m/core/frame_state.hpp"
 #include "s3m/pipeline/factories.hpp"
-#include "s3m/pipeline/progress.hpp"
-#include "s3m/pipeline/run.hpp"
+#include "s3m/run/progress.hpp"
+#include "s3m/run/run.hpp"
 
 namespace s3m::apps {
 
@@ -24,7 +24,7 @@ struct RunArgs {
   RosbagArgs bag;
 };
 
-void print_summary(const pipeline::RunResult& r, const std::string& out) {
+void print_summary(const run::RunResult& r, const std::string& out) {
   const auto& m = r.metrics;
   std::cout << "frames: " << r.frames_done << "/" << r.frames_total
             << (r.interrupted ? " (interrupted)" : "");
@@ -106,7 +106,7 @@ void register_run(CLI::App& app) {
                 "frame) is over its limit");
   add_rosbag_options(*cmd, args->bag);
   cmd->callback([args] {
-    pipeline::RunOptions o;
+    run::RunOptions o;
     if (args->bag.bag.empty() == args->dataset.empty())
       throw Error("run: give either a dataset directory or --rosbag FILE.bag (exactly one)");
     o.dataset_dir = args->dataset;
@@ -144,9 +144,9 @@ void register_run(CLI::App& app) {
     o.localize_only = args->localize_only;
     o.report = !args->no_report;
     o.force = args->force;
-    o.progress = pipeline::stderr_is_tty();
+    o.progress = run::stderr_is_tty();
     o.stop = &install_interrupt_handler();
-    const pipeline::RunResult r = pipeline::run_dataset(o);
+    const run::RunResult r = run::run_dataset(o);
     print_summary(r, args->out);
     if (r.interrupted)
       throw Interrupted("run: stopped after " + std::to_string(r.frames_done) + " of " +

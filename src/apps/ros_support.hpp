@@ -5,7 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "s3m/pipeline/run.hpp"
+#include "s3m/run/run.hpp"
 
 namespace s3m::apps {
 

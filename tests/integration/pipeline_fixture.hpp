@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "s3m/pipeline/pipeline_config.hpp"
-#include "s3m/pipeline/run.hpp"
+#include "s3m/run/run.hpp"
 #include "s3m/sim/simulate.hpp"
 
 #include "cached_folder.hpp"
@@ -64,8 +64,8 @@ inline pipeline::PipelineConfig sim_preset() {
   return pipeline::load_pipeline_config(std::string(S3M_TEST_DATA_DIR) + "/../../config/sim.yaml");
 }
 
-inline pipeline::RunOptions options(const std::string& out_name, bool deterministic) {
-  pipeline::RunOptions o;
+inline run::RunOptions options(const std::string& out_name, bool deterministic) {
+  run::RunOptions o;
   o.dataset_dir = sequence_dir();
   o.out_dir = (scratch_dir() / out_name).string();
   fs::remove_all(o.out_dir);
@@ -87,8 +87,10 @@ fs::path linked_copy(const std::string& name, Skip skip, const std::string& sequ
   const fs::path src = fs::absolute(sequence);
   for (const auto& e : fs::recursive_directory_iterator(src)) {
     const fs::path rel = fs::relative(e.path(), src);
-    if (e.is_directory()) fs::create_directories(dir / rel);
-    else if (!skip(rel)) fs::create_symlink(e.path(), dir / rel);
+    if (e.is_directory())
+      fs::create_directories(dir / rel);
+    else if (!skip(rel))
+      fs::create_symlink(e.path(), dir / rel);
   }
   return dir;
 }

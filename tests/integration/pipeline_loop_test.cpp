@@ -20,9 +20,9 @@ namespace s3m::it {
 namespace {
 
 // depth_odometry false: slam.tracker.odometry_frames 0, so that frames features lose are LOST.
-pipeline::RunResult run_loop(const std::string& name, Variant variant, int pixel_stride = 2,
-                             bool depth_odometry = true) {
-  pipeline::RunOptions o;
+run::RunResult run_loop(const std::string& name, Variant variant, int pixel_stride = 2,
+                        bool depth_odometry = true) {
+  run::RunOptions o;
   o.dataset_dir = loop_sequence_dir(variant);
   o.out_dir = (scratch_dir() / name).string();
   fs::remove_all(o.out_dir);
@@ -34,12 +34,12 @@ pipeline::RunResult run_loop(const std::string& name, Variant variant, int pixel
   if (!depth_odometry) o.config.slam.tracker.dead_reckoning.odometry_frames = 0;
   o.segmenter = "oracle";
   o.report = false;
-  return pipeline::run_dataset(o);
+  return run::run_dataset(o);
 }
 
 // The loop is closed inside SLAM and its correction reaches the pipeline, which rebuilds the map.
 TEST(PipelineLoopClosing, LoopCorrectionReachesTheMap) {
-  const pipeline::RunResult r = run_loop("loop_clean", Variant::kClean);
+  const run::RunResult r = run_loop("loop_clean", Variant::kClean);
   const auto& m = r.metrics;
   std::printf("clean loop flight: ATE %.4f m, corrections %d, rebuilds %d, map mIoU %.3f, tracking %s\n",
               m["trajectory"]["ate_rmse_m"].get<double>(), m["corrections"].get<int>(),
@@ -57,8 +57,8 @@ TEST(PipelineLoopClosing, LoopCorrectionReachesTheMap) {
 // for a camera whose depth fails with its colour.
 TEST(PipelineLoopClosing, LostFramesAreMarkedNotMappedAndTrackingResumes) {
   // Every 4th pixel is enough to see a misplaced cloud, and keeps the two runs fast.
-  const pipeline::RunResult outage = run_loop("loop_outage", Variant::kOutage, 4, /*depth_odometry=*/false);
-  const pipeline::RunResult gap = run_loop("loop_gap", Variant::kGap, 4);
+  const run::RunResult outage = run_loop("loop_outage", Variant::kOutage, 4, /*depth_odometry=*/false);
+  const run::RunResult gap = run_loop("loop_gap", Variant::kGap, 4);
   const auto& m = outage.metrics;
   std::printf(
       "outage: ATE %.4f m, map voxels %zu mIoU %.4f precision %.4f, tracking %s | same frames missing: "
@@ -110,7 +110,7 @@ TEST(PipelineLoopClosing, LostFramesAreMarkedNotMappedAndTrackingResumes) {
 // in colour again after the skipped frames, is posed by whichever of tracking and depth odometry
 // holds there (machine-dependent, see the top): ODOMETRY, OK or RELOCALISED, never LOST.
 TEST(PipelineLoopClosing, BlackFramesWithDepthArePosedByDepthOdometryButNotMapped) {
-  const pipeline::RunResult r = run_loop("loop_outage_odometry", Variant::kOutage, 4);
+  const run::RunResult r = run_loop("loop_outage_odometry", Variant::kOutage, 4);
   const auto& m = r.metrics;
   const auto& t = m["tracking"];
   std::printf("outage with depth odometry: ATE %.4f m, tracking %s\n",

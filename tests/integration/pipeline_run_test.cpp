@@ -39,8 +39,8 @@ void expect_loadable_outputs(const std::string& out, std::size_t frames) {
 }
 
 TEST(PipelineRun, ThreadedRunWritesEveryOutputAndTracksWell) {
-  pipeline::RunOptions o = options("threaded", /*deterministic=*/false);
-  const pipeline::RunResult r = pipeline::run_dataset(o);
+  run::RunOptions o = options("threaded", /*deterministic=*/false);
+  const run::RunResult r = run::run_dataset(o);
   EXPECT_FALSE(r.interrupted);
   EXPECT_EQ(r.frames_done, static_cast<std::size_t>(kFrames));
   expect_loadable_outputs(o.out_dir, kFrames);
@@ -60,16 +60,17 @@ TEST(PipelineRun, ThreadedRunWritesEveryOutputAndTracksWell) {
   ASSERT_TRUE(m["timings_ms"].contains("slam_tracking"));
   EXPECT_EQ(m["timings_ms"]["slam_tracking"]["count"].get<int>(), kFrames);
   EXPECT_GT(m["timings_ms"]["slam_tracking"]["mean"].get<double>(), 0.0);
-  EXPECT_LE(m["timings_ms"]["slam_tracking"]["mean"].get<double>(), m["timings_ms"]["track"]["mean"].get<double>());
+  EXPECT_LE(m["timings_ms"]["slam_tracking"]["mean"].get<double>(),
+            m["timings_ms"]["track"]["mean"].get<double>());
   EXPECT_EQ(m["timings_ms"]["map"]["count"].get<int>(), m["integrated"].get<int>());
   EXPECT_GT(m["map"]["raw_over_file_ratio"].get<double>(), 20.0);  // map file >= 20x smaller than raw cloud
 }
 
 TEST(PipelineRun, FusedMapBeatsSingleFrameSegmentationForEveryFusionPolicy) {
   for (const std::string policy : {"paper", "max_confidence", "bayesian"}) {
-    pipeline::RunOptions o = options("fusion_" + policy, /*deterministic=*/true);
+    run::RunOptions o = options("fusion_" + policy, /*deterministic=*/true);
     o.config.map.fusion.policy = mapping::parse_fusion_policy(policy);
-    const auto m = pipeline::run_dataset(o).metrics;
+    const auto m = run::run_dataset(o).metrics;
     ASSERT_TRUE(m["segmentation"].contains("miou")) << policy;
     ASSERT_TRUE(m["map"].contains("miou")) << policy << ": " << m["map"].dump();
     const double frame_miou = m["segmentation"]["miou"], map_miou = m["map"]["miou"];
@@ -89,24 +90,25 @@ TEST(PipelineRun, FusedMapBeatsSingleFrameSegmentationForEveryFusionPolicy) {
 // views), which fusion cannot out-vote in 3-D; reprojected into the frames the map must still beat them.
 TEST(PipelineRun, FusedMapBeatsTheShippedNetworkInTheImagesForEveryFusionPolicy) {
   for (const std::string policy : {"paper", "max_confidence", "bayesian"}) {
-    pipeline::RunOptions o = options("net_" + policy, /*deterministic=*/true);
+    run::RunOptions o = options("net_" + policy, /*deterministic=*/true);
     o.segmenter = "onnx:" + std::string(S3M_TEST_DATA_DIR) + "/../../models/s3m_pspnet_small.yaml";
     o.config.map.fusion.policy = mapping::parse_fusion_policy(policy);
-    const auto m = pipeline::run_dataset(o).metrics;
+    const auto m = run::run_dataset(o).metrics;
     ASSERT_TRUE(m["map"].contains("reprojected")) << policy << ": " << m["map"].dump();
     const auto& r = m["map"]["reprojected"];
-    RecordProperty("reprojected_miou_" + policy,
-                   std::to_string(r["frame_miou"].get<double>()) + " -> " + std::to_string(r["miou"].get<double>()));
+    RecordProperty("reprojected_miou_" + policy, std::to_string(r["frame_miou"].get<double>()) + " -> " +
+                                                     std::to_string(r["miou"].get<double>()));
     EXPECT_GT(r["miou"].get<double>(), r["frame_miou"].get<double>()) << policy;
     EXPECT_GT(r["coverage"].get<double>(), 0.9) << policy;
   }
 }
 
 TEST(PipelineRun, DeterministicModeReproducesByteIdenticalOutputs) {
-  pipeline::RunOptions a = options("det_a", true), b = options("det_b", true);
-  pipeline::run_dataset(a);
-  pipeline::run_dataset(b);
-  for (const char* f : {"trajectory_camera.txt", "trajectory_robot.txt", "keyframes.txt", "map.ot", "map.ply"}) {
+  run::RunOptions a = options("det_a", true), b = options("det_b", true);
+  run::run_dataset(a);
+  run::run_dataset(b);
+  for (const char* f :
+       {"trajectory_camera.txt", "trajectory_robot.txt", "keyframes.txt", "map.ot", "map.ply"}) {
     const std::string x = read_bytes(a.out_dir + "/" + f), y = read_bytes(b.out_dir + "/" + f);
     EXPECT_FALSE(x.empty()) << f;
     EXPECT_TRUE(x == y) << f << " differs between two deterministic runs";
@@ -114,9 +116,9 @@ TEST(PipelineRun, DeterministicModeReproducesByteIdenticalOutputs) {
 }
 
 TEST(PipelineRun, InterruptedRunLeavesLoadableOutputs) {
-  pipeline::RunOptions o = options("interrupted", /*deterministic=*/false);
+  run::RunOptions o = options("interrupted", /*deterministic=*/false);
   o.stop_after_frames = 30;  // what the SIGINT flag does, at a reproducible point
-  const pipeline::RunResult r = pipeline::run_dataset(o);
+  const run::RunResult r = run::run_dataset(o);
   EXPECT_TRUE(r.interrupted);
   EXPECT_EQ(r.frames_done, 30u);
   expect_loadable_outputs(o.out_dir, 30);
@@ -124,11 +126,11 @@ TEST(PipelineRun, InterruptedRunLeavesLoadableOutputs) {
 }
 
 TEST(PipelineRun, SlamOnlyWritesTrajectoriesAndNoMap) {
-  pipeline::RunOptions o = options("slam_only", true);
+  run::RunOptions o = options("slam_only", true);
   o.slam_only = true;
   o.max_frames = 40;
   o.config.dataset.depth_registration = "auto";  // sim.yaml states it; checked here from the images
-  const pipeline::RunResult r = pipeline::run_dataset(o);
+  const run::RunResult r = run::run_dataset(o);
   EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(),
             r.metrics["tracked"].get<std::size_t>());
   EXPECT_FALSE(fs::exists(o.out_dir + "/map.ot"));
@@ -147,7 +149,7 @@ TEST(PipelineRun, SlamOnlyWritesTrajectoriesAndNoMap) {
 TEST(PipelineRun, DepthFactorOffByFiveIsWarnedAndRunsOn) {
   // The sequence's 5000-per-metre depth read with a camera file that says 1000 (millimetres): the
   // run goes on (a large hall is legitimate) but metrics.json says what the median would be at 5000.
-  pipeline::RunOptions ref = options("depth_scale_ref", true), o = options("depth_scale", true);
+  run::RunOptions ref = options("depth_scale_ref", true), o = options("depth_scale", true);
   std::string yaml = read_bytes(sequence_dir() + "/camera.yaml");
   const auto at = yaml.find("depth_factor: 5000");
   ASSERT_NE(at, std::string::npos) << yaml;
@@ -160,12 +162,13 @@ TEST(PipelineRun, DepthFactorOffByFiveIsWarnedAndRunsOn) {
     opt->max_frames = 3;
   }
   o.config.dataset.camera = camera;
-  const double truth_m = pipeline::run_dataset(ref).metrics["inputs"]["depth_median_m"].get<double>();
-  const pipeline::RunResult r = pipeline::run_dataset(o);
+  const double truth_m = run::run_dataset(ref).metrics["inputs"]["depth_median_m"].get<double>();
+  const run::RunResult r = run::run_dataset(o);
   EXPECT_NEAR(r.metrics["inputs"]["depth_median_m"].get<double>(), 5 * truth_m, 1e-3);
   const std::string w = r.metrics["inputs"]["depth_scale_warning"].get<std::string>();
   EXPECT_NE(w.find("with depth factor 1000: farther than"), std::string::npos) << w;
-  EXPECT_NE(w.find(fmt::format("with depth factor 5000 it would be {:.2f} m", truth_m)), std::string::npos) << w;
+  EXPECT_NE(w.find(fmt::format("with depth factor 5000 it would be {:.2f} m", truth_m)), std::string::npos)
+      << w;
 }
 
 // Frame i's colour file, as the sequence's rgb.txt names it.
@@ -195,11 +198,11 @@ TEST(PipelineRun, UnreadableFramesAreSkippedAndNamed) {
   // Two bad colour files (a PNG cut after its first 100 bytes, an empty file) in 45 frames: both
   // skipped with their file named, the other 43 tracked as usual.
   const std::string png_start = read_bytes(sequence_dir() + "/" + rgb_file(sequence_dir(), 0)).substr(0, 100);
-  pipeline::RunOptions o = options("skip", true);
+  run::RunOptions o = options("skip", true);
   o.dataset_dir = sequence_with_bad_frames("skip_seq", {{20, png_start}, {35, ""}});
   o.slam_only = true;
   o.max_frames = 45;
-  const pipeline::RunResult r = pipeline::run_dataset(o);
+  const run::RunResult r = run::run_dataset(o);
   EXPECT_FALSE(r.interrupted);
   EXPECT_EQ(r.frames_skipped, 2u);
   EXPECT_EQ(r.frames_done, 43u);
@@ -214,23 +217,25 @@ TEST(PipelineRun, UnreadableFramesAreSkippedAndNamed) {
   }
   EXPECT_NE(skipped[1]["error"].get<std::string>().find("file is empty"), std::string::npos);
   EXPECT_FALSE(r.metrics.contains("stopped_by"));
-  EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(), r.metrics["tracked"].get<std::size_t>());
+  EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(),
+            r.metrics["tracked"].get<std::size_t>());
   EXPECT_EQ(r.metrics["tracking"]["states"].value("LOST", 0), 0) << r.metrics["tracking"].dump();
 }
 
 TEST(PipelineRun, TooManyUnreadableFramesInARowStopAfterWritingOutputs) {
-  pipeline::RunOptions o = options("skip_stop", true);
+  run::RunOptions o = options("skip_stop", true);
   o.dataset_dir = sequence_with_bad_frames("skip_stop_seq", {{30, ""}, {31, ""}, {32, ""}});
   o.slam_only = true;
   o.config.dataset.max_unreadable_in_a_row = 2;
   try {
-    pipeline::run_dataset(o);
+    run::run_dataset(o);
     FAIL() << "expected an error";
   } catch (const Error& e) {
     const std::string what = e.what();
-    for (const std::string& part : std::vector<std::string>{"stopped at frame 32 of 60", "3 unreadable frames in a row",
-                                   "dataset.max_unreadable_in_a_row is 2", "skip_stop_seq/" + rgb_file(sequence_dir(), 32),
-                                   "the outputs of the 30 frames before it are in " + o.out_dir})
+    for (const std::string& part : std::vector<std::string>{
+             "stopped at frame 32 of 60", "3 unreadable frames in a row",
+             "dataset.max_unreadable_in_a_row is 2", "skip_stop_seq/" + rgb_file(sequence_dir(), 32),
+             "the outputs of the 30 frames before it are in " + o.out_dir})
       EXPECT_NE(what.find(part), std::string::npos) << "missing '" << part << "' in: " << what;
   }
   // What came before is written and loadable, and says why it ends there.
@@ -242,10 +247,10 @@ TEST(PipelineRun, TooManyUnreadableFramesInARowStopAfterWritingOutputs) {
 }
 
 TEST(PipelineRun, BadInputsAreClearErrors) {
-  pipeline::RunOptions o = options("bad", true);
+  run::RunOptions o = options("bad", true);
   o.dataset_dir = (scratch_dir() / "no_such_dataset").string();
   try {
-    pipeline::run_dataset(o);
+    run::run_dataset(o);
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no_such_dataset"), std::string::npos) << e.what();
@@ -253,14 +258,14 @@ TEST(PipelineRun, BadInputsAreClearErrors) {
   o = options("bad", true);
   o.segmenter = "onnx:" + (scratch_dir() / "missing_model").string();
   try {
-    pipeline::run_dataset(o);
+    run::run_dataset(o);
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("missing_model"), std::string::npos) << e.what();
   }
   o = options("bad", true);
   o.segmenter = "magic";
-  EXPECT_THROW(pipeline::run_dataset(o), Error);
+  EXPECT_THROW(run::run_dataset(o), Error);
 }
 
 }  // namespace

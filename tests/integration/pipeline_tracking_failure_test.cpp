@@ -224,9 +224,9 @@ TEST(TrackingFailure, RunMarksLostFramesInFramesTxtAndMetrics) {
     c.setTo(0), d.setTo(0);
     ASSERT_TRUE(cv::imwrite(rgb_png.string(), c) && cv::imwrite(depth_png.string(), d));
   }
-  pipeline::RunOptions o = options("blank_run", /*deterministic=*/true);
+  run::RunOptions o = options("blank_run", /*deterministic=*/true);
   o.dataset_dir = seq.string();
-  const auto r = pipeline::run_dataset(o);
+  const auto r = run::run_dataset(o);
   const auto lines = table(o.out_dir + "/frames.txt");
   ASSERT_EQ(lines.size(), static_cast<std::size_t>(kFrames));
   for (int i = 30; i < 35; ++i) {

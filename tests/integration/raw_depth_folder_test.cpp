@@ -24,14 +24,14 @@ PinholeCamera d4xx_depth_camera() {
   return d;
 }
 
-const SE3 kT_c_d = make_se3(Vec3(-0.015, 0.0003, 0.0002), Quat(Eigen::AngleAxisd(0.006, Vec3(0.3, 1, 0.2).normalized())));
+const SE3 kT_c_d =
+    make_se3(Vec3(-0.015, 0.0003, 0.0002), Quat(Eigen::AngleAxisd(0.006, Vec3(0.3, 1, 0.2).normalized())));
 
 // The fixture's flight with every depth image replaced by what the depth camera sees, and
 // camera.yaml saying so; colour and lists are links to the flight's files.
 std::string raw_depth_folder() {
-  const fs::path dir = linked_copy("raw_depth", [](const fs::path& rel) {
-    return rel.parent_path() == "depth" || rel == "camera.yaml";
-  });
+  const fs::path dir = linked_copy(
+      "raw_depth", [](const fs::path& rel) { return rel.parent_path() == "depth" || rel == "camera.yaml"; });
   const io::TumDataset flight = io::TumDataset::open(sequence_dir());
   PinholeCamera depth = d4xx_depth_camera();
   depth.depth_factor = flight.camera().depth_factor;
@@ -52,30 +52,33 @@ TEST(RawDepthFolder, DepthCameraSectionRunsAsWellAsRegisteredDepth) {
     const cv::Mat truth = flight.load(i).depth_m, got = raw_folder.load(i).depth_m;
     ASSERT_EQ(got.size(), truth.size());
     const auto [valid, close, missing, invented] = s3m::testing::depth_agreement(truth, got, 1.0 / 5000);
-    std::cout << "frame " << i << ": " << close << " of " << valid << " within the 3x3 range, missing " << missing
-              << ", invented " << invented << "\n";
+    std::cout << "frame " << i << ": " << close << " of " << valid << " within the 3x3 range, missing "
+              << missing << ", invented " << invented << "\n";
     EXPECT_GT(valid, 200000);
     EXPECT_GE(static_cast<double>(close) / valid, 0.99) << "frame " << i;
     EXPECT_LE(invented, valid / 100) << "frame " << i;
   }
 
   // 2. A run: the depth camera is named as the reason the depth is registered, and tracking is as good.
-  pipeline::RunOptions ref = options("raw_depth_ref", true), raw = options("raw_depth_run", true);
+  run::RunOptions ref = options("raw_depth_ref", true), raw = options("raw_depth_run", true);
   raw.dataset_dir = dir;
   for (auto* o : {&ref, &raw}) {
     o->slam_only = true;
     o->max_frames = kRunFrames;
     o->config.dataset.depth_registration = "auto";
   }
-  const pipeline::RunResult r_ref = pipeline::run_dataset(ref), r_raw = pipeline::run_dataset(raw);
+  const run::RunResult r_ref = run::run_dataset(ref), r_raw = run::run_dataset(raw);
   const std::string reg = r_raw.metrics["inputs"]["depth_registration"].get<std::string>();
-  EXPECT_EQ(reg.rfind("registered (aligned to colour by s3m, with the depth_camera of " + dir + "/camera.yaml", 0), 0u)
+  EXPECT_EQ(
+      reg.rfind("registered (aligned to colour by s3m, with the depth_camera of " + dir + "/camera.yaml", 0),
+      0u)
       << reg;
   EXPECT_EQ(r_raw.metrics["tracked"], r_ref.metrics["tracked"]);
   EXPECT_EQ(r_raw.metrics["tracking"]["states"].value("LOST", 0), 0) << r_raw.metrics["tracking"].dump();
   const double ate_ref = r_ref.metrics["trajectory"]["ate_rmse_m"].get<double>();
   const double ate_raw = r_raw.metrics["trajectory"]["ate_rmse_m"].get<double>();
-  std::cout << "ATE registered " << ate_ref * 100 << " cm, raw depth aligned here " << ate_raw * 100 << " cm\n";
+  std::cout << "ATE registered " << ate_ref * 100 << " cm, raw depth aligned here " << ate_raw * 100
+            << " cm\n";
   // The depth was resampled twice (into the depth camera, back into colour): a little noise, no
   // bias (measured 0.163 vs 0.153 cm; with the extrinsic reversed 0.226 cm).
   EXPECT_LT(ate_raw, ate_ref + 0.0005);
@@ -84,7 +87,8 @@ TEST(RawDepthFolder, DepthCameraSectionRunsAsWellAsRegisteredDepth) {
 
   std::string log;
   ASSERT_EQ(run_s3m("check '" + dir + "'", scratch_dir() / "raw_check.txt", &log), 0) << log;
-  EXPECT_NE(log.find("depth: registered (aligned to colour by s3m, with the depth_camera of " + dir + "/camera.yaml"),
+  EXPECT_NE(log.find("depth: registered (aligned to colour by s3m, with the depth_camera of " + dir +
+                     "/camera.yaml"),
             std::string::npos)
       << log;
   EXPECT_NE(log.find("camera: 640x480"), std::string::npos) << log;

@@ -1,4 +1,4 @@
-// Bad input through `s3m run` (pipeline::run_dataset): each case gets an s3m::Error naming the file,
+// Bad input through `s3m run` (run::run_dataset): each case gets an s3m::Error naming the file,
 // the line where there is one, and what was expected — never a crash or a foreign exception — and a
 // failing run leaves the outputs of an earlier run in OUT intact and loadable.
 #include <sys/resource.h>
@@ -10,10 +10,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "pipeline_fixture.hpp"
-#include "unit/fifo_test_util.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/mapping/map_io.hpp"
+#include "unit/fifo_test_util.hpp"
 
 namespace s3m::it {
 namespace {
@@ -40,7 +40,8 @@ fs::path short_sequence(const std::string& name) {
     fs::create_directories(d);
     for (const auto& e : fs::directory_iterator(sequence_dir()))
       if (e.is_regular_file()) fs::copy(e.path(), d / e.path().filename());
-    for (const char* list : {"rgb.txt", "depth.txt", "labels.txt", "associations.txt"}) truncate_list(d / list, kShort);
+    for (const char* list : {"rgb.txt", "depth.txt", "labels.txt", "associations.txt"})
+      truncate_list(d / list, kShort);
     // Copy just the images the shortened lists name.
     for (const char* sub : {"rgb", "depth", "labels"}) {
       fs::create_directories(d / sub);
@@ -77,25 +78,26 @@ std::string list_entry(const fs::path& list, int n) {
 // Replaces the first match of `pattern` (multi-line) in a text file.
 void edit(const fs::path& file, const std::string& pattern, const std::string& replacement) {
   const std::string before = read_bytes(file.string());
-  const std::string after = std::regex_replace(before, std::regex(pattern, std::regex::multiline), replacement,
-                                               std::regex_constants::format_first_only);
+  const std::string after = std::regex_replace(before, std::regex(pattern, std::regex::multiline),
+                                               replacement, std::regex_constants::format_first_only);
   ASSERT_NE(before, after) << pattern << " not found in " << file;
   std::ofstream(file) << after;
 }
 
-pipeline::RunOptions options_for(const fs::path& seq, const std::string& out_name) {
-  pipeline::RunOptions o = options(out_name, /*deterministic=*/true);
+run::RunOptions options_for(const fs::path& seq, const std::string& out_name) {
+  run::RunOptions o = options(out_name, /*deterministic=*/true);
   o.dataset_dir = seq.string();
   return o;
 }
 
 // run_dataset must throw s3m::Error containing every fragment; returns the message.
-std::string run_error(const pipeline::RunOptions& o, std::initializer_list<std::string> fragments) {
+std::string run_error(const run::RunOptions& o, std::initializer_list<std::string> fragments) {
   try {
-    pipeline::run_dataset(o);
+    run::run_dataset(o);
   } catch (const Error& e) {
     const std::string msg = e.what();
-    for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "message: " << msg << "\nmissing: " << f;
+    for (const auto& f : fragments)
+      EXPECT_NE(msg.find(f), std::string::npos) << "message: " << msg << "\nmissing: " << f;
     ::testing::Test::RecordProperty("message", msg);
     return msg;
   }
@@ -111,22 +113,24 @@ std::string run_error(const fs::path& seq, std::initializer_list<std::string> fr
 // names it (metrics.json skipped_frames). With dataset.max_unreadable_in_a_row 0 the same frame
 // stops the run with that message, after writing the frames before it.
 void expect_skipped(const fs::path& seq, int frame, std::initializer_list<std::string> fragments) {
-  pipeline::RunOptions o = options_for(seq, "out_" + seq.filename().string());
-  const pipeline::RunResult r = pipeline::run_dataset(o);
+  run::RunOptions o = options_for(seq, "out_" + seq.filename().string());
+  const run::RunResult r = run::run_dataset(o);
   EXPECT_FALSE(r.interrupted);
   EXPECT_EQ(r.frames_done, static_cast<std::size_t>(kShort - 1));
   ASSERT_EQ(r.metrics["skipped_frames"].size(), 1u);
   EXPECT_EQ(r.metrics["skipped_frames"][0]["index"].get<int>(), frame);
   const std::string why = r.metrics["skipped_frames"][0]["error"];
-  for (const auto& f : fragments) EXPECT_NE(why.find(f), std::string::npos) << "skipped: " << why << "\nmissing: " << f;
+  for (const auto& f : fragments)
+    EXPECT_NE(why.find(f), std::string::npos) << "skipped: " << why << "\nmissing: " << f;
   o.config.dataset.max_unreadable_in_a_row = 0;
   const std::string msg = run_error(o, fragments);
   EXPECT_NE(msg.find(fmt::format("stopped at frame {} of {}", frame, kShort)), std::string::npos) << msg;
-  EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(), static_cast<std::size_t>(frame));
+  EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(),
+            static_cast<std::size_t>(frame));
 }
 
 TEST(RunBadInput, TheShortSequenceItselfRuns) {  // so every failure below is the edit's doing
-  const auto r = pipeline::run_dataset(options_for(short_sequence("good"), "good"));
+  const auto r = run::run_dataset(options_for(short_sequence("good"), "good"));
   EXPECT_EQ(r.frames_done, static_cast<std::size_t>(kShort));
 }
 
@@ -148,19 +152,21 @@ TEST(RunBadInput, CorruptAndTruncatedPngs) {
   const fs::path seq = short_sequence("corrupt_png");
   std::ofstream(seq / list_entry(seq / "rgb.txt", 2), std::ios::binary) << "this is not a PNG at all";
   // Text is refused before any decoder sees it, with its first bytes ("this is ").
-  expect_skipped(seq, 2, {list_entry(seq / "rgb.txt", 2), "not a PNG or JPEG file", "74 68 69 73 20 69 73 20"});
+  expect_skipped(seq, 2,
+                 {list_entry(seq / "rgb.txt", 2), "not a PNG or JPEG file", "74 68 69 73 20 69 73 20"});
   const fs::path seq2 = short_sequence("truncated_png");
   const fs::path depth = seq2 / list_entry(seq2 / "depth.txt", 4);
   const std::string bytes = read_bytes(depth.string());
   std::ofstream(depth, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
-  expect_skipped(seq2, 4, {list_entry(seq2 / "depth.txt", 4), "cannot read or decode"});  // a PNG: libpng reports it
+  expect_skipped(seq2, 4,
+                 {list_entry(seq2 / "depth.txt", 4), "cannot read or decode"});  // a PNG: libpng reports it
 }
 
 // A run that fails on its first frame writes nothing: the earlier run's outputs in the same OUT stay.
 TEST(RunBadInput, AFailedRunLeavesTheEarlierRunsOutputsIntact) {
   const fs::path seq = short_sequence("rerun");
-  const pipeline::RunOptions o = options_for(seq, "rerun");
-  pipeline::run_dataset(o);
+  const run::RunOptions o = options_for(seq, "rerun");
+  run::run_dataset(o);
   const std::string map_before = read_bytes(o.out_dir + "/map.ot");
   const std::string metrics_before = read_bytes(o.out_dir + "/metrics.json");
   std::ofstream(seq / list_entry(seq / "rgb.txt", 0), std::ios::binary) << "garbage";
@@ -181,7 +187,8 @@ TEST(RunBadInput, EightBitDepthAndWrongImageSize) {
   expect_skipped(seq2, 5, {rgb.filename().string(), "image is 320x240", "expected 640x480"});
   // On the first frame the same error stops the run: there it is most often every frame's.
   const fs::path seq3 = short_sequence("small_first");
-  cv::imwrite((seq3 / list_entry(seq3 / "rgb.txt", 0)).string(), cv::Mat(240, 320, CV_8UC3, cv::Scalar(1, 2, 3)));
+  cv::imwrite((seq3 / list_entry(seq3 / "rgb.txt", 0)).string(),
+              cv::Mat(240, 320, CV_8UC3, cv::Scalar(1, 2, 3)));
   const std::string msg = run_error(seq3, {list_entry(seq3 / "rgb.txt", 0), "image is 320x240"});
   EXPECT_EQ(msg.find("stopped at frame"), std::string::npos) << msg;
 }
@@ -214,7 +221,8 @@ TEST(RunBadInput, EmptySequence) {
 TEST(RunBadInput, NanAndHugePosesInGroundTruth) {
   const fs::path seq = short_sequence("nan_gt");
   edit(seq / "groundtruth.txt", R"(^([0-9.]+) [-0-9.e]+ )", "$1 nan ");
-  run_error(seq, {"groundtruth.txt:", "non-finite value 'nan' as tx", "expected a finite number in column 2"});
+  run_error(seq,
+            {"groundtruth.txt:", "non-finite value 'nan' as tx", "expected a finite number in column 2"});
   const fs::path seq2 = short_sequence("huge_gt");
   edit(seq2 / "groundtruth.txt", R"(^([0-9.]+) [-0-9.e]+ )", "$1 1e300 ");
   run_error(seq2, {"groundtruth.txt:", "implausibly large"});
@@ -244,13 +252,13 @@ TEST(RunBadInput, ModelCardWhoseClassCountDoesNotMatchTheModel) {
   fs::copy(data / "tiny_rgb.onnx", dir / "tiny_rgb.onnx");
   fs::copy(data / "tiny_rgb.yaml", dir / "tiny_rgb.yaml");
   std::ofstream(dir / "tiny_rgb.classes.txt") << "wall\nfloor\nchair\n";
-  pipeline::RunOptions o = options_for(short_sequence("card"), "card");
+  run::RunOptions o = options_for(short_sequence("card"), "card");
   o.segmenter = "onnx:" + (dir / "tiny_rgb.yaml").string();
   run_error(o, {"tiny_rgb.yaml", "has 3 classes but the model outputs 4 channels"});
 }
 
 TEST(RunBadInput, OutputDirectoryThatCannotBeCreated) {
-  pipeline::RunOptions o = options_for(short_sequence("outdir"), "blocker");
+  run::RunOptions o = options_for(short_sequence("outdir"), "blocker");
   std::ofstream(o.out_dir) << "a file where the output folder should be";
   run_error(o, {o.out_dir, "cannot create the output directory"});
 }
@@ -279,8 +287,8 @@ class FileSizeLimit {
 };
 
 TEST(RunBadInput, DiskFullWhileWritingOutputsKeepsThePreviousRunLoadable) {
-  const pipeline::RunOptions o = options_for(short_sequence("disk_full"), "disk_full");
-  pipeline::run_dataset(o);
+  const run::RunOptions o = options_for(short_sequence("disk_full"), "disk_full");
+  run::run_dataset(o);
   const std::string map_before = read_bytes(o.out_dir + "/map.ot");
   const std::string traj_before = read_bytes(o.out_dir + "/trajectory_camera.txt");
   ASSERT_GT(map_before.size(), 64u * 1024u);  // so the limit below stops the map, not the small files
@@ -293,7 +301,8 @@ TEST(RunBadInput, DiskFullWhileWritingOutputsKeepsThePreviousRunLoadable) {
   EXPECT_TRUE(read_bytes(o.out_dir + "/map.ot") == map_before);
   EXPECT_NE(mapping::load_semantic_map(o.out_dir + "/map.ot"), nullptr);
   EXPECT_EQ(read_bytes(o.out_dir + "/trajectory_camera.txt"), traj_before);
-  EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(), static_cast<std::size_t>(kShort));
+  EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(),
+            static_cast<std::size_t>(kShort));
   for (const auto& e : fs::directory_iterator(o.out_dir))
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
 }
@@ -310,15 +319,16 @@ TEST(RunBadInput, FifoInsteadOfAListOrAnImage) {
   const std::string png = list_entry(seq2 / "rgb.txt", 3);
   testing::make_fifo(seq2 / png);
   testing::error_without_blocking(seq2 / png, [&] {
-    run_error(seq2, {"associations.txt:", "image file '" + png + "' is a FIFO (named pipe), not a regular file"});
+    run_error(seq2,
+              {"associations.txt:", "image file '" + png + "' is a FIFO (named pipe), not a regular file"});
   });
 }
 
 // `s3m run` as a user types it, limited to 4 GB of address space and 120 s so that a regression
 // (a crash, or a run until the machine is exhausted) fails instead of taking the machine down.
 int s3m_run(const std::string& args, const fs::path& log_path, std::string* log) {
-  const std::string cmd = "ulimit -v 4000000; timeout 120 " + std::string(S3M_BINARY) + " run " + args + " > '" +
-                          log_path.string() + "' 2>&1";
+  const std::string cmd = "ulimit -v 4000000; timeout 120 " + std::string(S3M_BINARY) + " run " + args +
+                          " > '" + log_path.string() + "' 2>&1";
   const int status = std::system(cmd.c_str());
   *log = read_bytes(log_path.string());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -334,11 +344,12 @@ fs::path edited_preset(const std::string& name, const std::string& pattern, cons
 
 // 2f6b067: exit 139 (segmentation fault inside TBB) for map.insert.num_threads 65537.
 TEST(RunBadInput, HugeThreadCountInAPresetIsRefusedByTheCli) {
-  const fs::path preset = edited_preset("threads_65537", "radius_min_neighbors: 1\\}", "radius_min_neighbors: 1, num_threads: 65537}");
+  const fs::path preset = edited_preset("threads_65537", "radius_min_neighbors: 1\\}",
+                                        "radius_min_neighbors: 1, num_threads: 65537}");
   const fs::path seq = short_sequence("cli_threads");
   std::string log;
-  EXPECT_EQ(s3m_run("--config '" + preset.string() + "' --deterministic --no-report '" + seq.string() + "' --out '" +
-                        (scratch_dir() / "out_cli_threads").string() + "'",
+  EXPECT_EQ(s3m_run("--config '" + preset.string() + "' --deterministic --no-report '" + seq.string() +
+                        "' --out '" + (scratch_dir() / "out_cli_threads").string() + "'",
                     scratch_dir() / "cli_threads.log", &log),
             1)
       << log;
@@ -352,9 +363,10 @@ TEST(RunBadInput, HugeThreadCountInAModelCardIsRefused) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   const fs::path data = fs::path(S3M_TEST_DATA_DIR) / "semantics";
-  for (const char* f : {"tiny_rgb.onnx", "tiny_rgb.yaml", "tiny_rgb.classes.txt"}) fs::copy(data / f, dir / f);
+  for (const char* f : {"tiny_rgb.onnx", "tiny_rgb.yaml", "tiny_rgb.classes.txt"})
+    fs::copy(data / f, dir / f);
   std::ofstream(dir / "tiny_rgb.yaml", std::ios::app) << "threads: 65537\n";
-  pipeline::RunOptions o = options_for(short_sequence("card_threads"), "card_threads");
+  run::RunOptions o = options_for(short_sequence("card_threads"), "card_threads");
   o.segmenter = "onnx:" + (dir / "tiny_rgb.yaml").string();
   run_error(o, {"tiny_rgb.yaml", "threads = 65537 out of range", "expected 0 (OpenCV's default) or 1.."});
 }
@@ -362,7 +374,7 @@ TEST(RunBadInput, HugeThreadCountInAModelCardIsRefused) {
 // 2f6b067: ran until killed (5.9 GB after one frame). Refused before the first frame and before
 // anything is written; --force runs it (not tested: it is what exhausts the machine).
 TEST(RunBadInput, SettingsThatWouldExhaustTheMachineAreRefusedBeforeTheFirstFrame) {
-  pipeline::RunOptions o = options_for(short_sequence("cost"), "cost");
+  run::RunOptions o = options_for(short_sequence("cost"), "cost");
   o.config.cloud.pixel_stride = 1;
   o.config.map.resolution_m = 0.005;
   o.config.cloud.max_depth_m = 100;
@@ -374,8 +386,8 @@ TEST(RunBadInput, SettingsThatWouldExhaustTheMachineAreRefusedBeforeTheFirstFram
   edit(preset, "resolution_m: 0.05 ", "resolution_m: 0.005 ");
   edit(preset, "max_depth_m: 4.0 ", "max_depth_m: 100 ");
   std::string log;
-  EXPECT_EQ(s3m_run("--config '" + preset.string() + "' --deterministic --no-report '" + o.dataset_dir + "' --out '" +
-                        o.out_dir + "'",
+  EXPECT_EQ(s3m_run("--config '" + preset.string() + "' --deterministic --no-report '" + o.dataset_dir +
+                        "' --out '" + o.out_dir + "'",
                     scratch_dir() / "cli_cost.log", &log),
             1)
       << log;

@@ -8,8 +8,8 @@ namespace {
 
 const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
 
-pipeline::RunOptions default_options(const std::string& dataset, const std::string& out_name) {
-  pipeline::RunOptions o;
+run::RunOptions default_options(const std::string& dataset, const std::string& out_name) {
+  run::RunOptions o;
   o.dataset_dir = dataset;
   o.out_dir = (scratch_dir() / out_name).string();
   fs::remove_all(o.out_dir);
@@ -25,10 +25,12 @@ TEST(RunDefaultSegmenter, RecordingWithoutSimulatorFilesGetsTheRealImageModel) {
   const fs::path real = scratch_dir() / "real_camera";
   fs::remove_all(real);
   fs::copy(sequence_dir(), real, fs::copy_options::recursive);
-  for (const char* f : {"sim.yaml", "labels.txt", "labels", "gt_voxels.txt", "groundtruth_robot.txt"}) fs::remove_all(real / f);
-  const pipeline::RunResult r = pipeline::run_dataset(default_options(real.string(), "out_real"));
+  for (const char* f : {"sim.yaml", "labels.txt", "labels", "gt_voxels.txt", "groundtruth_robot.txt"})
+    fs::remove_all(real / f);
+  const run::RunResult r = run::run_dataset(default_options(real.string(), "out_real"));
   EXPECT_EQ(r.metrics["inputs"]["segmenter"], "deeplabv3plus_mnv2_ade20k_fast");
-  EXPECT_EQ(r.metrics["inputs"]["segmenter_reason"], "dataset has no sim.yaml or label images: real-camera default");
+  EXPECT_EQ(r.metrics["inputs"]["segmenter_reason"],
+            "dataset has no sim.yaml or label images: real-camera default");
   const auto& classes = r.metrics["map"]["class_voxels"];
   ASSERT_TRUE(classes.is_array());
   ASSERT_GT(r.metrics["map"]["voxels"].get<std::size_t>(), 0u);
@@ -44,8 +46,9 @@ TEST(RunDefaultSegmenter, RecordingWithoutSimulatorFilesGetsTheRealImageModel) {
 }
 
 TEST(RunDefaultSegmenter, SimulatorSequenceKeepsTheOracle) {
-  const pipeline::RunResult r = pipeline::run_dataset(default_options(sequence_dir(), "out_sim"));
-  EXPECT_EQ(r.metrics["inputs"]["segmenter"].get<std::string>().rfind("oracle", 0), 0u) << r.metrics["inputs"];
+  const run::RunResult r = run::run_dataset(default_options(sequence_dir(), "out_sim"));
+  EXPECT_EQ(r.metrics["inputs"]["segmenter"].get<std::string>().rfind("oracle", 0), 0u)
+      << r.metrics["inputs"];
   EXPECT_EQ(r.metrics["inputs"]["segmenter_reason"],
             "simulator sequence (sim.yaml): its ground-truth labels through the noisy oracle");
 }

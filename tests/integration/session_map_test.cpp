@@ -16,8 +16,8 @@
 #include "s3m/features/bow_vocabulary.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/io/tum_dataset.hpp"
-#include "s3m/pipeline/run.hpp"
 #include "s3m/pipeline/session_io.hpp"
+#include "s3m/run/run.hpp"
 #include "s3m/slam/io/map_io.hpp"
 #include "s3m/slam/slam_config.hpp"
 #include "s3m/slam/tracking/reloc.hpp"
@@ -85,9 +85,9 @@ TEST(SessionMap, RunWritesAMapThatRoundTripsAndRelocalisesEveryKeyframeImage) {
 }
 
 TEST(SessionMap, SecondFlightContinuesInTheLoadedWorld) {
-  pipeline::RunOptions o = session_options(flight_b_dir(), (scratch_dir() / "run_b").string());
+  run::RunOptions o = session_options(flight_b_dir(), (scratch_dir() / "run_b").string());
   o.map_dir = run_a_dir();
-  const pipeline::RunResult r = pipeline::run_dataset(o);
+  const run::RunResult r = run::run_dataset(o);
   EXPECT_EQ(r.metrics["tracking"]["states"].value("LOST", 0), 0);
   const io::Trajectory est = io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt");
   const double ate = rmse(match(o.out_dir, flight_b_dir()), alignment_of_a());
@@ -101,11 +101,11 @@ TEST(SessionMap, SecondFlightContinuesInTheLoadedWorld) {
 }
 
 TEST(SessionMap, LocalizeOnlyLeavesTheMapUnchangedAndAddsNoKeyframe) {
-  pipeline::RunOptions o = session_options(flight_b_dir(), (scratch_dir() / "run_b_localized").string());
+  run::RunOptions o = session_options(flight_b_dir(), (scratch_dir() / "run_b_localized").string());
   o.map_dir = run_a_dir();
   o.localize_only = true;
   const std::string before = read_bytes(slam_map_of(run_a_dir()));
-  const pipeline::RunResult r = pipeline::run_dataset(o);
+  const run::RunResult r = run::run_dataset(o);
   EXPECT_EQ(r.metrics.value("keyframes", -1), 0);
   EXPECT_EQ(read_bytes(slam_map_of(run_a_dir())), before);
   EXPECT_EQ(read_bytes(slam_map_of(o.out_dir)), before)
@@ -118,10 +118,10 @@ TEST(SessionMap, LocalizeOnlyLeavesTheMapUnchangedAndAddsNoKeyframe) {
 }
 
 TEST(SessionMap, BadMapInputStopsBeforeTheFirstFrame) {
-  pipeline::RunOptions o = session_options(flight_b_dir(), (scratch_dir() / "run_bad").string());
+  run::RunOptions o = session_options(flight_b_dir(), (scratch_dir() / "run_bad").string());
   o.map_dir = (scratch_dir() / "no_such_run").string();
   try {
-    pipeline::run_dataset(o);
+    run::run_dataset(o);
     ADD_FAILURE() << "a missing map must stop the run";
   } catch (const ParseError& e) {
     EXPECT_NE(std::string(e.what()).find("no_such_run/slam_map.bin: no such SLAM map file"),
@@ -131,7 +131,7 @@ TEST(SessionMap, BadMapInputStopsBeforeTheFirstFrame) {
   EXPECT_FALSE(fs::exists(o.out_dir)) << "nothing was written";
   o.map_dir.clear();
   o.localize_only = true;
-  EXPECT_THROW(pipeline::run_dataset(o), Error);
+  EXPECT_THROW(run::run_dataset(o), Error);
 }
 
 TEST(SessionMap, InterruptedRunDoesNotOverwriteTheMapItLoaded) {
@@ -139,14 +139,14 @@ TEST(SessionMap, InterruptedRunDoesNotOverwriteTheMapItLoaded) {
   fs::remove_all(dir);
   fs::copy(run_a_dir(), dir, fs::copy_options::recursive);
   const std::string before = read_bytes((dir / pipeline::kSlamMapFile).string());
-  pipeline::RunOptions o = session_options(flight_b_dir(), dir.string());
+  run::RunOptions o = session_options(flight_b_dir(), dir.string());
   o.map_dir = dir.string();
   o.stop_after_frames = 20;
-  EXPECT_TRUE(pipeline::run_dataset(o).interrupted);
+  EXPECT_TRUE(run::run_dataset(o).interrupted);
   EXPECT_EQ(read_bytes((dir / pipeline::kSlamMapFile).string()), before);
   o.stop_after_frames = -1;
   o.max_frames = 30;  // a run that finishes may replace it (the user asked for the same folder)
-  EXPECT_FALSE(pipeline::run_dataset(o).interrupted);
+  EXPECT_FALSE(run::run_dataset(o).interrupted);
   EXPECT_NE(read_bytes((dir / pipeline::kSlamMapFile).string()), before);
 }
 

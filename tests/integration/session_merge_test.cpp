@@ -25,10 +25,10 @@
 #include "s3m/io/tum_dataset.hpp"
 #include "s3m/mapping/map_io.hpp"
 #include "s3m/mapping/metrics.hpp"
-#include "s3m/pipeline/evaluation.hpp"
-#include "s3m/pipeline/run.hpp"
 #include "s3m/pipeline/session_io.hpp"
-#include "s3m/pipeline/session_merge.hpp"
+#include "s3m/run/evaluation.hpp"
+#include "s3m/run/run.hpp"
+#include "s3m/run/session_merge.hpp"
 #include "s3m/slam/io/map_io.hpp"
 #include "session_runs.hpp"
 
@@ -47,7 +47,7 @@ SE3 T_run_gt(const std::string& run, const std::string& dataset) {
   for (const auto& p : est)
     for (const auto& q : gt)
       if (std::abs(p.t_s - q.t_s) < 1e-4) e.push_back(p.T_w_x), g.push_back(q.T_w_x);
-  return pipeline::align_poses(e, g);
+  return run::align_poses(e, g);
 }
 
 double ate_m(const std::string& run, const std::string& dataset, const SE3& T_run_gt) {
@@ -97,7 +97,7 @@ std::set<std::size_t> observed(const std::string& map_ot, const std::string& gt_
   return out;
 }
 
-// A map's mIoU (pipeline::score_map's definition: over the ground-truth classes present) on a
+// A map's mIoU (run::score_map's definition: over the ground-truth classes present) on a
 // subset of the ground-truth voxels.
 double miou_on(const std::string& map_ot, const std::string& gt_path, const SE3& T_map_gt,
                const std::set<std::size_t>& subset) {
@@ -313,12 +313,12 @@ TEST(MergeSession, MergedSemanticMapIsAtLeastAsGoodAndCoversBothRuns) {
 }
 
 TEST(MergeSession, TwoSavedRunsMergeOffline) {
-  pipeline::MergeRunsOptions o;
+  run::MergeRunsOptions o;
   o.run_a = run_a();
   o.run_b = run_c();
   o.out_dir = (scratch_dir() / "merged").string();
   o.config = sim_preset();
-  const json j = pipeline::merge_runs(o);
+  const json j = run::merge_runs(o);
   std::printf("s3m merge A C: %s\n", j["matched"].dump().c_str());
   for (const char* f : {"slam_map.bin", "kept_clouds.bin", "map.ot", "map.ply", "keyframes.txt", "merge.json",
                         "trajectory_camera_a.txt", "trajectory_camera_b.txt"})
@@ -326,7 +326,7 @@ TEST(MergeSession, TwoSavedRunsMergeOffline) {
   // In A's world: A's alignment scores the merged map and C's re-expressed trajectory.
   const SE3 T_a = T_run_gt(run_a(), flight_a_dir());
   const auto tree = mapping::load_semantic_map(o.out_dir + "/map.ot");
-  const double own = pipeline::score_map(*tree, flight_a_dir() + "/gt_voxels.txt", T_a).miou;
+  const double own = run::score_map(*tree, flight_a_dir() + "/gt_voxels.txt", T_a).miou;
   const MapComparison m = compare_maps(o.out_dir + "/map.ot", T_a, own);
   expect_merged_map_at_least_as_good(m, 0.0);
   fs::copy_file(o.out_dir + "/trajectory_camera_b.txt", o.out_dir + "/trajectory_camera.txt");
@@ -334,24 +334,24 @@ TEST(MergeSession, TwoSavedRunsMergeOffline) {
   std::printf("  C's trajectory in A's world: ATE with A's alignment %.4f m\n", ate_c);
   EXPECT_LE(ate_c, 0.07);  // C's own drift before the merge point stays (measured 5.6 cm)
   // The merged session is one a later run continues in: C's start, outside A's map, is in it now.
-  pipeline::RunOptions next = merge_run_options(flight_c_dir(), (scratch_dir() / "after_merge").string());
+  run::RunOptions next = merge_run_options(flight_c_dir(), (scratch_dir() / "after_merge").string());
   next.map_dir = o.out_dir;
   next.max_frames = 30;
   next.slam_only = true;
-  const json states = pipeline::run_dataset(next).metrics["tracking"]["states"];
+  const json states = run::run_dataset(next).metrics["tracking"]["states"];
   EXPECT_EQ(states.value("LOST", 0), 0) << states.dump();
   EXPECT_EQ(states.value("SUBMAP", 0), 0) << states.dump();
 }
 
 TEST(MergeSession, RunsThatCannotBeMergedSayWhy) {
-  pipeline::MergeRunsOptions o;
+  run::MergeRunsOptions o;
   o.config = sim_preset();
   o.out_dir = (scratch_dir() / "not_merged").string();
   auto error_of = [&](const std::string& a, const std::string& b) -> std::string {
     o.run_a = a;
     o.run_b = b;
     try {
-      pipeline::merge_runs(o);
+      run::merge_runs(o);
     } catch (const Error& e) {
       return e.what();
     }

@@ -7,15 +7,15 @@
 #include <filesystem>
 #include <string>
 
-#include "s3m/pipeline/run.hpp"
 #include "pipeline_fixture.hpp"
+#include "s3m/run/run.hpp"
 #include "session_sim_fixture.hpp"
 
 namespace s3m::it {
 
 // A deterministic run of the simulator preset, without the report.
-inline pipeline::RunOptions session_run_options(const std::string& dataset, const std::string& out) {
-  pipeline::RunOptions o;
+inline run::RunOptions session_run_options(const std::string& dataset, const std::string& out) {
+  run::RunOptions o;
   o.dataset_dir = dataset;
   o.out_dir = out;
   o.config = sim_preset();
@@ -25,37 +25,38 @@ inline pipeline::RunOptions session_run_options(const std::string& dataset, cons
 }
 
 // SessionMap: the SLAM map is under test (kept clouds: PipelineSessionClouds).
-inline pipeline::RunOptions session_options(const std::string& dataset, const std::string& out) {
-  pipeline::RunOptions o = session_run_options(dataset, out);
+inline run::RunOptions session_options(const std::string& dataset, const std::string& out) {
+  run::RunOptions o = session_run_options(dataset, out);
   o.slam_only = true;
   return o;
 }
 
 // Run A of the SessionMap tests (SLAM only).
 inline const std::string& run_a_dir() {
-  static const std::string d = cached_folder(build_stamped(std::filesystem::temp_directory_path() / "s3m_it_session_run_a"),
-                                             "slam_map.bin", [](const std::filesystem::path& tmp) {
-                                               pipeline::run_dataset(session_options(flight_a_dir(), tmp.string()));
-                                             });
+  static const std::string d =
+      cached_folder(build_stamped(std::filesystem::temp_directory_path() / "s3m_it_session_run_a"),
+                    "slam_map.bin", [](const std::filesystem::path& tmp) {
+                      run::run_dataset(session_options(flight_a_dir(), tmp.string()));
+                    });
   return d;
 }
 
 // MergeSession: the semantic maps are under test too (oracle labels).
-inline pipeline::RunOptions merge_run_options(const std::string& dataset, const std::string& out) {
-  pipeline::RunOptions o = session_run_options(dataset, out);
+inline run::RunOptions merge_run_options(const std::string& dataset, const std::string& out) {
+  run::RunOptions o = session_run_options(dataset, out);
   o.segmenter = "oracle";
   return o;
 }
 
 // map_dir: the session the run continues in; max_frames < 0: all frames.
-inline std::string cached_merge_run(const std::string& name, const std::string& dataset, const std::string& map_dir = "",
-                                    long max_frames = -1) {
-  return cached_folder(build_stamped(std::filesystem::temp_directory_path() / ("s3m_it_merge_" + name)), "metrics.json",
-                       [&](const std::filesystem::path& tmp) {
-                         pipeline::RunOptions o = merge_run_options(dataset, tmp.string());
+inline std::string cached_merge_run(const std::string& name, const std::string& dataset,
+                                    const std::string& map_dir = "", long max_frames = -1) {
+  return cached_folder(build_stamped(std::filesystem::temp_directory_path() / ("s3m_it_merge_" + name)),
+                       "metrics.json", [&](const std::filesystem::path& tmp) {
+                         run::RunOptions o = merge_run_options(dataset, tmp.string());
                          o.map_dir = map_dir;
                          o.max_frames = max_frames;
-                         pipeline::run_dataset(o);
+                         run::run_dataset(o);
                        });
 }
 inline const std::string& run_a() {

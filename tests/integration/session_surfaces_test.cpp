@@ -7,16 +7,17 @@
 
 #include <gtest/gtest.h>
 
-#include "s3m/mapping/map_io.hpp"
-#include "s3m/pipeline/run.hpp"
 #include "pipeline_fixture.hpp"
+#include "s3m/mapping/map_io.hpp"
+#include "s3m/run/run.hpp"
 #include "session_runs.hpp"
 
 namespace s3m::it {
 namespace {
 
 // Finest voxels occupied in `a` that are not occupied in `b` (`a` expanded: one leaf per voxel).
-std::size_t occupied_missing(mapping::SemanticOcTree& a, const mapping::SemanticOcTree& b, std::size_t& total) {
+std::size_t occupied_missing(mapping::SemanticOcTree& a, const mapping::SemanticOcTree& b,
+                             std::size_t& total) {
   a.expand();
   std::size_t missing = 0;
   total = 0;
@@ -31,12 +32,12 @@ std::size_t occupied_missing(mapping::SemanticOcTree& a, const mapping::Semantic
 
 // Flight B (the yawed figure-eight, inside A's area) localising in run A for its first 60 frames.
 std::string localized_in_a(const std::string& name, bool keep_session_surfaces) {
-  pipeline::RunOptions o = merge_run_options(flight_b_dir(), (scratch_dir() / name).string());
+  run::RunOptions o = merge_run_options(flight_b_dir(), (scratch_dir() / name).string());
   o.map_dir = run_a();
   o.localize_only = true;
   o.max_frames = 60;
   o.config.map.keep_session_surfaces = keep_session_surfaces;
-  pipeline::run_dataset(o);
+  run::run_dataset(o);
   return o.out_dir;
 }
 
@@ -47,8 +48,10 @@ TEST(SessionSurfaces, ALocalisingRunKeepsEveryVoxelOfTheMapItLoaded) {
   std::size_t total = 0;
   const std::size_t missing_kept = occupied_missing(*a, *kept, total);
   const std::size_t missing_fused = occupied_missing(*a, *fused, total);
-  std::printf("run A's %zu occupied voxels: B --map A --localize-only misses %zu with keep_session_surfaces, %zu "
-              "without\n", total, missing_kept, missing_fused);
+  std::printf(
+      "run A's %zu occupied voxels: B --map A --localize-only misses %zu with keep_session_surfaces, %zu "
+      "without\n",
+      total, missing_kept, missing_fused);
   EXPECT_EQ(missing_kept, 0u);
   // B's rays do pass through some of A's surfaces: without the rule the evidence of both decides.
   EXPECT_GT(missing_fused, 0u) << "the flights conflict nowhere: this test would not see the rule";

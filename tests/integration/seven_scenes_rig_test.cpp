@@ -21,14 +21,15 @@ constexpr int kRigFrames = 40;
 
 // The fixture's flight (office, hand-held, seed 7) seen by the rig's colour camera.
 const std::string& colour_flight_dir() {
-  static const std::string dir = cached_folder(
-      fs::temp_directory_path() / ("s3m_it_sequence_office_handheld_seed7_kinect529_" + std::to_string(kRigFrames)),
-      "gt_voxels.txt", [](const fs::path& tmp) {
-        sim::SimConfig c = sequence_config();
-        c.trajectory.frames = kRigFrames;
-        c.sensor.camera = io::load_camera_file("7scenes_kinect_v1").camera;
-        sim::simulate_sequence(c, tmp.string());
-      });
+  static const std::string dir =
+      cached_folder(fs::temp_directory_path() /
+                        ("s3m_it_sequence_office_handheld_seed7_kinect529_" + std::to_string(kRigFrames)),
+                    "gt_voxels.txt", [](const fs::path& tmp) {
+                      sim::SimConfig c = sequence_config();
+                      c.trajectory.frames = kRigFrames;
+                      c.sensor.camera = io::load_camera_file("7scenes_kinect_v1").camera;
+                      sim::simulate_sequence(c, tmp.string());
+                    });
   return dir;
 }
 
@@ -37,7 +38,9 @@ std::string seven_scenes_folder() {
   // Without sim.yaml: a folder of a camera, not of the simulator.
   const fs::path dir = linked_copy(
       "seven_scenes_rig",
-      [](const fs::path& rel) { return rel.parent_path() == "depth" || rel == "camera.yaml" || rel == "sim.yaml"; },
+      [](const fs::path& rel) {
+        return rel.parent_path() == "depth" || rel == "camera.yaml" || rel == "sim.yaml";
+      },
       colour_flight_dir());
   const io::TumDataset flight = io::TumDataset::open(colour_flight_dir());
   const io::CameraFile rig = io::load_camera_file("7scenes_kinect_v1");
@@ -49,8 +52,8 @@ std::string seven_scenes_folder() {
   return dir.string();
 }
 
-pipeline::RunOptions slam_run(const std::string& name, const std::string& dir) {
-  pipeline::RunOptions o = options(name, true);
+run::RunOptions slam_run(const std::string& name, const std::string& dir) {
+  run::RunOptions o = options(name, true);
   o.dataset_dir = dir;
   o.slam_only = true;
   o.config.dataset.camera = "";
@@ -58,15 +61,15 @@ pipeline::RunOptions slam_run(const std::string& name, const std::string& dir) {
   return o;
 }
 
-double ate_m(const pipeline::RunResult& r) { return r.metrics["trajectory"]["ate_rmse_m"].get<double>(); }
+double ate_m(const run::RunResult& r) { return r.metrics["trajectory"]["ate_rmse_m"].get<double>(); }
 
 TEST(SevenScenesRig, UnregisteredKinectDepthIsDrawnInWithTheRigAndTracksAsRegisteredDepth) {
   const std::string dir = seven_scenes_folder();
-  const pipeline::RunResult registered = pipeline::run_dataset(slam_run("rig_registered", colour_flight_dir()));
-  const pipeline::RunResult found = pipeline::run_dataset(slam_run("rig_found", dir));
-  pipeline::RunOptions one = slam_run("rig_one_camera", dir);
+  const run::RunResult registered = run::run_dataset(slam_run("rig_registered", colour_flight_dir()));
+  const run::RunResult found = run::run_dataset(slam_run("rig_found", dir));
+  run::RunOptions one = slam_run("rig_one_camera", dir);
   one.config.dataset.depth_registration = "unregistered";
-  const pipeline::RunResult one_camera = pipeline::run_dataset(one);
+  const run::RunResult one_camera = run::run_dataset(one);
 
   const std::string why = found.metrics["inputs"]["depth_registration"].get<std::string>();
   EXPECT_EQ(why.rfind("not registered", 0), 0u) << why;
@@ -75,8 +78,8 @@ TEST(SevenScenesRig, UnregisteredKinectDepthIsDrawnInWithTheRigAndTracksAsRegist
     EXPECT_EQ(r->metrics["tracked"].get<int>(), kRigFrames);
     EXPECT_EQ(r->metrics["tracking"]["states"].value("LOST", 0), 0) << r->metrics["tracking"].dump();
   }
-  std::cout << "ATE registered " << ate_m(registered) * 100 << " cm, drawn in with the rig " << ate_m(found) * 100
-            << " cm, read as one 585 px camera " << ate_m(one_camera) * 100 << " cm\n";
+  std::cout << "ATE registered " << ate_m(registered) * 100 << " cm, drawn in with the rig "
+            << ate_m(found) * 100 << " cm, read as one 585 px camera " << ate_m(one_camera) * 100 << " cm\n";
   // Drawn into the depth camera by the test and back by s3m: the depth moves by up to a pixel.
   EXPECT_LT(ate_m(found), ate_m(registered) + 0.001);
   // As one camera the colour pixels are read at a 10 % wrong focal length, with depth ~8 px off.

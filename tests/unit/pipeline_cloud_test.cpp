@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 
 #include "s3m/pipeline/cloud_from_frame.hpp"
-#include "s3m/pipeline/progress.hpp"
 
 namespace s3m::pipeline {
 namespace {
@@ -18,10 +17,10 @@ PinholeCamera tiny_camera() {
 TEST(Backproject, KeepsInRangePixelsWithColourAndLabels) {
   const PinholeCamera cam = tiny_camera();
   cv::Mat depth(4, 4, CV_32F, cv::Scalar(2.0f));
-  depth.at<float>(0, 0) = 0.1f;                 // too close
-  depth.at<float>(0, 1) = 9.0f;                 // too far
-  depth.at<float>(0, 2) = std::nanf("");        // missing
-  depth.at<float>(0, 3) = 0.0f;                 // missing
+  depth.at<float>(0, 0) = 0.1f;           // too close
+  depth.at<float>(0, 1) = 9.0f;           // too far
+  depth.at<float>(0, 2) = std::nanf("");  // missing
+  depth.at<float>(0, 3) = 0.0f;           // missing
   cv::Mat bgr(4, 4, CV_8UC3, cv::Scalar(10, 20, 30));
   bgr.at<cv::Vec3b>(3, 3) = {1, 2, 3};
   semantics::LabelMap labels = semantics::make_label_map(4, 4, 2);
@@ -33,7 +32,7 @@ TEST(Backproject, KeepsInRangePixelsWithColourAndLabels) {
   ASSERT_EQ(c.k, 2);
   EXPECT_NO_THROW(c.validate());
   EXPECT_EQ(c.origin, Eigen::Vector3f::Zero());  // camera frame
-  const auto& last = c.points.back();  // pixel (u=3, v=3) at z = 2: x = (3 - 1.5) * 2 / 2 = 1.5
+  const auto& last = c.points.back();            // pixel (u=3, v=3) at z = 2: x = (3 - 1.5) * 2 / 2 = 1.5
   EXPECT_FLOAT_EQ(last.x(), 1.5f);
   EXPECT_FLOAT_EQ(last.y(), 1.5f);
   EXPECT_FLOAT_EQ(last.z(), 2.0f);
@@ -63,8 +62,8 @@ TEST(Transformed, MovesPointsAndOrigin) {
 TEST(VoxelDownsample, KeepsTheFirstPointPerVoxel) {
   mapping::LabeledCloud c;
   c.k = 1;
-  const std::vector<Eigen::Vector3f> pts = {{0.01f, 0.01f, 1.01f}, {0.04f, 0.02f, 1.03f}, {0.06f, 0.0f, 1.0f},
-                                            {-0.01f, 0.0f, 1.0f}};
+  const std::vector<Eigen::Vector3f> pts = {
+      {0.01f, 0.01f, 1.01f}, {0.04f, 0.02f, 1.03f}, {0.06f, 0.0f, 1.0f}, {-0.01f, 0.0f, 1.0f}};
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const ClassId id = static_cast<ClassId>(i + 1);
     const float p = 0.5f;
@@ -75,11 +74,6 @@ TEST(VoxelDownsample, KeepsTheFirstPointPerVoxel) {
   EXPECT_EQ(d.labels, (std::vector<ClassId>{1, 3, 4}));
   EXPECT_EQ(d.rgb[3], 2);
   EXPECT_EQ(voxel_downsample(c, 0.0).size(), 4u);
-}
-
-TEST(ProgressLine, FormatShowsRateStateAndEta) {
-  EXPECT_EQ(ProgressLine::format(50, 200, 5.0, "OK"), "frames 50/200 (25%)  10.0 fps  OK  ETA 15 s");
-  EXPECT_EQ(ProgressLine::format(0, 10, 0.0, "NOT_INITIALIZED"), "frames 0/10 (0%)  0.0 fps  NOT_INITIALIZED  ETA --");
 }
 
 }  // namespace

@@ -12,6 +12,23 @@
 namespace s3m::pipeline {
 namespace fs = std::filesystem;
 
+SegmenterSpec parse_segmenter_spec(const std::string& spec) {
+  SegmenterSpec s;
+  if (spec.empty()) return s;
+  if (spec == "oracle") {
+    s.kind = SegmenterSpec::Kind::kOracle;
+  } else if (spec == "none") {
+    s.kind = SegmenterSpec::Kind::kNone;
+  } else if (spec.rfind("onnx:", 0) == 0 && spec.size() > 5) {
+    s.kind = SegmenterSpec::Kind::kOnnx;
+    s.model = spec.substr(5);
+  } else {
+    throw Error("--segmenter: unknown value '" + spec +
+                "' (expected onnx:MODEL_DIR_OR_CARD | oracle | none)");
+  }
+  return s;
+}
+
 std::unique_ptr<PoseSource> make_pose_source(const std::string& kind, const FrameSource& source,
                                              const PinholeCamera& camera, const PipelineConfig& config) {
   if (kind == "slam") return make_slam_poses(camera, config);

@@ -10,7 +10,6 @@
 #include "s3m/pipeline/map_integrator.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 #include "s3m/pipeline/pose_source.hpp"
-#include "s3m/pipeline/run.hpp"
 #include "s3m/semantics/segmenter.hpp"
 
 namespace s3m::features {
@@ -18,6 +17,14 @@ class Vocabulary;
 }
 
 namespace s3m::pipeline {
+
+// Parses "onnx:PATH" / "oracle" / "none" (throws Error listing the accepted forms).
+struct SegmenterSpec {
+  enum class Kind { kFromConfig, kOnnx, kOracle, kNone } kind = Kind::kFromConfig;
+  std::string model;      // onnx: model card file or directory holding one
+  std::string model_dir;  // onnx: folder with the model files (when the card lives elsewhere)
+};
+SegmenterSpec parse_segmenter_spec(const std::string& spec);
 
 // "slam" (the SLAM system of s3m::slam) or "gt" (the dataset's ground truth).
 std::unique_ptr<PoseSource> make_pose_source(const std::string& kind, const FrameSource& source,

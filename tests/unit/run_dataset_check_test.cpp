@@ -1,9 +1,9 @@
 // format_dataset_check(): the lines `s3m check` prints, from a hand-made check (exact text).
 #include <gtest/gtest.h>
 
-#include "s3m/pipeline/dataset_check.hpp"
+#include "s3m/run/dataset_check.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 namespace {
 
 DatasetCheck kitchen_like() {
@@ -63,4 +63,4 @@ TEST(DatasetCheck, NoGroundTruthAndADepthScaleWarning) {
 }
 
 }  // namespace
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

@@ -11,9 +11,9 @@
 #include "s3m/core/config_table.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/pipeline/config_overlays.hpp"
-#include "s3m/pipeline/effective_config.hpp"
+#include "s3m/run/effective_config.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 namespace {
 
 namespace fs = std::filesystem;
@@ -31,8 +31,9 @@ std::string write_tmp(const std::string& name, const std::string& text) {
 }
 
 // Reads effective_config_text(c) back through --config's reader.
-PipelineConfig reread(const PipelineConfig& c, const std::string& name) {
-  return load_pipeline_config(write_tmp(name, effective_config_text(c, {"a note", "on two\nlines"})));
+pipeline::PipelineConfig reread(const pipeline::PipelineConfig& c, const std::string& name) {
+  return pipeline::load_pipeline_config(
+      write_tmp(name, effective_config_text(c, {"a note", "on two\nlines"})));
 }
 
 TEST(EffectiveConfig, ReadsBackAsTheSameConfig) {
@@ -50,8 +51,8 @@ segmenter: {type: oracle, oracle: {enabled: true, similar: {chair: [sofa]}}}
 threads: {deterministic: true}
 overlays: [unregistered_depth]
 )");
-  const PipelineConfig c = load_pipeline_config(preset);
-  const PipelineConfig again = reread(c, "effective.yaml");
+  const pipeline::PipelineConfig c = pipeline::load_pipeline_config(preset);
+  const pipeline::PipelineConfig again = reread(c, "effective.yaml");
   EXPECT_EQ(config::values(again), config::values(c));
   EXPECT_EQ(again.slam.T_c_r.matrix(), c.slam.T_c_r.matrix());  // bit for bit
   EXPECT_EQ(again.map.fusion.policy, mapping::FusionPolicy::kBayesian);
@@ -60,13 +61,13 @@ overlays: [unregistered_depth]
   // Every key is written, so every key counts as the user's: no automatic decision changes any.
   EXPECT_EQ(again.written.size(), config::values(again).size());
   // And the text is a fixed point (but for the comment naming the file read).
-  PipelineConfig renamed = again;
+  pipeline::PipelineConfig renamed = again;
   renamed.source = c.source;
   EXPECT_EQ(effective_config_text(renamed), effective_config_text(c));
 }
 
 TEST(EffectiveConfig, TheDefaultsReadBackAsTheDefaults) {
-  const PipelineConfig d;
+  const pipeline::PipelineConfig d;
   EXPECT_EQ(config::values(reread(d, "defaults.yaml")), config::values(d));
   const std::string text = effective_config_text(d);
   EXPECT_NE(text.find("# config: built-in defaults"), std::string::npos) << text;
@@ -82,7 +83,7 @@ TEST(EffectiveConfig, PosesReadBackBitForBit) {
         Quat(0.9, 0.1, -0.3, 0.2), Quat(0.1, 0.7, 0.2, -0.6),
         Quat(0.0, 0.0, 0.7071067811865476, 0.7071067811865476),
         Quat(0.12345678901234567, -0.6543210987654321, 0.2718281828459045, 0.6953088303787282)}) {
-    PipelineConfig c;
+    pipeline::PipelineConfig c;
     c.slam.T_c_r = make_se3(Vec3(0.12, -0.034, 1.5), q);
     EXPECT_EQ(reread(c, "pose.yaml").slam.T_c_r.matrix(), c.slam.T_c_r.matrix()) << q.coeffs().transpose();
   }
@@ -90,7 +91,7 @@ TEST(EffectiveConfig, PosesReadBackBitForBit) {
 
 TEST(EffectiveConfig, RelativePathsBecomeAbsolute) {
   // Read from another folder, a relative path would mean another file.
-  PipelineConfig c;
+  pipeline::PipelineConfig c;
   c.dataset.camera = "cameras/cam.yaml";
   c.segmenter.model = "../models/m.yaml";
   const std::string text = effective_config_text(c);
@@ -104,7 +105,7 @@ TEST(EffectiveConfig, RelativePathsBecomeAbsolute) {
 }
 
 TEST(EffectiveConfig, WrittenKeysAreThoseThePresetSets) {
-  const PipelineConfig c = load_pipeline_config(
+  const pipeline::PipelineConfig c = pipeline::load_pipeline_config(
       write_tmp("written.yaml",
                 "slam: {features: {depth_discontinuity_ratio: 0.05}, T_c_r: {t: [0, 0, 1]}}\n"
                 "map: {fusion: {policy: paper}}\n"));
@@ -113,14 +114,15 @@ TEST(EffectiveConfig, WrittenKeysAreThoseThePresetSets) {
 }
 
 TEST(EffectiveConfig, TheSummarySaysWhatDiffersAndWhy) {
-  PipelineConfig c = pipeline_config_from_yaml(YAML::Load("cloud: {max_depth_m: 3.5}\n"), "p.yaml");
-  apply_overlay(c, "unregistered_depth", "test");
+  pipeline::PipelineConfig c =
+      pipeline::pipeline_config_from_yaml(YAML::Load("cloud: {max_depth_m: 3.5}\n"), "p.yaml");
+  pipeline::apply_overlay(c, "unregistered_depth", "test");
   const std::string s = settings_summary(c);
   EXPECT_NE(s.find("overlays unregistered_depth"), std::string::npos) << s;
   EXPECT_NE(s.find("\n  cloud.max_depth_m: 3.5 (written)"), std::string::npos) << s;
   EXPECT_NE(s.find("\n  slam.features.depth_discontinuity_ratio: 0.02 (automatic)"), std::string::npos) << s;
   EXPECT_EQ(s.find("max_dt_s"), std::string::npos) << s;  // at its default
-  EXPECT_NE(settings_summary(PipelineConfig{}).find("none"), std::string::npos);
+  EXPECT_NE(settings_summary(pipeline::PipelineConfig{}).find("none"), std::string::npos);
 }
 
 // The first column of config/README.md's key table: "`a.b.c`, `d`" (d is a sibling of c) or
@@ -149,7 +151,7 @@ TEST(EffectiveConfig, TheReadmeListsEveryKeyAndNoOther) {
   const auto listed = readme_keys();
   ASSERT_GT(listed.size(), 50u);
   std::vector<std::string> keys;
-  for (const auto& kv : config::values(PipelineConfig{})) keys.push_back(kv.first);
+  for (const auto& kv : config::values(pipeline::PipelineConfig{})) keys.push_back(kv.first);
   const auto covers = [](const std::string& row, const std::string& key) {
     if (row.size() > 2 && row.compare(row.size() - 2, 2, ".*") == 0)
       return key.rfind(row.substr(0, row.size() - 1), 0) == 0;
@@ -164,4 +166,4 @@ TEST(EffectiveConfig, TheReadmeListsEveryKeyAndNoOther) {
 }
 
 }  // namespace
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

@@ -1,4 +1,4 @@
-#include "s3m/pipeline/dataset_check.hpp"
+#include "s3m/run/dataset_check.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,16 +8,16 @@
 
 #include "s3m/io/association.hpp"
 #include "s3m/io/trajectory.hpp"
-#include "s3m/pipeline/effective_config.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/frame_source.hpp"
-#include "s3m/pipeline/run.hpp"
 #include "s3m/pipeline/unregistered_depth.hpp"
+#include "s3m/run/effective_config.hpp"
+#include "s3m/run/run.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 namespace {
 
-void timing(const FrameSource& source, DatasetCheck& c) {
+void timing(const pipeline::FrameSource& source, DatasetCheck& c) {
   c.frames = source.size();
   if (c.frames == 0) return;
   c.t_first_s = source.timestamp(0);
@@ -33,7 +33,7 @@ void timing(const FrameSource& source, DatasetCheck& c) {
   c.median_step_s = steps[steps.size() / 2];
 }
 
-void ground_truth(const FrameSource& source, double max_dt_s, DatasetCheck& c) {
+void ground_truth(const pipeline::FrameSource& source, double max_dt_s, DatasetCheck& c) {
   const io::Trajectory& gt = source.groundtruth();
   c.gt_poses = gt.size();
   for (std::size_t i = 1; i < gt.size(); ++i)
@@ -49,14 +49,15 @@ void ground_truth(const FrameSource& source, double max_dt_s, DatasetCheck& c) {
 
 }  // namespace
 
-DatasetCheck check_dataset(const std::string& dir, const PipelineConfig& config) {
-  const auto source = open_tum_source(dir, config.dataset);
-  DatasetCheck c = check_frame_source(*source, config, simulator_sign(dir, source->has_labels()), true);
+DatasetCheck check_dataset(const std::string& dir, const pipeline::PipelineConfig& config) {
+  const auto source = pipeline::open_tum_source(dir, config.dataset);
+  DatasetCheck c =
+      check_frame_source(*source, config, pipeline::simulator_sign(dir, source->has_labels()), true);
   c.dir = dir;
   return c;
 }
 
-DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig& config,
+DatasetCheck check_frame_source(const pipeline::FrameSource& source, const pipeline::PipelineConfig& config,
                                 const std::string& sim_sign, bool may_use_rig) {
   DatasetCheck c;
   // 1. What was opened: layout, camera, timing, ground truth, labels.
@@ -70,15 +71,16 @@ DatasetCheck check_frame_source(const FrameSource& source, const PipelineConfig&
   // 2. The checks a run makes before its first frame, on the same sample frames.
   const std::vector<RgbdFrame> sample = sample_frames(source, &c.unreadable);
   c.sampled = sample.size() + c.unreadable.size();
-  PipelineConfig resolved = config;
-  c.depth_registration =
-      resolve_depth_registration(resolved, sample, c.camera, source.depth_registered_by(), may_use_rig);
+  pipeline::PipelineConfig resolved = config;
+  c.depth_registration = pipeline::resolve_depth_registration(resolved, sample, c.camera,
+                                                              source.depth_registered_by(), may_use_rig);
   c.depth_camera = source.depth_camera();
-  c.depth_scale = check_depth_scale(sample, c.camera.depth_factor);
+  c.depth_scale = pipeline::check_depth_scale(sample, c.camera.depth_factor);
   // 3. The segmenter a run would choose.
-  const SegmenterChoice choice = choose_segmenter(parse_segmenter_spec(""), config, sim_sign);
+  const pipeline::SegmenterChoice choice =
+      pipeline::choose_segmenter(pipeline::parse_segmenter_spec(""), config, sim_sign);
   c.segmenter = (choice.type == "onnx" ? choice.model : choice.type) + " (" + choice.reason + ")";
-  record_segmenter_choice(resolved, choice);
+  pipeline::record_segmenter_choice(resolved, choice);
   c.settings = resolved;
   return c;
 }
@@ -122,4 +124,4 @@ std::string format_dataset_check(const DatasetCheck& c, bool all_settings) {
   return o.str();
 }
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

@@ -12,20 +12,20 @@
 #include "s3m/pipeline/pipeline.hpp"
 #include "s3m/pipeline/reprojection.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 
 // Keeps the segmentation of up to 2 * rows integrated frames, evenly spread over a run of any
 // length (EvalFrameSampler), from the pipeline's frame listener (one thread at a time).
 class CameraViewSampler {
  public:
   explicit CameraViewSampler(std::size_t rows = 6) : rows_(rows), sampler_(1, 2 * rows) {}
-  void offer(const FrameOutcome& outcome, const semantics::LabelMap& labels);
+  void offer(const pipeline::FrameOutcome& outcome, const semantics::LabelMap& labels);
   // rows frames (or fewer) evenly spread over the kept ones, in sequence order.
-  std::vector<EvalFrame> chosen() const;
+  std::vector<pipeline::EvalFrame> chosen() const;
 
  private:
   std::size_t rows_;
-  EvalFrameSampler sampler_;
+  pipeline::EvalFrameSampler sampler_;
   std::size_t offered_ = 0;
 };
 
@@ -36,8 +36,9 @@ struct CameraViewOptions {
 
 // Reloads each chosen frame from source and writes its four pictures. Frames not in the final
 // trajectory (lost) get no map picture. Returns the manifest path; throws s3m::Error on write errors.
-std::string write_camera_views(const std::vector<EvalFrame>& frames, const FrameSource& source,
-                               const mapping::SemanticOcTree* map, const io::Trajectory& final_T_w_c,
-                               const CameraViewOptions& options, const std::string& report_dir);
+std::string write_camera_views(const std::vector<pipeline::EvalFrame>& frames,
+                               const pipeline::FrameSource& source, const mapping::SemanticOcTree* map,
+                               const io::Trajectory& final_T_w_c, const CameraViewOptions& options,
+                               const std::string& report_dir);
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

@@ -3,7 +3,7 @@
 // with Debian's matplotlib (see that script for why matplotlib).
 #include <string>
 
-namespace s3m::pipeline {
+namespace s3m::run {
 
 struct ReportResult {
   std::string html;   // path of report.html when made
@@ -14,4 +14,4 @@ struct ReportResult {
 // must not lose the run's other outputs; the reason is returned instead.
 ReportResult make_report(const std::string& out_dir);
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

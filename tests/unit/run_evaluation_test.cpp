@@ -2,14 +2,15 @@
 #include <gtest/gtest.h>
 
 #include "s3m/core/error.hpp"
-#include "s3m/pipeline/evaluation.hpp"
+#include "s3m/run/evaluation.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 namespace {
 
 TEST(AlignPoses, RecoversTheTransformFromAStraightFlight) {
   // A straight path: positions alone cannot fix the rotation about the path; whole poses can.
-  const SE3 T_est_gt = make_se3(Vec3(0.5, -1.0, 2.0), Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized())));
+  const SE3 T_est_gt =
+      make_se3(Vec3(0.5, -1.0, 2.0), Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized())));
   std::vector<SE3> gt, est;
   for (int i = 0; i < 10; ++i) {
     gt.push_back(make_se3(Vec3(0.1 * i, 0, 1), Quat(Eigen::AngleAxisd(0.05 * i, Vec3::UnitZ()))));
@@ -21,4 +22,4 @@ TEST(AlignPoses, RecoversTheTransformFromAStraightFlight) {
 }
 
 }  // namespace
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

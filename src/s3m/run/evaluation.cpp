@@ -1,4 +1,4 @@
-#include "s3m/pipeline/evaluation.hpp"
+#include "s3m/run/evaluation.hpp"
 
 #include <filesystem>
 
@@ -12,13 +12,13 @@
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/io/gt_voxels.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
 
-eval::EvalOptions eval_options(const PipelineConfig& config) {
+eval::EvalOptions eval_options(const pipeline::PipelineConfig& config) {
   eval::EvalOptions o;
   o.max_dt_s = config.eval.gt_max_dt_s;
   o.align = eval::parse_align_mode(config.eval.align);
@@ -38,8 +38,9 @@ json summary(const eval::TrajectoryEvaluation& ev) {
 
 }  // namespace
 
-TrajectoryScore evaluate_trajectory(const Pipeline& p, const FrameSource& source, const PipelineConfig& config,
-                                    const OutputPaths& paths) {
+TrajectoryScore evaluate_trajectory(const pipeline::Pipeline& p, const pipeline::FrameSource& source,
+                                    const pipeline::PipelineConfig& config,
+                                    const pipeline::OutputPaths& paths) {
   TrajectoryScore s;
   const io::Trajectory& gt = source.groundtruth();
   if (gt.empty()) return s;
@@ -64,9 +65,9 @@ TrajectoryScore evaluate_trajectory(const Pipeline& p, const FrameSource& source
   const fs::path gt_robot = fs::path(source.eval_dir()) / "groundtruth_robot.txt";
   if (!source.eval_dir().empty() && fs::exists(gt_robot)) {
     try {
-      const io::Trajectory est_r = robot_trajectory(est, config.slam.T_c_r);
-      s.json["robot"] = summary(eval::evaluate_trajectory(io::read_tum_trajectory(gt_robot.string()), est_r,
-                                                          options, "s3m robot"));
+      const io::Trajectory est_r = pipeline::robot_trajectory(est, config.slam.T_c_r);
+      s.json["robot"] = summary(
+          eval::evaluate_trajectory(io::read_tum_trajectory(gt_robot.string()), est_r, options, "s3m robot"));
     } catch (const Error& e) {
       s.json["robot"] = {{"error", e.what()}};
     }
@@ -83,11 +84,12 @@ SE3 align_poses(const std::vector<SE3>& T_w_est, const std::vector<SE3>& T_w_gt)
   D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
   const Mat3 R = svd.matrixU() * D * svd.matrixV().transpose();
   Vec3 t = Vec3::Zero();
-  for (std::size_t i = 0; i < T_w_est.size(); ++i) t += T_w_est[i].translation() - R * T_w_gt[i].translation();
+  for (std::size_t i = 0; i < T_w_est.size(); ++i)
+    t += T_w_est[i].translation() - R * T_w_gt[i].translation();
   return make_se3(R, t / static_cast<double>(T_w_est.size()));
 }
 
-MapScore score_map(const MapIntegrator& map, const std::string& gt_path, const SE3& T_map_gt) {
+MapScore score_map(const pipeline::MapIntegrator& map, const std::string& gt_path, const SE3& T_map_gt) {
   return score_map(map.tree(), gt_path, T_map_gt);
 }
 
@@ -117,4 +119,4 @@ MapScore score_map(const mapping::SemanticOcTree& tree, const std::string& gt_pa
   return s;
 }
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

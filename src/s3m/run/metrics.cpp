@@ -1,4 +1,4 @@
-#include "s3m/pipeline/metrics.hpp"
+#include "s3m/run/metrics.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -7,16 +7,16 @@
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/mapping/metrics.hpp"
 #include "s3m/mapping/queries.hpp"
-#include "s3m/pipeline/evaluation.hpp"
 #include "s3m/pipeline/reprojection.hpp"
+#include "s3m/run/evaluation.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
 
-json timings_json(const StageTimings& t) {
+json timings_json(const pipeline::StageTimings& t) {
   json j = json::object();
   for (const auto& [stage, s] : t.summary())
     j[stage] = {
@@ -38,7 +38,7 @@ json classes_json() {
   return j;
 }
 
-json segmentation_json(const Pipeline& p) {
+json segmentation_json(const pipeline::Pipeline& p) {
   const semantics::SegMetrics m = p.confusion().metrics();
   if (m.evaluated_px == 0) return json::object();
   std::map<ClassId, double> iou;
@@ -63,18 +63,20 @@ json iou_pair_json(const semantics::ConfusionMatrix& map, const semantics::Confu
 }
 
 // The final map's labels projected into the kept frames (reprojection.hpp), with the final poses.
-json reprojection_json(const Pipeline& p, const FrameSource& source, const PipelineConfig& config) {
-  const MapIntegrator* map = p.map();
+json reprojection_json(const pipeline::Pipeline& p, const pipeline::FrameSource& source,
+                       const pipeline::PipelineConfig& config) {
+  const pipeline::MapIntegrator* map = p.map();
   if (!map || p.eval_frames().empty()) return json::object();
   std::map<double, SE3> T_w_c_by_t;
   for (const auto& s : p.poses().camera_trajectory()) T_w_c_by_t.emplace(s.t_s, s.T_w_x);
-  ReprojectionScore score;
-  const ReprojectionOptions opt{config.cloud.min_depth_m, config.cloud.max_depth_m, 2};
-  for (const EvalFrame& e : p.eval_frames()) {
+  pipeline::ReprojectionScore score;
+  const pipeline::ReprojectionOptions opt{config.cloud.min_depth_m, config.cloud.max_depth_m, 2};
+  for (const pipeline::EvalFrame& e : p.eval_frames()) {
     const auto pose = T_w_c_by_t.find(e.t_s);
     if (pose == T_w_c_by_t.end()) continue;  // not in the final trajectory (lost)
     const RgbdFrame f = source.load(static_cast<std::size_t>(e.index));
-    add_reprojection(map->tree(), source.camera(), {f.depth_m, f.labels, e.argmax, pose->second}, opt, score);
+    pipeline::add_reprojection(map->tree(), source.camera(), {f.depth_m, f.labels, e.argmax, pose->second},
+                               opt, score);
   }
   if (score.covered_px == 0) return json::object();
   json j = iou_pair_json(score.map, score.frame);
@@ -105,11 +107,11 @@ json class_voxels_json(const mapping::SemanticOcTree& tree) {
 }
 
 // T_map_gt: the ground-truth world in the map's frame (pose alignment of the trajectory).
-json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& dataset_dir,
+json map_json(const pipeline::Pipeline& p, const pipeline::OutputPaths& paths, const std::string& dataset_dir,
               const SE3& T_map_gt) {
-  const MapIntegrator* map = p.map();
+  const pipeline::MapIntegrator* map = p.map();
   if (!map) return json::object();
-  const PipelineCounters& c = p.counters();
+  const pipeline::PipelineCounters& c = p.counters();
   json j = map->describe();
   j["class_voxels"] = class_voxels_json(map->tree());
   j["kept_clouds"] = p.keyframe_store().size();
@@ -151,10 +153,10 @@ json map_json(const Pipeline& p, const OutputPaths& paths, const std::string& da
 
 // Every state's frame count, and which frames were LOST (as [first, last] index ranges) or
 // RELOCALISED: LOST frames are neither in the trajectory files nor in the map.
-json tracking_json(const std::vector<FrameOutcome>& frames) {
+json tracking_json(const std::vector<pipeline::FrameOutcome>& frames) {
   json states = json::object(), lost = json::array(), relocalised = json::array();
   for (std::size_t i = 0; i < frames.size(); ++i) {
-    const FrameOutcome& f = frames[i];
+    const pipeline::FrameOutcome& f = frames[i];
     const char* name = to_string(f.state);
     states[name] = states.value(name, 0) + 1;
     if (f.state == FrameState::kRelocalised) relocalised.push_back(f.index);
@@ -178,9 +180,10 @@ std::string find_gt_voxel_map(const std::string& dataset_dir) {
   return "";
 }
 
-json compute_metrics(const Pipeline& p, const FrameSource& source, const PipelineConfig& config,
-                     const RunInfo& info, const OutputPaths& paths) {
-  const PipelineCounters& c = p.counters();
+json compute_metrics(const pipeline::Pipeline& p, const pipeline::FrameSource& source,
+                     const pipeline::PipelineConfig& config, const RunInfo& info,
+                     const pipeline::OutputPaths& paths) {
+  const pipeline::PipelineCounters& c = p.counters();
   json m;
   m["inputs"] = {{"dataset", info.dataset_dir},
                  {"config", info.config_file.empty() ? "(built-in defaults)" : info.config_file},
@@ -202,8 +205,8 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   m["wall_time_s"] = info.wall_time_s;
   m["fps"] = info.wall_time_s > 0 ? c.frames / info.wall_time_s : 0.0;
   m["tracking"] = tracking_json(p.frames());
-  const SessionMap* session = p.poses().session_map();
-  const SessionMap::Submaps sub = session ? session->submaps() : SessionMap::Submaps{};
+  const pipeline::SessionMap* session = p.poses().session_map();
+  const pipeline::SessionMap::Submaps sub = session ? session->submaps() : pipeline::SessionMap::Submaps{};
   m["tracking"]["submaps"] = {{"started", sub.started},
                               {"merges", sub.merges},
                               {"keyframes_outside_world", sub.keyframes_outside_world},
@@ -236,8 +239,8 @@ json compute_metrics(const Pipeline& p, const FrameSource& source, const Pipelin
   return m;
 }
 
-void write_metrics(const json& metrics, const OutputPaths& paths) {
+void write_metrics(const json& metrics, const pipeline::OutputPaths& paths) {
   io::write_text_atomic(paths.metrics, metrics.dump(2) + "\n");
 }
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

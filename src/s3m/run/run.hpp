@@ -1,6 +1,7 @@
 #pragma once
-// `s3m run` as a library call: a TUM-layout dataset (or any FrameSource) in, every output file in OUT (trajectories,
-// keyframes, semantic map, metrics, report). Used by the CLI, `s3m demo` and the integration tests.
+// `s3m run` as a library call: a TUM-layout dataset (or any FrameSource) in, every output file in OUT
+// (trajectories, keyframes, semantic map, metrics, report). Used by the CLI, `s3m demo` and the integration
+// tests.
 #include <atomic>
 #include <cstddef>
 #include <functional>
@@ -12,26 +13,26 @@
 #include "s3m/pipeline/frame_source.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 
 struct RunOptions {
   std::string dataset_dir;
   // When set, frames come from this source (e.g. a rosbag, src/ros) instead of dataset_dir. It is
   // called once with the validated config (camera override, association window).
-  std::function<std::unique_ptr<FrameSource>(const PipelineConfig&)> open_source;
+  std::function<std::unique_ptr<pipeline::FrameSource>(const pipeline::PipelineConfig&)> open_source;
   std::string out_dir;
-  PipelineConfig config;
+  pipeline::PipelineConfig config;
   // Segmenter: "" = the config's segmenter section; "onnx:MODEL_DIR_OR_CARD", "oracle", "none".
   std::string segmenter;
-  std::string model_dir;           // with onnx: the folder holding the model files
-  std::string poses = "slam";      // slam | gt (ground-truth poses: evaluates semantics/mapping alone)
-  bool slam_only = false;          // trajectories only: no segmentation, no map
-  long max_frames = -1;            // < 0: all frames
+  std::string model_dir;       // with onnx: the folder holding the model files
+  std::string poses = "slam";  // slam | gt (ground-truth poses: evaluates semantics/mapping alone)
+  bool slam_only = false;      // trajectories only: no segmentation, no map
+  long max_frames = -1;        // < 0: all frames
   // Set by the caller (e.g. a SIGINT handler) to stop early; outputs so far are still written.
   const std::atomic<bool>* stop = nullptr;
-  bool progress = false;           // live progress line on stderr
-  bool report = true;              // plots + report.html via tools/plot_report.py
-  bool force = false;              // run even when the cost estimate is over its limit (cost_estimate.hpp)
+  bool progress = false;  // live progress line on stderr
+  bool report = true;     // plots + report.html via tools/plot_report.py
+  bool force = false;     // run even when the cost estimate is over its limit (cost_estimate.hpp)
   // A map that lasts: continue in the session a previous run wrote into this folder
   // (slam_map.bin, and kept_clouds.bin for the semantic map); "" = start from nothing. With
   // localize_only the SLAM map is not changed (the semantic map still fuses this run's frames).
@@ -46,9 +47,9 @@ struct RunResult {
   std::size_t frames_done = 0;     // frames that went through the pipeline
   std::size_t frames_skipped = 0;  // frames whose files could not be read (metrics.json: skipped_frames)
   bool interrupted = false;
-  std::string report_html;         // empty when no report was made
-  std::string report_error;        // why the report is missing, if it is
-  nlohmann::json metrics;          // what metrics.json holds
+  std::string report_html;   // empty when no report was made
+  std::string report_error;  // why the report is missing, if it is
+  nlohmann::json metrics;    // what metrics.json holds
 };
 
 // Throws s3m::Error / ParseError for bad input (dataset, config, model), with file and line. An
@@ -56,12 +57,4 @@ struct RunResult {
 // config.dataset.max_unreadable_in_a_row in a row throw, after the outputs so far are written.
 RunResult run_dataset(const RunOptions& options);
 
-// Parses "onnx:PATH" / "oracle" / "none" (throws Error listing the accepted forms).
-struct SegmenterSpec {
-  enum class Kind { kFromConfig, kOnnx, kOracle, kNone } kind = Kind::kFromConfig;
-  std::string model;      // onnx: model card file or directory holding one
-  std::string model_dir;  // onnx: folder with the model files (when the card lives elsewhere)
-};
-SegmenterSpec parse_segmenter_spec(const std::string& spec);
-
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

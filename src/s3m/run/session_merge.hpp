@@ -18,13 +18,13 @@
 #include "s3m/pipeline/pipeline_config.hpp"
 #include "s3m/slam/loop/map_merge.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 
 struct MergeRunsOptions {
   std::string run_a, run_b, out_dir;
   // map: resolution and fusion policy of the rebuilt semantic map; slam.loop_closing: vocabulary
   // and the verification thresholds.
-  PipelineConfig config;
+  pipeline::PipelineConfig config;
   slam::SessionMergeConfig search;
 };
 
@@ -33,4 +33,4 @@ struct MergeRunsOptions {
 // Returns what merge.json holds.
 nlohmann::json merge_runs(const MergeRunsOptions& options);
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

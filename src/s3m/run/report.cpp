@@ -1,11 +1,11 @@
-#include "s3m/pipeline/report.hpp"
+#include "s3m/run/report.hpp"
 
 #include <cstdlib>
 #include <filesystem>
 
 #include "s3m/eval/report.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 namespace fs = std::filesystem;
 
 namespace {
@@ -41,17 +41,19 @@ ReportResult make_report(const std::string& out_dir) {
     r.error += "cannot create " + out_dir + "/report: " + ec.message();
     return r;
   }
-  const std::string cmd = python + " " + shell_quote(script) + " " + shell_quote(out_dir) + " > " +
-                          shell_quote(log) + " 2>&1";
+  const std::string cmd =
+      python + " " + shell_quote(script) + " " + shell_quote(out_dir) + " > " + shell_quote(log) + " 2>&1";
   const int status = std::system(cmd.c_str());
   if (status != 0) {
     r.error += "'" + cmd + "' failed (exit status " + std::to_string(status) + "); see " + log;
     return r;
   }
   const std::string html = out_dir + "/report/report.html";
-  if (fs::exists(html)) r.html = html;
-  else r.error += "plot script ran but wrote no " + html;
+  if (fs::exists(html))
+    r.html = html;
+  else
+    r.error += "plot script ran but wrote no " + html;
   return r;
 }
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

@@ -1,4 +1,4 @@
-#include "s3m/pipeline/effective_config.hpp"
+#include "s3m/run/effective_config.hpp"
 
 #include <filesystem>
 #include <sstream>
@@ -6,7 +6,7 @@
 #include "s3m/core/atomic_file.hpp"
 #include "s3m/core/config_table.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 namespace {
 namespace fs = std::filesystem;
 
@@ -15,7 +15,7 @@ void make_absolute(std::string& path) {
 }
 
 // A rerun may start elsewhere, and reading a preset takes relative paths as relative to the preset.
-PipelineConfig with_absolute_paths(PipelineConfig c) {
+pipeline::PipelineConfig with_absolute_paths(pipeline::PipelineConfig c) {
   if (c.dataset.camera.find(".yaml") != std::string::npos)
     make_absolute(c.dataset.camera);  // else a preset name
   make_absolute(c.segmenter.model);
@@ -31,7 +31,7 @@ void comment(std::ostringstream& o, const std::string& text) {
 
 }  // namespace
 
-std::string effective_config_text(const PipelineConfig& c, const std::vector<std::string>& notes) {
+std::string effective_config_text(const pipeline::PipelineConfig& c, const std::vector<std::string>& notes) {
   std::ostringstream o;
   comment(o,
           "Every setting of this run, after its automatic decisions. `s3m run DATASET --config "
@@ -43,16 +43,16 @@ std::string effective_config_text(const PipelineConfig& c, const std::vector<std
   return o.str();
 }
 
-std::string write_effective_config(const std::string& out_dir, const PipelineConfig& c,
+std::string write_effective_config(const std::string& out_dir, const pipeline::PipelineConfig& c,
                                    const std::vector<std::string>& notes) {
   const std::string path = (fs::path(out_dir) / kEffectiveConfigFile).string();
   write_text_atomic(path, effective_config_text(c, notes));
   return path;
 }
 
-std::string settings_summary(const PipelineConfig& c) {
+std::string settings_summary(const pipeline::PipelineConfig& c) {
   const auto now = config::values(c);
-  const auto defaults = config::values(PipelineConfig{});
+  const auto defaults = config::values(pipeline::PipelineConfig{});
   std::ostringstream o;
   std::string overlays;
   for (const auto& name : c.overlays) overlays += (overlays.empty() ? "" : ", ") + name;
@@ -69,4 +69,4 @@ std::string settings_summary(const PipelineConfig& c) {
   return o.str() + "\n";
 }
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

@@ -1,17 +1,18 @@
-#include "s3m/pipeline/report_views.hpp"
+#include "s3m/run/report_views.hpp"
 
 #include <exception>
 
-#include "s3m/pipeline/camera_views.hpp"
+#include "s3m/run/camera_views.hpp"
 #include "s3m/viewer/map_viewer.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 
-std::string write_report_views(const Pipeline& pipeline, const FrameSource& source, const PipelineConfig& config,
-                               const OutputPaths& paths, const std::vector<EvalFrame>& camera_frames) {
+std::string write_report_views(const pipeline::Pipeline& pipeline, const pipeline::FrameSource& source,
+                               const pipeline::PipelineConfig& config, const pipeline::OutputPaths& paths,
+                               const std::vector<pipeline::EvalFrame>& camera_frames) {
   const std::string report_dir = paths.out_dir + "/report";
   std::string problems;
-  const MapIntegrator* map = pipeline.map();
+  const pipeline::MapIntegrator* map = pipeline.map();
   if (map) {
     try {
       viewer::SceneExtras extras;
@@ -28,8 +29,8 @@ std::string write_report_views(const Pipeline& pipeline, const FrameSource& sour
   if (!camera_frames.empty()) {
     try {
       const CameraViewOptions o{config.cloud.min_depth_m, config.cloud.max_depth_m, 320};
-      write_camera_views(camera_frames, source, map ? &map->tree() : nullptr, pipeline.poses().camera_trajectory(), o,
-                         report_dir);
+      write_camera_views(camera_frames, source, map ? &map->tree() : nullptr,
+                         pipeline.poses().camera_trajectory(), o, report_dir);
     } catch (const std::exception& e) {
       problems += std::string("camera views: ") + e.what() + "; ";
     }
@@ -37,4 +38,4 @@ std::string write_report_views(const Pipeline& pipeline, const FrameSource& sour
   return problems;
 }
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

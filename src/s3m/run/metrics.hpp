@@ -10,7 +10,7 @@
 #include "s3m/pipeline/outputs.hpp"
 #include "s3m/pipeline/pipeline.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 
 // A frame the run skipped because its files could not be read (RunInfo::skipped).
 struct SkippedFrame {
@@ -37,12 +37,13 @@ struct RunInfo {
 // Files a dataset may carry for evaluation (s3m simulator output): ground-truth voxel map.
 std::string find_gt_voxel_map(const std::string& dataset_dir);  // "" when absent
 
-nlohmann::json compute_metrics(const Pipeline& pipeline, const FrameSource& source,
-                               const PipelineConfig& config, const RunInfo& info, const OutputPaths& paths);
+nlohmann::json compute_metrics(const pipeline::Pipeline& pipeline, const pipeline::FrameSource& source,
+                               const pipeline::PipelineConfig& config, const RunInfo& info,
+                               const pipeline::OutputPaths& paths);
 
 // Side effect: with ground truth, evaluate_trajectory() writes the plot script's inputs
 // (report/trajectory_aligned.txt, report/groundtruth.txt, report/rpe_series.txt).
 // Writes metrics.json atomically.
-void write_metrics(const nlohmann::json& metrics, const OutputPaths& paths);
+void write_metrics(const nlohmann::json& metrics, const pipeline::OutputPaths& paths);
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

@@ -1,4 +1,4 @@
-#include "s3m/pipeline/run.hpp"
+#include "s3m/run/run.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -10,39 +10,22 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
-#include "s3m/pipeline/camera_views.hpp"
 #include "s3m/pipeline/cost_estimate.hpp"
 #include "s3m/pipeline/depth_scale.hpp"
-#include "s3m/pipeline/effective_config.hpp"
 #include "s3m/pipeline/factories.hpp"
-#include "s3m/pipeline/metrics.hpp"
 #include "s3m/pipeline/outputs.hpp"
 #include "s3m/pipeline/pipeline.hpp"
-#include "s3m/pipeline/progress.hpp"
-#include "s3m/pipeline/report.hpp"
-#include "s3m/pipeline/report_views.hpp"
 #include "s3m/pipeline/session_io.hpp"
 #include "s3m/pipeline/unregistered_depth.hpp"
+#include "s3m/run/camera_views.hpp"
+#include "s3m/run/effective_config.hpp"
+#include "s3m/run/metrics.hpp"
+#include "s3m/run/progress.hpp"
+#include "s3m/run/report.hpp"
+#include "s3m/run/report_views.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 namespace fs = std::filesystem;
-
-SegmenterSpec parse_segmenter_spec(const std::string& spec) {
-  SegmenterSpec s;
-  if (spec.empty()) return s;
-  if (spec == "oracle") {
-    s.kind = SegmenterSpec::Kind::kOracle;
-  } else if (spec == "none") {
-    s.kind = SegmenterSpec::Kind::kNone;
-  } else if (spec.rfind("onnx:", 0) == 0 && spec.size() > 5) {
-    s.kind = SegmenterSpec::Kind::kOnnx;
-    s.model = spec.substr(5);
-  } else {
-    throw Error("--segmenter: unknown value '" + spec +
-                "' (expected onnx:MODEL_DIR_OR_CARD | oracle | none)");
-  }
-  return s;
-}
 
 namespace {
 
@@ -57,8 +40,8 @@ SessionFiles session_files(const RunOptions& o) {
   }
   const fs::path given(o.map_dir);
   const fs::path dir = fs::is_regular_file(given) ? given.parent_path() : given;
-  const fs::path slam = fs::is_regular_file(given) ? given : dir / kSlamMapFile;
-  return {slam.string(), (dir / kKeptCloudsFile).string()};
+  const fs::path slam = fs::is_regular_file(given) ? given : dir / pipeline::kSlamMapFile;
+  return {slam.string(), (dir / pipeline::kKeptCloudsFile).string()};
 }
 
 // The loaded session lives in --out itself: overwritten only by a run that finished.
@@ -70,64 +53,66 @@ bool same_folder(const std::string& a, const std::string& b) {
 
 // Components the run is made of, built from the options (each factory names what is wrong).
 struct Components {
-  PipelineConfig config;  // o.config with the settings resolved from the data (depth registration)
-  std::unique_ptr<FrameSource> source;
-  std::unique_ptr<Pipeline> pipeline;
+  pipeline::PipelineConfig config;  // o.config with the settings resolved from the data (depth registration)
+  std::unique_ptr<pipeline::FrameSource> source;
+  std::unique_ptr<pipeline::Pipeline> pipeline;
   RunInfo info;
 };
 
 Components build(const RunOptions& o) {
-  Components c{o.config,
-               o.open_source ? o.open_source(o.config) : open_tum_source(o.dataset_dir, o.config.dataset),
-               nullptr,
-               {}};
+  Components c{
+      o.config,
+      o.open_source ? o.open_source(o.config) : pipeline::open_tum_source(o.dataset_dir, o.config.dataset),
+      nullptr,
+      {}};
   c.info.dataset_dir = c.source->name();
   c.info.config_file = o.config.source;
   // Frames 0, 20, ... tell whether depth is registered to colour and whether its scale is plausible.
   std::vector<RgbdFrame> sample = sample_frames(*c.source);
-  c.info.depth_registration = resolve_depth_registration(c.config, sample, c.source->camera(),
-                                                         c.source->depth_registered_by(), !o.open_source);
+  c.info.depth_registration = pipeline::resolve_depth_registration(
+      c.config, sample, c.source->camera(), c.source->depth_registered_by(), !o.open_source);
   spdlog::info("run: depth {}", c.info.depth_registration);
   for (const std::string& name : c.config.overlays)  // those the decision added, for metrics.json
     if (std::find(o.config.overlays.begin(), o.config.overlays.end(), name) == o.config.overlays.end())
       c.info.overlays.push_back(name);
   if (c.config.dataset.camera != o.config.dataset.camera) {  // 7-Scenes' Kinect, opened as its two cameras
-    c.source = open_tum_source(o.dataset_dir, c.config.dataset);
+    c.source = pipeline::open_tum_source(o.dataset_dir, c.config.dataset);
     sample = sample_frames(*c.source);
   }
   const PinholeCamera& cam = c.source->camera();
-  const DepthScaleCheck scale = check_depth_scale(sample, cam.depth_factor);
+  const pipeline::DepthScaleCheck scale = pipeline::check_depth_scale(sample, cam.depth_factor);
   c.info.depth_median_m = scale.median_m;
   c.info.depth_scale_warning = scale.warning;
   if (!scale.warning.empty()) spdlog::warn("run: {}", scale.warning);
-  auto poses = make_pose_source(o.poses, *c.source, cam, c.config);
+  auto poses = pipeline::make_pose_source(o.poses, *c.source, cam, c.config);
   const SessionFiles session = session_files(o);
-  if (!session.slam_map.empty()) load_session_map(*poses, session.slam_map, o.localize_only);
+  if (!session.slam_map.empty()) pipeline::load_session_map(*poses, session.slam_map, o.localize_only);
   c.info.poses = poses->name();
   c.info.loaded_map = o.map_dir;
   c.info.localize_only = o.localize_only;
   std::unique_ptr<semantics::Segmenter> segmenter;
-  std::unique_ptr<MapIntegrator> map;
+  std::unique_ptr<pipeline::MapIntegrator> map;
   if (!o.slam_only) {
-    SegmenterSpec spec = parse_segmenter_spec(o.segmenter);
+    pipeline::SegmenterSpec spec = pipeline::parse_segmenter_spec(o.segmenter);
     spec.model_dir = o.model_dir;
-    const std::string sim_sign = simulator_sign(o.open_source ? "" : o.dataset_dir, c.source->has_labels());
-    const SegmenterChoice choice = choose_segmenter(spec, c.config, sim_sign);
-    segmenter = make_segmenter(choice, c.config, c.source->has_labels());
-    record_segmenter_choice(c.config, choice);
+    const std::string sim_sign =
+        pipeline::simulator_sign(o.open_source ? "" : o.dataset_dir, c.source->has_labels());
+    const pipeline::SegmenterChoice choice = pipeline::choose_segmenter(spec, c.config, sim_sign);
+    segmenter = pipeline::make_segmenter(choice, c.config, c.source->has_labels());
+    pipeline::record_segmenter_choice(c.config, choice);
     c.info.segmenter_reason = choice.reason;
-    map = std::make_unique<MapIntegrator>(c.config.map);
+    map = std::make_unique<pipeline::MapIntegrator>(c.config.map);
   }
   c.info.segmenter = segmenter ? segmenter->name() : (o.slam_only ? "none (--slam-only)" : "none");
   const bool has_map = map != nullptr;
-  c.pipeline =
-      std::make_unique<Pipeline>(c.config, cam, std::move(poses), std::move(segmenter), std::move(map));
+  c.pipeline = std::make_unique<pipeline::Pipeline>(c.config, cam, std::move(poses), std::move(segmenter),
+                                                    std::move(map));
   if (has_map && !session.kept_clouds.empty()) {
     if (fs::exists(session.kept_clouds))
       c.pipeline->load_session_clouds(session.kept_clouds);
     else
       spdlog::warn("run: {} has no {} (a --slam-only run?): the semantic map starts empty", o.map_dir,
-                   kKeptCloudsFile);
+                   pipeline::kKeptCloudsFile);
   }
   return c;
 }
@@ -148,7 +133,7 @@ void create_output_dir(const std::string& dir) {
 // that the error stands: a problem with the first frame is most often every frame's (a wrong
 // camera size, 8-bit depth) and stopping there costs nothing.
 struct FrameReader {
-  const FrameSource& source;
+  const pipeline::FrameSource& source;
   RunInfo& info;
   int in_a_row = 0;  // unreadable frames since the last readable one
   bool read_any = false;
@@ -209,7 +194,7 @@ RunResult run_dataset(const RunOptions& o) {
   require(!o.out_dir.empty(), "run: an output directory is required (--out)");
   o.config.validate();
   Components c = build(o);
-  if (!o.slam_only) check_cost(c.config, c.source->camera(), o.force);  // before the first frame
+  if (!o.slam_only) pipeline::check_cost(c.config, c.source->camera(), o.force);  // before the first frame
   create_output_dir(o.out_dir);
 
   RunResult r;
@@ -224,7 +209,7 @@ RunResult run_dataset(const RunOptions& o) {
   CameraViewSampler camera_views;
   if (o.report && c.config.eval.plots)
     c.pipeline->set_frame_listener(
-        [&camera_views](const FrameOutcome& f, const RgbdFrame&, const semantics::LabelMap& l) {
+        [&camera_views](const pipeline::FrameOutcome& f, const RgbdFrame&, const semantics::LabelMap& l) {
           camera_views.offer(f, l);
         });
   ProgressLine progress(r.frames_total, o.progress);
@@ -247,7 +232,7 @@ RunResult run_dataset(const RunOptions& o) {
   // Outputs first (trajectory and map are what a user keeps), then the evaluation of them.
   const bool keep_loaded = r.interrupted && same_folder(o.map_dir, o.out_dir);
   if (keep_loaded) spdlog::warn("run: interrupted: the session loaded from {} is not overwritten", o.out_dir);
-  OutputPaths paths = write_outputs(*c.pipeline, c.config, o.out_dir, !keep_loaded);
+  pipeline::OutputPaths paths = pipeline::write_outputs(*c.pipeline, c.config, o.out_dir, !keep_loaded);
   paths.config_effective = write_effective_config(
       o.out_dir, c.config,
       {"depth: " + c.info.depth_registration,
@@ -271,4 +256,4 @@ RunResult run_dataset(const RunOptions& o) {
   return r;
 }
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

@@ -7,7 +7,7 @@
 
 #include "s3m/core/timing.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 
 class ProgressLine {
  public:
@@ -31,4 +31,4 @@ class ProgressLine {
 // True when stderr is an interactive terminal (progress is shown only there).
 bool stderr_is_tty();
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

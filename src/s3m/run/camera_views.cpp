@@ -1,4 +1,4 @@
-#include "s3m/pipeline/camera_views.hpp"
+#include "s3m/run/camera_views.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -12,20 +12,21 @@
 #include "s3m/io/image_io.hpp"
 #include "s3m/semantics/label_map.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 namespace fs = std::filesystem;
 
-void CameraViewSampler::offer(const FrameOutcome& outcome, const semantics::LabelMap& labels) {
+void CameraViewSampler::offer(const pipeline::FrameOutcome& outcome, const semantics::LabelMap& labels) {
   if (!outcome.integrated) return;
   if (sampler_.wants(offered_)) sampler_.keep({outcome.index, outcome.t_s, labels.argmax.clone()}, offered_);
   ++offered_;
 }
 
-std::vector<EvalFrame> CameraViewSampler::chosen() const {
+std::vector<pipeline::EvalFrame> CameraViewSampler::chosen() const {
   const auto& kept = sampler_.frames();
   if (kept.size() <= rows_) return kept;
-  std::vector<EvalFrame> out;
-  for (std::size_t i = 0; i < rows_; ++i) out.push_back(kept[(i * (kept.size() - 1) + (rows_ - 1) / 2) / (rows_ - 1)]);
+  std::vector<pipeline::EvalFrame> out;
+  for (std::size_t i = 0; i < rows_; ++i)
+    out.push_back(kept[(i * (kept.size() - 1) + (rows_ - 1) / 2) / (rows_ - 1)]);
   return out;
 }
 
@@ -54,9 +55,10 @@ cv::Mat resized(const cv::Mat& img, int width, int interpolation) {
 
 }  // namespace
 
-std::string write_camera_views(const std::vector<EvalFrame>& frames, const FrameSource& source,
-                               const mapping::SemanticOcTree* map, const io::Trajectory& final_T_w_c,
-                               const CameraViewOptions& o, const std::string& report_dir) {
+std::string write_camera_views(const std::vector<pipeline::EvalFrame>& frames,
+                               const pipeline::FrameSource& source, const mapping::SemanticOcTree* map,
+                               const io::Trajectory& final_T_w_c, const CameraViewOptions& o,
+                               const std::string& report_dir) {
   const std::string dir = report_dir + "/camera_views";
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -65,7 +67,7 @@ std::string write_camera_views(const std::vector<EvalFrame>& frames, const Frame
   for (const auto& p : final_T_w_c) pose_at.emplace(p.t_s, p.T_w_x);
   const ClassList& classes = map ? map->classes() : indoor_classes();
   nlohmann::json rows = nlohmann::json::array();
-  for (const EvalFrame& e : frames) {
+  for (const pipeline::EvalFrame& e : frames) {
     const RgbdFrame f = source.load(static_cast<std::size_t>(e.index));
     char stem[32];
     std::snprintf(stem, sizeof stem, "frame_%06d", e.index);
@@ -77,11 +79,12 @@ std::string write_camera_views(const std::vector<EvalFrame>& frames, const Frame
     };
     put("colour", f.rgb, cv::INTER_AREA);
     put("depth", colour_depth(f.depth_m, o.min_depth_m, o.max_depth_m), cv::INTER_NEAREST);
-    if (!e.argmax.empty()) put("segmentation", semantics::overlay(f.rgb, e.argmax, classes, 0.55), cv::INTER_AREA);
+    if (!e.argmax.empty())
+      put("segmentation", semantics::overlay(f.rgb, e.argmax, classes, 0.55), cv::INTER_AREA);
     const auto pose = pose_at.find(e.t_s);
     if (map && pose != pose_at.end()) {
-      const cv::Mat labels = project_map_labels(*map, source.camera(), f.depth_m, pose->second,
-                                                {o.min_depth_m, o.max_depth_m, 2});
+      const cv::Mat labels = pipeline::project_map_labels(*map, source.camera(), f.depth_m, pose->second,
+                                                          {o.min_depth_m, o.max_depth_m, 2});
       cv::Mat shown = semantics::overlay(f.rgb, labels, classes, 0.75);
       shown.setTo(cv::Scalar(40, 40, 40), labels == cls::kUnknown);  // the map has nothing there
       put("map", shown, cv::INTER_NEAREST);
@@ -93,4 +96,4 @@ std::string write_camera_views(const std::vector<EvalFrame>& frames, const Frame
   return manifest;
 }
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

@@ -8,12 +8,12 @@
 #include <nlohmann/json.hpp>
 
 #include "s3m/eval/align.hpp"
-#include "s3m/pipeline/frame_source.hpp"
 #include "s3m/mapping/metrics.hpp"
+#include "s3m/pipeline/frame_source.hpp"
 #include "s3m/pipeline/outputs.hpp"
 #include "s3m/pipeline/pipeline.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 
 struct TrajectoryScore {
   nlohmann::json json = nlohmann::json::object();  // {} without ground truth
@@ -29,12 +29,13 @@ SE3 align_poses(const std::vector<SE3>& T_w_est, const std::vector<SE3>& T_w_gt)
 
 // ATE/RPE of the camera trajectory (and of the robot trajectory when the dataset has
 // groundtruth_robot.txt). Writes report/plot_data.json for tools/plot_trajectories.py.
-TrajectoryScore evaluate_trajectory(const Pipeline& pipeline, const FrameSource& source,
-                                    const PipelineConfig& config, const OutputPaths& paths);
+TrajectoryScore evaluate_trajectory(const pipeline::Pipeline& pipeline, const pipeline::FrameSource& source,
+                                    const pipeline::PipelineConfig& config,
+                                    const pipeline::OutputPaths& paths);
 
 struct MapScore {
-  mapping::MapEvaluation observed;     // over ground-truth voxels in space the map observed
-  mapping::MapEvaluation all;          // over every ground-truth voxel (recall = coverage of the scene)
+  mapping::MapEvaluation observed;  // over ground-truth voxels in space the map observed
+  mapping::MapEvaluation all;       // over every ground-truth voxel (recall = coverage of the scene)
   std::size_t gt_observed = 0, gt_total = 0;
   // Mean IoU over the classes present in the observed ground truth: the same definition as the
   // per-frame segmentation mIoU (classes with ground-truth pixels), so the two compare directly.
@@ -46,7 +47,9 @@ struct MapScore {
 // with T_map_gt. A short flight sees part of a room: classes it never saw would score IoU 0 and make
 // the map look worse than the frames it was built from, so the headline numbers (`observed`) use only
 // ground-truth voxels whose cell the map knows (free or occupied, i.e. inside some camera's view).
-MapScore score_map(const MapIntegrator& map, const std::string& gt_voxel_map_path, const SE3& T_map_gt);
-MapScore score_map(const mapping::SemanticOcTree& tree, const std::string& gt_voxel_map_path, const SE3& T_map_gt);
+MapScore score_map(const pipeline::MapIntegrator& map, const std::string& gt_voxel_map_path,
+                   const SE3& T_map_gt);
+MapScore score_map(const mapping::SemanticOcTree& tree, const std::string& gt_voxel_map_path,
+                   const SE3& T_map_gt);
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

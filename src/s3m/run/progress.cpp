@@ -1,4 +1,4 @@
-#include "s3m/pipeline/progress.hpp"
+#include "s3m/run/progress.hpp"
 
 #include <unistd.h>
 
@@ -6,11 +6,13 @@
 
 #include <fmt/format.h>
 
-namespace s3m::pipeline {
+namespace s3m::run {
 
-ProgressLine::ProgressLine(std::size_t total_frames, bool enabled) : total_(total_frames), enabled_(enabled) {}
+ProgressLine::ProgressLine(std::size_t total_frames, bool enabled)
+    : total_(total_frames), enabled_(enabled) {}
 
-std::string ProgressLine::format(std::size_t done, std::size_t total, double elapsed_s, const std::string& state) {
+std::string ProgressLine::format(std::size_t done, std::size_t total, double elapsed_s,
+                                 const std::string& state) {
   const double fps = elapsed_s > 0 ? done / elapsed_s : 0.0;
   std::string eta = "--";
   if (fps > 0 && total >= done) eta = fmt::format("{:.0f} s", (total - done) / fps);
@@ -39,4 +41,4 @@ void ProgressLine::finish(std::size_t done, const std::string& state) {
 
 bool stderr_is_tty() { return ::isatty(STDERR_FILENO) == 1; }
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run

@@ -9,11 +9,12 @@
 #include "s3m/pipeline/outputs.hpp"
 #include "s3m/pipeline/pipeline.hpp"
 
-namespace s3m::pipeline {
+namespace s3m::run {
 
 // Never throws: like make_report, a missing picture must not lose the run's outputs. Returns
 // what could not be made ("" when everything was), for the run's warning.
-std::string write_report_views(const Pipeline& pipeline, const FrameSource& source, const PipelineConfig& config,
-                               const OutputPaths& paths, const std::vector<EvalFrame>& camera_frames);
+std::string write_report_views(const pipeline::Pipeline& pipeline, const pipeline::FrameSource& source,
+                               const pipeline::PipelineConfig& config, const pipeline::OutputPaths& paths,
+                               const std::vector<pipeline::EvalFrame>& camera_frames);
 
-}  // namespace s3m::pipeline
+}  // namespace s3m::run
