@@ -16,7 +16,7 @@ struct OutputPaths {
   std::string map_ot, map_ply;                                 // empty when there is no map
   std::string slam_map, kept_clouds;  // the session (session_io.hpp); empty: not written
   std::string metrics;
-  std::string config_effective;  // the settings in effect (effective_config.hpp); written by run_dataset
+  std::string config_effective;  // the settings in effect (run/effective_config.hpp); written by run_dataset
 };
 
 // robot_pose(T_w_c, T_c_r) = T_w_c * T_c_r for every pose (core/se3.hpp).
