@@ -9,6 +9,8 @@
 #include <spdlog/spdlog.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/io/dataset_reader.hpp"
+#include "s3m/io/image_io.hpp"
 #include "s3m/io/matrix_files.hpp"
 
 namespace s3m::io {
@@ -31,18 +33,21 @@ void read_depth_and_poses(const std::string& dir, std::vector<NumberedFrame>& fr
   int lost = 0;
   for (auto& f : frames) {
     const fs::path depth = fs::path(dir) / f.depth;
-    if (!fs::exists(depth)) throw ParseError(depth.string(), 0, "file not found", "a depth image beside " + f.rgb);
+    if (!fs::exists(depth))
+      throw ParseError(depth.string(), 0, "file not found", "a depth image beside " + f.rgb);
     if (f.pose.empty()) continue;  // Replica: one traj.txt, read by its reader
     const fs::path pose = fs::path(dir) / f.pose;
     if (!fs::exists(pose)) continue;
     f.T_w_c = read_pose_matrix(pose.string());
     lost += f.T_w_c ? 0 : 1;
   }
-  if (lost > 0) spdlog::warn("{}: {} pose file(s) hold inf/nan; those frames have no ground truth", dir, lost);
+  if (lost > 0)
+    spdlog::warn("{}: {} pose file(s) hold inf/nan; those frames have no ground truth", dir, lost);
 }
 
-std::vector<NumberedFrame> numbered_frames(const std::string& dir, const std::string& folder, const std::regex& colour,
-                                           const DepthAndPoseNames& names, const std::string& expected) {
+std::vector<NumberedFrame> numbered_frames(const std::string& dir, const std::string& folder,
+                                           const std::regex& colour, const DepthAndPoseNames& names,
+                                           const std::string& expected) {
   std::vector<NumberedFrame> frames;
   for (const auto& e : fs::directory_iterator(fs::path(dir) / folder)) {
     std::smatch m;
@@ -60,8 +65,8 @@ std::vector<NumberedFrame> numbered_frames(const std::string& dir, const std::st
   for (std::size_t i = 1; i < frames.size(); ++i)
     if (frames[i].number == frames[i - 1].number)
       throw ParseError((fs::path(dir) / frames[i].rgb).string(), 0,
-                       fmt::format("frame {} has two colour images ({} and {})", frames[i].number, frames[i - 1].rgb,
-                                   frames[i].rgb),
+                       fmt::format("frame {} has two colour images ({} and {})", frames[i].number,
+                                   frames[i - 1].rgb, frames[i].rgb),
                        "one colour image per frame");
   read_depth_and_poses(dir, frames);
   return frames;
@@ -78,7 +83,8 @@ std::string layout_name(FolderLayout layout) {
   switch (layout) {
     case FolderLayout::kSevenScenes: return "7-Scenes folder (frame-NNNNNN.*; t = N / 30 s)";
     case FolderLayout::kScanNet: return "ScanNet export (color/, depth/; t = N / 30 s)";
-    case FolderLayout::kReplica: return "Replica scene as NICE-SLAM renders it (results/, traj.txt; t = N / 30 s)";
+    case FolderLayout::kReplica:
+      return "Replica scene as NICE-SLAM renders it (results/, traj.txt; t = N / 30 s)";
     case FolderLayout::kNone: break;
   }
   return "none";
@@ -102,6 +108,36 @@ FolderCamera folder_camera(const std::string& dir, FolderLayout layout, const Nu
     case FolderLayout::kNone: break;
   }
   throw Error("folder_camera: " + dir + " is none of the known dataset folders");
+}
+
+Dataset read_numbered_folder(const std::string& dir, const DatasetOptions& options, FolderLayout layout) {
+  Dataset::Parts p;
+  p.dir = dir;
+  p.layout = layout_name(layout);
+  p.saturated_depth_is_hole = layout == FolderLayout::kSevenScenes;
+  // 1. Frames and ground truth from the numbered files.
+  const auto frames = read_folder_frames(dir, layout);
+  for (const auto& f : frames) {
+    p.frames.push_back({f.t_s, f.t_s, f.rgb, f.depth, ""});
+    if (f.T_w_c) p.groundtruth.push_back({f.t_s, *f.T_w_c});
+  }
+  // 2. Camera: a given one or camera.yaml, else what the folder implies; colour resized to its size.
+  if (!options.camera.empty() || fs::exists(fs::path(dir) / "camera.yaml")) {
+    const auto [camera_file, camera_source] = dataset_camera(dir, options);
+    p.camera = camera_file.camera;
+    p.camera_source = camera_source;
+    p.colour_size = read_rgb((fs::path(dir) / frames.front().rgb).string()).size();
+    if (camera_file.depth) use_depth_camera(p, *camera_file.depth);
+  } else {
+    const FolderCamera c = folder_camera(dir, layout, frames.front());
+    p.camera = c.camera;
+    p.camera_source = c.source;
+    p.colour_size = c.colour_size;
+  }
+  spdlog::info("{}: {} frames ({} to {}), timestamps frame number / {} s, {} ground-truth poses", dir,
+               frames.size(), frames.front().rgb, frames.back().rgb, kFolderFrameRateHz,
+               p.groundtruth.size());
+  return Dataset(std::move(p));
 }
 
 }  // namespace s3m::io

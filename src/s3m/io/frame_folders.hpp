@@ -1,7 +1,8 @@
 #pragma once
-// Dataset folders as two common RGB-D datasets ship them, read without conversion. Neither has
-// timestamps: frame N is given t = N / 30 s, their sensors' nominal rate. TumDataset::open() reads
-// these folders when they have no rgb.txt; this header holds its building blocks.
+// Dataset folders as three common RGB-D datasets ship them, read without conversion. None has
+// timestamps: frame N is given t = N / 30 s, their sensors' nominal rate. Each has its reader
+// (dataset_reader.hpp, in seven_scenes.cpp, scannet.cpp, replica.cpp); this header holds their
+// building blocks, which `s3m eval` uses too for the pose files.
 //
 // Microsoft 7-Scenes (and its 3DMatch copies): frame-NNNNNN.color.png (.jpg in 3DMatch),
 // frame-NNNNNN.depth.png (16-bit millimetres; 65535 = no measurement), frame-NNNNNN.pose.txt
@@ -25,6 +26,7 @@
 
 #include "s3m/core/camera.hpp"
 #include "s3m/core/se3.hpp"
+#include "s3m/io/dataset.hpp"
 
 namespace s3m::io {
 
@@ -77,6 +79,10 @@ std::string layout_name(FolderLayout layout);
 // The readers and cameras above, by layout (not kNone).
 std::vector<NumberedFrame> read_folder_frames(const std::string& dir, FolderLayout layout);
 FolderCamera folder_camera(const std::string& dir, FolderLayout layout, const NumberedFrame& first);
+// The folder readers' common part: frames and ground truth from the numbered files; the camera of
+// options.camera or camera.yaml when there is one (its depth_camera section applies), else the
+// layout's own (folder_camera()), with colour resized to its size.
+Dataset read_numbered_folder(const std::string& dir, const DatasetOptions& options, FolderLayout layout);
 
 // dir as an absolute, normal path that names the folder itself ("seq/" and "." too).
 std::filesystem::path folder_path(const std::string& dir);
@@ -92,7 +98,8 @@ void read_depth_and_poses(const std::string& dir, std::vector<NumberedFrame>& fr
 // ""), checked by read_depth_and_poses(). Throws ParseError when none match (`expected` says what
 // was) or two colour images have one number.
 using DepthAndPoseNames = std::function<std::pair<std::string, std::string>(const std::string& digits)>;
-std::vector<NumberedFrame> numbered_frames(const std::string& dir, const std::string& folder, const std::regex& colour,
-                                           const DepthAndPoseNames& names, const std::string& expected);
+std::vector<NumberedFrame> numbered_frames(const std::string& dir, const std::string& folder,
+                                           const std::regex& colour, const DepthAndPoseNames& names,
+                                           const std::string& expected);
 
 }  // namespace s3m::io

@@ -4,11 +4,12 @@
 #include <regex>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/input_file.hpp"
+#include "s3m/io/dataset_reader.hpp"
 #include "s3m/io/frame_folders.hpp"
 #include "s3m/io/image_io.hpp"
 #include "s3m/io/matrix_files.hpp"
@@ -28,7 +29,8 @@ PinholeCamera read_cam_params(const std::string& path) {
     throw ParseError(path, 0, std::string("not JSON: ") + e.what(), what);
   }
   const auto number = [&](const char* key) {
-    if (!j.contains("camera") || !j["camera"].is_object() || !j["camera"].contains(key) || !j["camera"][key].is_number())
+    if (!j.contains("camera") || !j["camera"].is_object() || !j["camera"].contains(key) ||
+        !j["camera"][key].is_number())
       throw ParseError(path, 0, std::string("no number camera.") + key, what);
     return j["camera"][key].get<double>();
   };
@@ -58,15 +60,18 @@ std::vector<NumberedFrame> read_replica(const std::string& dir) {
   static const std::regex colour_name(R"(frame(\d+)\.(jpg|png))");
   // Replica has no pose file per frame: traj.txt, below.
   auto frames = numbered_frames(
-      dir, "results", colour_name, [](const std::string& n) { return std::pair{"results/depth" + n + ".png", std::string()}; },
+      dir, "results", colour_name,
+      [](const std::string& n) {
+        return std::pair{"results/depth" + n + ".png", std::string()};
+      },
       "a Replica scene as NICE-SLAM renders it (results/frameNNNNNN.jpg)");
   // traj.txt: line N is frame N's pose.
   const auto poses = read_pose_rows((fs::path(dir) / "traj.txt").string());
   for (auto& f : frames)
     if (f.number < static_cast<int>(poses.size())) f.T_w_c = poses[f.number];
   if (poses.size() < static_cast<std::size_t>(frames.back().number + 1))
-    spdlog::warn("{}/traj.txt: {} poses for frames up to {}: the last frames have no ground truth", dir, poses.size(),
-                 frames.back().number);
+    spdlog::warn("{}/traj.txt: {} poses for frames up to {}: the last frames have no ground truth", dir,
+                 poses.size(), frames.back().number);
   return frames;
 }
 
@@ -79,10 +84,29 @@ FolderCamera replica_camera(const std::string& dir, const NumberedFrame& first) 
   }
   const cv::Mat rgb = read_rgb((fs::path(dir) / first.rgb).string());
   if (rgb.cols != cam.width || rgb.rows != cam.height)
-    throw ParseError((fs::path(dir) / first.rgb).string(), 0, fmt::format("image is {}x{}", rgb.cols, rgb.rows),
+    throw ParseError((fs::path(dir) / first.rgb).string(), 0,
+                     fmt::format("image is {}x{}", rgb.cols, rgb.rows),
                      fmt::format("{}x{} as {} says", cam.width, cam.height, source));
   spdlog::info("{}: Replica layout, camera from {}, depth factor {:g}", dir, source, cam.depth_factor);
   return {cam, rgb.size(), source};
 }
+
+namespace {
+
+class ReplicaReader final : public DatasetReader {
+ public:
+  std::string name() const override { return "Replica"; }
+  std::string detect(const std::string& dir) const override {
+    return is_replica_folder(dir) ? "results/ and traj.txt" : "";
+  }
+  std::string expected() const override { return "a Replica scene (results/, traj.txt)"; }
+  Dataset read(const std::string& dir, const DatasetOptions& options) const override {
+    return read_numbered_folder(dir, options, FolderLayout::kReplica);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<const DatasetReader> make_replica_reader() { return std::make_unique<ReplicaReader>(); }
 
 }  // namespace s3m::io

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/io/dataset_reader.hpp"
 #include "s3m/io/frame_folders.hpp"
 #include "s3m/io/image_io.hpp"
 #include "s3m/io/matrix_files.hpp"
@@ -21,16 +22,19 @@ std::vector<NumberedFrame> read_scannet(const std::string& dir) {
   static const std::regex colour_name(R"((\d+)\.(jpg|png))");
   return numbered_frames(
       dir, "color", colour_name,
-      [](const std::string& n) { return std::pair{"depth/" + n + ".png", "pose/" + n + ".txt"}; },
+      [](const std::string& n) {
+        return std::pair{"depth/" + n + ".png", "pose/" + n + ".txt"};
+      },
       "a ScanNet scan exported by SensReader (color/N.jpg)");
 }
 
 FolderCamera scannet_camera(const std::string& dir, const NumberedFrame& first) {
   const fs::path k = fs::path(dir) / "intrinsic" / "intrinsic_color.txt";
   if (!fs::exists(k))
-    throw ParseError(k.string(), 0, "file not found",
-                     "ScanNet's colour intrinsics (SensReader --export_intrinsics), or a camera.yaml / dataset.camera "
-                     "for the depth image's size");
+    throw ParseError(
+        k.string(), 0, "file not found",
+        "ScanNet's colour intrinsics (SensReader --export_intrinsics), or a camera.yaml / dataset.camera "
+        "for the depth image's size");
   const PinholeCamera K = read_intrinsic_matrix(k.string());
   const cv::Mat rgb = read_rgb((fs::path(dir) / first.rgb).string());
   const cv::Mat depth = read_depth_png((fs::path(dir) / first.depth).string(), 1000.0);
@@ -45,10 +49,29 @@ FolderCamera scannet_camera(const std::string& dir, const NumberedFrame& first) 
   cam.height = depth.rows;
   cam.depth_factor = 1000.0;
   cam.validate();
-  spdlog::info("{}: ScanNet layout, colour {}x{} resized to the depth's {}x{}, intrinsics from {} scaled with it "
-               "(fx {:.2f} fy {:.2f} cx {:.2f} cy {:.2f}), depth in millimetres",
-               dir, rgb.cols, rgb.rows, depth.cols, depth.rows, k.string(), cam.fx, cam.fy, cam.cx, cam.cy);
+  spdlog::info(
+      "{}: ScanNet layout, colour {}x{} resized to the depth's {}x{}, intrinsics from {} scaled with it "
+      "(fx {:.2f} fy {:.2f} cx {:.2f} cy {:.2f}), depth in millimetres",
+      dir, rgb.cols, rgb.rows, depth.cols, depth.rows, k.string(), cam.fx, cam.fy, cam.cx, cam.cy);
   return {cam, rgb.size(), k.string() + " (scaled to the depth image)"};
 }
+
+namespace {
+
+class ScanNetReader final : public DatasetReader {
+ public:
+  std::string name() const override { return "ScanNet"; }
+  std::string detect(const std::string& dir) const override {
+    return is_scannet_folder(dir) ? "color/ and depth/" : "";
+  }
+  std::string expected() const override { return "a ScanNet export (color/, depth/)"; }
+  Dataset read(const std::string& dir, const DatasetOptions& options) const override {
+    return read_numbered_folder(dir, options, FolderLayout::kScanNet);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<const DatasetReader> make_scannet_reader() { return std::make_unique<ScanNetReader>(); }
 
 }  // namespace s3m::io

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/io/dataset_reader.hpp"
 #include "s3m/io/frame_folders.hpp"
 #include "s3m/io/image_io.hpp"
 #include "s3m/io/matrix_files.hpp"
@@ -31,7 +32,9 @@ bool is_seven_scenes_folder(const std::string& dir) {
 std::vector<NumberedFrame> read_seven_scenes(const std::string& dir) {
   return numbered_frames(
       dir, "", colour_name(),
-      [](const std::string& n) { return std::pair{"frame-" + n + ".depth.png", "frame-" + n + ".pose.txt"}; },
+      [](const std::string& n) {
+        return std::pair{"frame-" + n + ".depth.png", "frame-" + n + ".pose.txt"};
+      },
       "a 7-Scenes sequence folder (frame-NNNNNN.color.png or .jpg)");
 }
 
@@ -45,14 +48,38 @@ FolderCamera seven_scenes_camera(const std::string& dir, const NumberedFrame& fi
     spdlog::info("{}: 7-Scenes layout, camera from {}, depth in millimetres", dir, k->string());
     source = k->string();
   } else {
-    spdlog::info("{}: 7-Scenes layout, no camera.yaml or camera-intrinsics.txt: the dataset's nominal intrinsics "
-                 "(preset 7scenes: fx = fy = 585, cx = 320, cy = 240), depth in millimetres", dir);
+    spdlog::info(
+        "{}: 7-Scenes layout, no camera.yaml or camera-intrinsics.txt: the dataset's nominal intrinsics "
+        "(preset 7scenes: fx = fy = 585, cx = 320, cy = 240), depth in millimetres",
+        dir);
   }
   const cv::Mat rgb = read_rgb((fs::path(dir) / first.rgb).string());
   cam.width = rgb.cols;
   cam.height = rgb.rows;
   cam.validate();
   return {cam, rgb.size(), source};
+}
+
+namespace {
+
+class SevenScenesReader final : public DatasetReader {
+ public:
+  std::string name() const override { return "7-Scenes"; }
+  std::string detect(const std::string& dir) const override {
+    return is_seven_scenes_folder(dir) ? "frame-NNNNNN.color.png|jpg files" : "";
+  }
+  std::string expected() const override {
+    return "a 7-Scenes folder (frame-NNNNNN.color.png, frame-NNNNNN.depth.png)";
+  }
+  Dataset read(const std::string& dir, const DatasetOptions& options) const override {
+    return read_numbered_folder(dir, options, FolderLayout::kSevenScenes);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<const DatasetReader> make_seven_scenes_reader() {
+  return std::make_unique<SevenScenesReader>();
 }
 
 }  // namespace s3m::io

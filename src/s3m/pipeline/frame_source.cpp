@@ -1,13 +1,13 @@
 #include "s3m/pipeline/frame_source.hpp"
 
-#include "s3m/io/tum_dataset.hpp"
+#include "s3m/io/dataset_reader.hpp"
 
 namespace s3m::pipeline {
 namespace {
 
-class TumFrameSource final : public FrameSource {
+class DatasetFrameSource final : public FrameSource {
  public:
-  explicit TumFrameSource(io::TumDataset dataset) : dataset_(std::move(dataset)) {}
+  explicit DatasetFrameSource(io::Dataset dataset) : dataset_(std::move(dataset)) {}
 
   std::size_t size() const override { return dataset_.size(); }
   RgbdFrame load(std::size_t index) const override { return dataset_.load(index); }
@@ -23,20 +23,20 @@ class TumFrameSource final : public FrameSource {
   std::string depth_camera() const override { return dataset_.depth_camera(); }
 
  private:
-  io::TumDataset dataset_;
+  io::Dataset dataset_;
 };
 
 }  // namespace
 
 std::unique_ptr<FrameSource> open_tum_source(const std::string& dir, const DatasetConfig& config) {
-  io::TumDatasetOptions options;
+  io::DatasetOptions options;
   options.max_dt_s = config.max_dt_s;
   options.camera = config.camera;
-  return tum_source(io::TumDataset::open(dir, options));
+  return tum_source(io::open_dataset(dir, options));
 }
 
-std::unique_ptr<FrameSource> tum_source(io::TumDataset dataset) {
-  return std::make_unique<TumFrameSource>(std::move(dataset));
+std::unique_ptr<FrameSource> tum_source(io::Dataset dataset) {
+  return std::make_unique<DatasetFrameSource>(std::move(dataset));
 }
 
 }  // namespace s3m::pipeline

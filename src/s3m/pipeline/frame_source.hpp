@@ -1,14 +1,15 @@
 #pragma once
-// Where run_dataset() reads its frames from. A TUM-layout directory here; a rosbag in ROS builds
-// (src/ros/bag_source.hpp). Everything downstream (pipeline, outputs, metrics) only sees this.
+// Where run_dataset() reads its frames from. A dataset folder here (io::Dataset: TUM, ETH3D,
+// 7-Scenes, ScanNet or Replica); a rosbag in ROS builds (src/ros/bag_source.hpp). Everything downstream
+// (pipeline, outputs, metrics) only sees this.
 #include <cstddef>
 #include <memory>
 #include <string>
 
 #include "s3m/core/camera.hpp"
 #include "s3m/core/rgbd_frame.hpp"
+#include "s3m/io/dataset.hpp"
 #include "s3m/io/trajectory.hpp"
-#include "s3m/io/tum_dataset.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 
 namespace s3m::pipeline {
@@ -22,8 +23,8 @@ class FrameSource {
   virtual RgbdFrame load(std::size_t index) const = 0;  // frame.index == index
   virtual const PinholeCamera& camera() const = 0;
   virtual const io::Trajectory& groundtruth() const = 0;  // camera ground truth T_w_c; empty when none
-  virtual bool has_labels() const = 0;                     // frames carry ground-truth label images
-  virtual std::string name() const = 0;                    // what was opened, for logs and metrics.json
+  virtual bool has_labels() const = 0;                    // frames carry ground-truth label images
+  virtual std::string name() const = 0;                   // what was opened, for logs and metrics.json
   // Folder with the simulator's evaluation files (groundtruth_robot.txt, gt_voxels.txt); "" when none.
   virtual std::string eval_dir() const = 0;
   // Frame index's time [s] without decoding its images (this default does decode them).
@@ -41,9 +42,10 @@ class FrameSource {
   virtual std::string depth_camera() const { return ""; }
 };
 
-// A TUM-layout directory (io::TumDataset) with the association window and camera of `config`.
+// A dataset folder of any layout io::open_dataset() reads, with the association window and camera of
+// `config`.
 std::unique_ptr<FrameSource> open_tum_source(const std::string& dir, const DatasetConfig& config);
 // The same for a dataset already open.
-std::unique_ptr<FrameSource> tum_source(io::TumDataset dataset);
+std::unique_ptr<FrameSource> tum_source(io::Dataset dataset);
 
 }  // namespace s3m::pipeline
