@@ -125,6 +125,24 @@ TEST(PipelineRun, InterruptedRunLeavesLoadableOutputs) {
   EXPECT_TRUE(r.metrics["interrupted"].get<bool>());
 }
 
+TEST(PipelineRun, ARunIntoAnEarlierRunsFolderLeavesNoneOfItsProductsBehind) {
+  run::RunOptions full = options("stale", true);
+  full.max_frames = 20;
+  run::run_dataset(full);
+  ASSERT_TRUE(fs::exists(full.out_dir + "/map.ot") && fs::exists(full.out_dir + "/map.ply"));
+  fs::create_directories(full.out_dir + "/report");
+  std::ofstream(full.out_dir + "/report/report.html") << "the earlier run's report";
+  std::ofstream(full.out_dir + "/notes.txt") << "the user's own file";
+  run::RunOptions slam_only = full;
+  slam_only.slam_only = true;
+  slam_only.max_frames = 10;
+  run::run_dataset(slam_only);
+  EXPECT_EQ(io::read_tum_trajectory(full.out_dir + "/trajectory_camera.txt").size(), 10u);
+  for (const char* f : {"map.ot", "map.ply", "kept_clouds.bin", "report"})
+    EXPECT_FALSE(fs::exists(full.out_dir + "/" + f)) << f << " of the earlier run is still there";
+  EXPECT_EQ(read_bytes(full.out_dir + "/notes.txt"), "the user's own file");
+}
+
 TEST(PipelineRun, SlamOnlyWritesTrajectoriesAndNoMap) {
   run::RunOptions o = options("slam_only", true);
   o.slam_only = true;

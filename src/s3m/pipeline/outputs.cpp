@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <vector>
 
 #include <spdlog/spdlog.h>
 
@@ -28,6 +29,25 @@ std::string frames_table(const std::vector<FrameOutcome>& frames) {
   }
   return out;
 }
+
+namespace {
+
+// Products of an earlier run in the same folder that this run did not make (a --slam-only run after
+// a full one: its map.ot beside the new trajectory) would be read as this run's: they go.
+void remove_stale_outputs(const OutputPaths& p, bool session_written) {
+  const std::string dir = p.out_dir;
+  std::vector<std::string> stale;
+  if (p.map_ot.empty()) stale.insert(stale.end(), {dir + "/map.ot", dir + "/map.ply"});
+  if (session_written && p.slam_map.empty()) stale.push_back(dir + "/" + kSlamMapFile);
+  if (session_written && p.kept_clouds.empty()) stale.push_back(dir + "/" + kKeptCloudsFile);
+  for (const std::string& f : stale) {
+    std::error_code ec;
+    if (std::filesystem::remove(f, ec))
+      spdlog::info("outputs: removed {} of an earlier run (not made by this one)", f);
+  }
+}
+
+}  // namespace
 
 OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config, const std::string& out_dir,
                           bool write_session) {
@@ -60,6 +80,7 @@ OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config
       save_kept_clouds(p.kept_clouds, pipeline.keyframe_store());
     }
   }
+  remove_stale_outputs(p, write_session);
   return p;
 }
 

@@ -28,7 +28,8 @@ io::Trajectory robot_trajectory(const io::Trajectory& camera, const SE3& T_c_r);
 std::string frames_table(const std::vector<FrameOutcome>& frames);
 
 // write_session = false keeps slam_map.bin / kept_clouds.bin out (a run that was interrupted must
-// not overwrite the session it loaded from the same folder).
+// not overwrite the session it loaded from the same folder). The map and session files of an
+// earlier run in out_dir that this run does not make are removed (kept when write_session is false).
 OutputPaths write_outputs(const Pipeline& pipeline, const PipelineConfig& config, const std::string& out_dir,
                           bool write_session = true);
 

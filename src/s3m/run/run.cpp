@@ -248,6 +248,10 @@ RunResult run_dataset(const RunOptions& o) {
     r.report_html = rep.html;
     r.report_error = rep.error;
     if (!rep.error.empty()) spdlog::warn("run: report not made: {}", rep.error);
+  } else {
+    std::error_code ec;  // an earlier run's report would describe that run
+    if (fs::remove_all(fs::path(o.out_dir) / "report", ec) > 0)
+      spdlog::info("run: removed the report of an earlier run from {} (--no-report)", o.out_dir);
   }
   if (!c.info.stopped_by.empty())
     throw Error(
