@@ -17,6 +17,14 @@ for f in bin/s3m lib/cmake/s3m/s3mConfig.cmake include/s3m/pipeline/pipeline.hpp
          share/s3m/config/sim.yaml share/s3m/tools/plot_report.py share/s3m/tools/viewer/viewer.js; do
   [ -e "$prefix/$f" ] || fail "the install has no $f"
 done
+# Only the headers a library user needs are installed, and they are self-contained: every s3m
+# header an installed one includes is installed too; the module-internal ones are not.
+missing=$(cd "$prefix/include" && grep -rhoE '#include "s3m/[^"]+"' s3m | sed -E 's/#include "(.*)"/\1/' |
+          sort -u | while read -r h; do [ -e "$h" ] || echo "$h"; done)
+[ -z "$missing" ] || fail "installed headers include headers that are not installed: $missing"
+for f in slam/io/map_codec.hpp slam/map/depth_points.hpp slam/map/group_search.hpp; do
+  [ ! -e "$prefix/include/s3m/$f" ] || fail "the module-internal header $f is installed"
+done
 
 cmake -S "$src/examples/library" -B "$work/example" -G "$generator" -DCMAKE_CXX_COMPILER="$cxx" \
   -DCMAKE_PREFIX_PATH="$prefix" >"$work/configure.log" || { cat "$work/configure.log"; fail "find_package(s3m)"; }
