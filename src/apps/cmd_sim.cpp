@@ -24,8 +24,21 @@ struct SimArgs {
   double depth_time_offset_s = 0.0;
   std::uint64_t seed = 7, layout_seed = 0;
   double fps = 30.0, voxel_res_m = 0.05;
-  bool noise = true, snapshots_only = false;
+  bool noise = true, snapshots_only = false, force = false;
 };
+
+// A folder holding a recording that s3m sim did not make (its lists without a sim.yaml): rendering
+// into it would replace the recording's lists and camera.yaml.
+void refuse_recording(const std::string& out_dir, bool force) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (force || !fs::exists(fs::path(out_dir) / "rgb.txt", ec) ||
+      fs::exists(fs::path(out_dir) / "sim.yaml", ec))
+    return;
+  throw Error("--out '" + out_dir +
+              "' holds a recording (rgb.txt, no sim.yaml): s3m sim would replace its lists and camera.yaml; "
+              "give another folder, or --force to write over it");
+}
 
 // A strip naming the classes present in a label image, with their palette colours.
 cv::Mat label_legend(const cv::Mat& labels, int width) {
@@ -101,6 +114,7 @@ void run(const SimArgs& a, const CLI::App& cmd) {
     cfg.sensor.camera = sim::sensor_camera(a.camera, a.width, a.height);
   cfg.validate();
   require_folder_path(a.out_dir, "--out");
+  refuse_recording(a.out_dir, a.force);
   if (!a.snapshots.empty())
     snapshot_frames(a.snapshots, std::size_t(cfg.trajectory.frames));  // before the work
 
@@ -177,6 +191,8 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--snapshots", args->snapshots,
                   "Comma-separated frame indices to save as rgb|depth|labels PNGs");
   cmd->add_flag("--snapshots-only", args->snapshots_only, "Only write the --snapshots pictures, no sequence");
+  cmd->add_flag("--force", args->force,
+                "Write into an --out folder that holds a recording not made by s3m sim");
   cmd->callback([args, cmd] { run(*args, *cmd); });
 }
 

@@ -1,6 +1,7 @@
 // The CLI as a user meets it with bad options: each is refused before any work with a message that
-// names the option and the value, never as an "unexpected error"; and a run stopped with Ctrl-C says
-// so and exits 130, so a script can tell it from a complete result.
+// names the option and the value, never as an "unexpected error", and no recording is written over
+// without --force; a run stopped with Ctrl-C says so and exits 130, so a script can tell it from a
+// complete result.
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -22,6 +23,8 @@ TEST(CliOptions, BadValuesAreRefusedNamingTheOptionAndValue) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "a_file") << "not a folder";
+  fs::create_directories(dir / "recording");
+  std::ofstream(dir / "recording" / "rgb.txt") << "# a real camera's list\n";
   const std::string seq = "'" + sequence_dir() + "'", file = "'" + (dir / "a_file").string() + "'";
   const std::vector<Refusal> cases = {
       {"run " + seq + " --max-frames -3 --out '" + (dir / "r").string() + "'", "'-3' is not a count"},
@@ -31,6 +34,8 @@ TEST(CliOptions, BadValuesAreRefusedNamingTheOptionAndValue) {
        "--snapshots: frame 9 is outside the sequence (5 frames)"},
       {"sim --frames 5 --out " + file, "is a file, not a folder"},
       {"demo --out " + file, "is a file, not a folder"},
+      {"sim --frames 5 --out '" + (dir / "recording").string() + "'",
+       "holds a recording (rgb.txt, no sim.yaml)"},
   };
   for (const Refusal& c : cases) {
     std::string log;
@@ -42,6 +47,16 @@ TEST(CliOptions, BadValuesAreRefusedNamingTheOptionAndValue) {
   }
   EXPECT_FALSE(fs::exists(dir / "s")) << "a refused sim wrote nothing";
   EXPECT_EQ(read_bytes((dir / "a_file").string()), "not a folder");
+  EXPECT_EQ(read_bytes((dir / "recording" / "rgb.txt").string()), "# a real camera's list\n");
+  // With --force it is written over, and a folder s3m sim made (sim.yaml) may be rendered again.
+  std::string log;
+  ASSERT_EQ(
+      run_s3m("sim --frames 5 --force --out '" + (dir / "recording").string() + "'", dir / "log.txt", &log),
+      0)
+      << log;
+  EXPECT_TRUE(fs::exists(dir / "recording" / "sim.yaml"));
+  EXPECT_EQ(run_s3m("sim --frames 5 --out '" + (dir / "recording").string() + "'", dir / "log.txt", &log), 0)
+      << log;
 }
 
 TEST(CliOptions, InterruptedRunExits130AndSaysSo) {
