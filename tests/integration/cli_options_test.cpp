@@ -36,6 +36,8 @@ TEST(CliOptions, BadValuesAreRefusedNamingTheOptionAndValue) {
       {"demo --out " + file, "is a file, not a folder"},
       {"sim --frames 5 --out '" + (dir / "recording").string() + "'",
        "holds a recording (rgb.txt, no sim.yaml)"},
+      {"vocab " + seq + "/rgb --features 1000000000 --out '" + (dir / "v.bin").string() + "'",
+       "--features 1000000000 per image is over the limit of 100000"},
   };
   for (const Refusal& c : cases) {
     std::string log;
@@ -46,6 +48,7 @@ TEST(CliOptions, BadValuesAreRefusedNamingTheOptionAndValue) {
     EXPECT_EQ(log.find("unexpected error"), std::string::npos) << log;
   }
   EXPECT_FALSE(fs::exists(dir / "s")) << "a refused sim wrote nothing";
+  EXPECT_FALSE(fs::exists(dir / "v.bin"));
   EXPECT_EQ(read_bytes((dir / "a_file").string()), "not a folder");
   EXPECT_EQ(read_bytes((dir / "recording" / "rgb.txt").string()), "# a real camera's list\n");
   // With --force it is written over, and a folder s3m sim made (sim.yaml) may be rendered again.
