@@ -241,6 +241,10 @@ TEST(RunBadInput, ZeroNegativeAndHugeIntrinsics) {
   const fs::path seq4 = short_sequence("depth_factor0");
   edit(seq4 / "camera.yaml", "^depth_factor: .*$", "depth_factor: 0");
   run_error(seq4, {"camera.yaml", "depth_factor"});
+  // Normalised intrinsics ran to an ATE in metres.
+  const fs::path seq5 = short_sequence("fx_normalised");
+  edit(seq5 / "camera.yaml", "^fx: .*$", "fx: 0.9");
+  run_error(seq5, {"camera.yaml", "fx=0.9", "deg field of view over 640 px", "normalised intrinsics"});
 }
 
 TEST(RunBadInput, ModelCardWhoseClassCountDoesNotMatchTheModel) {

@@ -15,6 +15,14 @@ void PinholeCamera::validate() const {
   require(width > 0 && height > 0 && width <= 16384 && height <= 16384,
           "camera: width and height must be in 1..16384 (got " + std::to_string(width) + "x" +
               std::to_string(height) + ")");
+  // Intrinsics in normalised units (fx 0.9, cx 0.5) pass the checks above and then run to nonsense:
+  // the field of view must be a camera's (< 170 deg).
+  const double fov_deg = 2 * std::atan(width / (2 * fx)) * 180 / M_PI;
+  require(fov_deg < 170,
+          "camera: fx=" + std::to_string(fx) + " px gives a " + std::to_string(int(fov_deg)) +
+              " deg field of view over " + std::to_string(width) +
+              " px (expected fx in pixels of this image, e.g. ~525 at 640 px; normalised intrinsics "
+              "must be multiplied by the image size)");
   require(finite_positive(depth_factor),
           "camera: depth_factor must be finite and > 0 (got " + std::to_string(depth_factor) + ")");
   for (double d : dist) require(std::isfinite(d), "camera: distortion coefficients must be finite");
@@ -45,23 +53,37 @@ std::optional<PinholeCamera> camera_preset(const std::string& name) {
   PinholeCamera c;
   c.depth_factor = 5000.0;
   if (name == "tum_fr1") {
-    c.fx = 517.3; c.fy = 516.5; c.cx = 318.6; c.cy = 255.3;
+    c.fx = 517.3;
+    c.fy = 516.5;
+    c.cx = 318.6;
+    c.cy = 255.3;
     c.dist = {0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
   } else if (name == "tum_fr2") {
-    c.fx = 520.9; c.fy = 521.0; c.cx = 325.1; c.cy = 249.7;
+    c.fx = 520.9;
+    c.fy = 521.0;
+    c.cx = 325.1;
+    c.cy = 249.7;
     c.dist = {0.2312, -0.7849, -0.0033, -0.0001, 0.9172};
   } else if (name == "tum_fr3") {
-    c.fx = 535.4; c.fy = 539.2; c.cx = 320.1; c.cy = 247.6;
+    c.fx = 535.4;
+    c.fy = 539.2;
+    c.cx = 320.1;
+    c.cy = 247.6;
     c.dist = {0, 0, 0, 0, 0};
   } else if (name == "7scenes") {
     // Microsoft 7-Scenes' published nominal intrinsics (no per-device calibration, no distortion);
     // depth in millimetres. The raw Kinect depth is not registered to these colour pixels.
-    c.fx = c.fy = 585.0; c.cx = 320.0; c.cy = 240.0;
+    c.fx = c.fy = 585.0;
+    c.cx = 320.0;
+    c.cy = 240.0;
     c.depth_factor = 1000.0;
   } else if (name == "replica") {
     // Replica as NICE-SLAM renders it (its cam_params.json): 1200x680, depth 6553.5 per metre.
-    c.fx = c.fy = 600.0; c.cx = 599.5; c.cy = 339.5;
-    c.width = 1200; c.height = 680;
+    c.fx = c.fy = 600.0;
+    c.cx = 599.5;
+    c.cy = 339.5;
+    c.width = 1200;
+    c.height = 680;
     c.depth_factor = 6553.5;
   } else {
     return std::nullopt;
