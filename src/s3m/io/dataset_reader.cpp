@@ -17,9 +17,9 @@ std::vector<std::unique_ptr<const DatasetReader>> all_readers() {
   std::vector<std::unique_ptr<const DatasetReader>> readers;
   readers.push_back(make_tum_reader());
   readers.push_back(make_eth3d_reader());
-  readers.push_back(make_seven_scenes_reader());
-  readers.push_back(make_scannet_reader());
-  readers.push_back(make_replica_reader());
+  for (const FolderLayout layout :
+       {FolderLayout::kSevenScenes, FolderLayout::kScanNet, FolderLayout::kReplica})
+    readers.push_back(make_folder_reader(layout));
   return readers;
 }
 

@@ -37,12 +37,10 @@ DetectedLayout detect_layout(const std::string& dir);
 // reader recognises it (saying what each layout would hold).
 Dataset open_dataset(const std::string& dir, const DatasetOptions& options = {});
 
-// Each layout's reader (tum_reader.cpp, seven_scenes.cpp, scannet.cpp, replica.cpp).
+// The TUM and ETH3D readers (tum_reader.cpp); the numbered-folder layouts' reader is
+// make_folder_reader() (frame_folders.hpp).
 std::unique_ptr<const DatasetReader> make_tum_reader();
 std::unique_ptr<const DatasetReader> make_eth3d_reader();
-std::unique_ptr<const DatasetReader> make_seven_scenes_reader();
-std::unique_ptr<const DatasetReader> make_scannet_reader();
-std::unique_ptr<const DatasetReader> make_replica_reader();
 
 // What the readers share.
 // The camera file of options.camera, else <dir>/camera.yaml, else ETH3D's calibration.txt, else a

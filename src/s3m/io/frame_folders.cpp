@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <memory>
 #include <tuple>
+#include <utility>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -138,6 +140,52 @@ Dataset read_numbered_folder(const std::string& dir, const DatasetOptions& optio
                frames.size(), frames.front().rgb, frames.back().rgb, kFolderFrameRateHz,
                p.groundtruth.size());
   return Dataset(std::move(p));
+}
+
+namespace {
+
+// The folder layouts' reader: what each is recognised by and what it holds, for people.
+class NumberedFolderReader final : public DatasetReader {
+ public:
+  NumberedFolderReader(FolderLayout layout, std::string name, bool (*is)(const std::string&),
+                       std::string reason, std::string expected)
+      : layout_(layout),
+        name_(std::move(name)),
+        is_(is),
+        reason_(std::move(reason)),
+        expected_(std::move(expected)) {}
+  std::string name() const override { return name_; }
+  std::string detect(const std::string& dir) const override { return is_(dir) ? reason_ : ""; }
+  std::string expected() const override { return expected_; }
+  Dataset read(const std::string& dir, const DatasetOptions& options) const override {
+    return read_numbered_folder(dir, options, layout_);
+  }
+
+ private:
+  FolderLayout layout_;
+  std::string name_;
+  bool (*is_)(const std::string&);
+  std::string reason_, expected_;
+};
+
+}  // namespace
+
+std::unique_ptr<const DatasetReader> make_folder_reader(FolderLayout layout) {
+  switch (layout) {
+    case FolderLayout::kSevenScenes:
+      return std::make_unique<NumberedFolderReader>(
+          layout, "7-Scenes", is_seven_scenes_folder, "frame-NNNNNN.color.png|jpg files",
+          "a 7-Scenes folder (frame-NNNNNN.color.png, frame-NNNNNN.depth.png)");
+    case FolderLayout::kScanNet:
+      return std::make_unique<NumberedFolderReader>(layout, "ScanNet", is_scannet_folder, "color/ and depth/",
+                                                    "a ScanNet export (color/, depth/)");
+    case FolderLayout::kReplica:
+      return std::make_unique<NumberedFolderReader>(layout, "Replica", is_replica_folder,
+                                                    "results/ and traj.txt",
+                                                    "a Replica scene (results/, traj.txt)");
+    case FolderLayout::kNone: break;
+  }
+  throw Error("make_folder_reader: no reader for FolderLayout::kNone");
 }
 
 }  // namespace s3m::io

@@ -1,7 +1,7 @@
 #pragma once
 // Dataset folders as three common RGB-D datasets ship them, read without conversion. None has
-// timestamps: frame N is given t = N / 30 s, their sensors' nominal rate. Each has its reader
-// (dataset_reader.hpp, in seven_scenes.cpp, scannet.cpp, replica.cpp); this header holds their
+// timestamps: frame N is given t = N / 30 s, their sensors' nominal rate. One reader serves all
+// three (make_folder_reader(), dataset_reader.hpp); this header holds its
 // building blocks, which `s3m eval` uses too for the pose files.
 //
 // Microsoft 7-Scenes (and its 3DMatch copies): frame-NNNNNN.color.png (.jpg in 3DMatch),
@@ -16,6 +16,7 @@
 // and cam_params.json (camera.w, h, fx, fy, cx, cy, scale) beside the scene or one level up.
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <regex>
 #include <string>
@@ -29,6 +30,8 @@
 #include "s3m/io/dataset.hpp"
 
 namespace s3m::io {
+
+class DatasetReader;
 
 inline constexpr double kFolderFrameRateHz = 30.0;
 
@@ -83,6 +86,10 @@ FolderCamera folder_camera(const std::string& dir, FolderLayout layout, const Nu
 // options.camera or camera.yaml when there is one (its depth_camera section applies), else the
 // layout's own (folder_camera()), with colour resized to its size.
 Dataset read_numbered_folder(const std::string& dir, const DatasetOptions& options, FolderLayout layout);
+
+// The DatasetReader of a folder layout (not kNone): recognised by is_*_folder(), read by
+// read_numbered_folder().
+std::unique_ptr<const DatasetReader> make_folder_reader(FolderLayout layout);
 
 // dir as an absolute, normal path that names the folder itself ("seq/" and "." too).
 std::filesystem::path folder_path(const std::string& dir);

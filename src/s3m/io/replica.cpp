@@ -9,7 +9,6 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/input_file.hpp"
-#include "s3m/io/dataset_reader.hpp"
 #include "s3m/io/frame_folders.hpp"
 #include "s3m/io/image_io.hpp"
 #include "s3m/io/matrix_files.hpp"
@@ -90,23 +89,5 @@ FolderCamera replica_camera(const std::string& dir, const NumberedFrame& first) 
   spdlog::info("{}: Replica layout, camera from {}, depth factor {:g}", dir, source, cam.depth_factor);
   return {cam, rgb.size(), source};
 }
-
-namespace {
-
-class ReplicaReader final : public DatasetReader {
- public:
-  std::string name() const override { return "Replica"; }
-  std::string detect(const std::string& dir) const override {
-    return is_replica_folder(dir) ? "results/ and traj.txt" : "";
-  }
-  std::string expected() const override { return "a Replica scene (results/, traj.txt)"; }
-  Dataset read(const std::string& dir, const DatasetOptions& options) const override {
-    return read_numbered_folder(dir, options, FolderLayout::kReplica);
-  }
-};
-
-}  // namespace
-
-std::unique_ptr<const DatasetReader> make_replica_reader() { return std::make_unique<ReplicaReader>(); }
 
 }  // namespace s3m::io

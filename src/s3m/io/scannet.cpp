@@ -6,7 +6,6 @@
 #include <spdlog/spdlog.h>
 
 #include "s3m/core/error.hpp"
-#include "s3m/io/dataset_reader.hpp"
 #include "s3m/io/frame_folders.hpp"
 #include "s3m/io/image_io.hpp"
 #include "s3m/io/matrix_files.hpp"
@@ -55,23 +54,5 @@ FolderCamera scannet_camera(const std::string& dir, const NumberedFrame& first) 
       dir, rgb.cols, rgb.rows, depth.cols, depth.rows, k.string(), cam.fx, cam.fy, cam.cx, cam.cy);
   return {cam, rgb.size(), k.string() + " (scaled to the depth image)"};
 }
-
-namespace {
-
-class ScanNetReader final : public DatasetReader {
- public:
-  std::string name() const override { return "ScanNet"; }
-  std::string detect(const std::string& dir) const override {
-    return is_scannet_folder(dir) ? "color/ and depth/" : "";
-  }
-  std::string expected() const override { return "a ScanNet export (color/, depth/)"; }
-  Dataset read(const std::string& dir, const DatasetOptions& options) const override {
-    return read_numbered_folder(dir, options, FolderLayout::kScanNet);
-  }
-};
-
-}  // namespace
-
-std::unique_ptr<const DatasetReader> make_scannet_reader() { return std::make_unique<ScanNetReader>(); }
 
 }  // namespace s3m::io

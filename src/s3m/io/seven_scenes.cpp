@@ -6,7 +6,6 @@
 #include <spdlog/spdlog.h>
 
 #include "s3m/core/error.hpp"
-#include "s3m/io/dataset_reader.hpp"
 #include "s3m/io/frame_folders.hpp"
 #include "s3m/io/image_io.hpp"
 #include "s3m/io/matrix_files.hpp"
@@ -58,28 +57,6 @@ FolderCamera seven_scenes_camera(const std::string& dir, const NumberedFrame& fi
   cam.height = rgb.rows;
   cam.validate();
   return {cam, rgb.size(), source};
-}
-
-namespace {
-
-class SevenScenesReader final : public DatasetReader {
- public:
-  std::string name() const override { return "7-Scenes"; }
-  std::string detect(const std::string& dir) const override {
-    return is_seven_scenes_folder(dir) ? "frame-NNNNNN.color.png|jpg files" : "";
-  }
-  std::string expected() const override {
-    return "a 7-Scenes folder (frame-NNNNNN.color.png, frame-NNNNNN.depth.png)";
-  }
-  Dataset read(const std::string& dir, const DatasetOptions& options) const override {
-    return read_numbered_folder(dir, options, FolderLayout::kSevenScenes);
-  }
-};
-
-}  // namespace
-
-std::unique_ptr<const DatasetReader> make_seven_scenes_reader() {
-  return std::make_unique<SevenScenesReader>();
 }
 
 }  // namespace s3m::io
