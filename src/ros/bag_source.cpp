@@ -63,7 +63,8 @@ std::string topics_of_type(const rosbag::Bag& bag, const std::string& datatype) 
   for (auto& [topic, n] : counts) n = rosbag::View(bag, rosbag::TopicQuery(topic)).size();
   if (counts.empty()) return "; the bag has no " + datatype + " topic";
   std::string list;
-  for (const auto& [topic, n] : counts) list += (list.empty() ? "" : ", ") + topic + " (" + std::to_string(n) + ")";
+  for (const auto& [topic, n] : counts)
+    list += (list.empty() ? "" : ", ") + topic + " (" + std::to_string(n) + ")";
   return "; its " + datatype + " topics (messages): " + list;
 }
 
@@ -76,8 +77,10 @@ std::map<std::string, std::string> topic_types(const rosbag::Bag& bag) {
 }
 
 template <typename Msg>
-boost::shared_ptr<Msg> first_message(const rosbag::Bag& bag, const std::string& topic, const std::string& path) {
-  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic))) return instantiate<Msg>(m, path);
+boost::shared_ptr<Msg> first_message(const rosbag::Bag& bag, const std::string& topic,
+                                     const std::string& path) {
+  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic)))
+    return instantiate<Msg>(m, path);
   return nullptr;
 }
 
@@ -93,7 +96,8 @@ BagRecording choose_topics(const rosbag::Bag& bag, const BagTopics& given, const
     }
   } else {
     const BagTopics tum;
-    const std::string rgb = given.rgb.empty() ? tum.rgb : given.rgb, depth = given.depth.empty() ? tum.depth : given.depth;
+    const std::string rgb = given.rgb.empty() ? tum.rgb : given.rgb,
+                      depth = given.depth.empty() ? tum.depth : given.depth;
     std::optional<BagRecording> known;
     try {
       known = recording_with(types, rgb, depth);
@@ -121,7 +125,8 @@ BagRecording choose_topics(const rosbag::Bag& bag, const BagTopics& given, const
 Stream image_index(const rosbag::Bag& bag, const std::string& path, const std::string& topic) {
   Stream out;
   for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic))) {
-    out.by_time.push_back({to_seconds(instantiate<sensor_msgs::Image>(m, path)->header.stamp), out.msgs.size()});
+    out.by_time.push_back(
+        {to_seconds(instantiate<sensor_msgs::Image>(m, path)->header.stamp), out.msgs.size()});
     out.msgs.push_back(m);
   }
   std::stable_sort(out.by_time.begin(), out.by_time.end(),
@@ -161,14 +166,17 @@ class BagFrameSource final : public pipeline::FrameSource {
     depth_ = image_index(bag_, path, rec.depth);
     const std::string images = "sensor_msgs/Image";
     if (rgb_.empty())
-      throw Error(path + ": no messages on the colour topic " + rec.rgb + " (--rgb-topic)" + topics_of_type(bag_, images));
+      throw Error(path + ": no messages on the colour topic " + rec.rgb + " (--rgb-topic)" +
+                  topics_of_type(bag_, images));
     if (depth_.empty())
       throw Error(path + ": no messages on the depth topic " + rec.depth + " (--depth-topic)" +
                   topics_of_type(bag_, images));
     if (!topics.labels.empty()) labels_ = image_index(bag_, path, topics.labels);
     // The colour CameraInfo, read once: the camera, and its frame_id places a raw depth camera.
-    const auto rgb_info = rec.rgb_info.empty() ? nullptr : first_message<sensor_msgs::CameraInfo>(bag_, rec.rgb_info, path);
-    const io::CameraFile camera_file = read_camera(rec, rgb_info, topics.camera_info, dataset.camera, camera_source_);
+    const auto rgb_info =
+        rec.rgb_info.empty() ? nullptr : first_message<sensor_msgs::CameraInfo>(bag_, rec.rgb_info, path);
+    const io::CameraFile camera_file =
+        read_camera(rec, rgb_info, topics.camera_info, dataset.camera, camera_source_);
     camera_ = camera_file.camera;
     read_depth_units(rec.depth_units);
     registered_by_ = rec.registered_by;
@@ -185,9 +193,10 @@ class BagFrameSource final : public pipeline::FrameSource {
     }
     read_groundtruth(topics.groundtruth);
     pair(dataset.max_dt_s);
-    layout_ = fmt::format("ROS bag, {}: colour {}, depth {} ({}{})", rec.recorder, rec.rgb, rec.depth,
-                          rec.registered() ? "registered to colour" : "aligned to colour here",
-                          rec.depth_units.empty() ? "" : fmt::format(", depth unit {:.3g} mm", metres_per_unit_ * 1e3));
+    layout_ = fmt::format(
+        "ROS bag, {}: colour {}, depth {} ({}{})", rec.recorder, rec.rgb, rec.depth,
+        rec.registered() ? "registered to colour" : "aligned to colour here",
+        rec.depth_units.empty() ? "" : fmt::format(", depth unit {:.3g} mm", metres_per_unit_ * 1e3));
     spdlog::info("{}: {}, {} frames", path, layout_, pairs_.size());
   }
 
@@ -198,6 +207,7 @@ class BagFrameSource final : public pipeline::FrameSource {
     RgbdFrame f;
     f.index = static_cast<int>(index);
     f.t_s = rgb_.by_time[p.rgb].t_s;
+    f.depth_dt_s = depth_.by_time[p.depth].t_s - f.t_s;
     f.rgb = colour_to_bgr(*image_at(rgb_, p.rgb, path_));
     f.depth_m = depth_to_metres(*image_at(depth_, p.depth, path_), metres_per_unit_);
     if (to_colour_) f.depth_m = aligned(f.depth_m, f.index);
@@ -228,7 +238,8 @@ class BagFrameSource final : public pipeline::FrameSource {
   // recording's CameraInfo. What was not used and why is logged. Returns the colour camera, with the
   // config file's depth camera when that file is the one used.
   io::CameraFile read_camera(const BagRecording& rec, sensor_msgs::CameraInfoConstPtr rgb_info,
-                             const std::string& given_topic, const std::string& config_camera, std::string& source) const {
+                             const std::string& given_topic, const std::string& config_camera,
+                             std::string& source) const {
     const bool none = given_topic == "none";
     if (none && config_camera.empty())
       throw Error(path_ + ": --camera-info-topic none, but the config sets no dataset.camera");
@@ -243,15 +254,18 @@ class BagFrameSource final : public pipeline::FrameSource {
     if (use_info) {
       c = camera_from_info(*info, PinholeCamera{}.bf), source = "CameraInfo on " + topic;
       if (!config_camera.empty())
-        spdlog::info("{}: camera from the recording's CameraInfo ({}), not the config's dataset.camera {}{}; "
-                     "--camera-info-topic none uses dataset.camera", path_, topic, config_camera,
-                     given_topic.empty() ? " (the device's own calibration)" : "");
+        spdlog::info(
+            "{}: camera from the recording's CameraInfo ({}), not the config's dataset.camera {}{}; "
+            "--camera-info-topic none uses dataset.camera",
+            path_, topic, config_camera, given_topic.empty() ? " (the device's own calibration)" : "");
     } else if (!config_camera.empty()) {
       file = io::load_camera_file(config_camera), source = "dataset.camera " + config_camera;
       if (info && !info_matches(*info, c))
-        spdlog::warn("{}: the config's camera ({}: {}x{}, fx {:.1f}) is not the recording's ({}: {}x{}, fx {:.1f}); "
-                     "--camera-info-topic {} uses the recording's", path_, config_camera, c.width, c.height, c.fx,
-                     topic, info->width, info->height, info->K[0], topic);
+        spdlog::warn(
+            "{}: the config's camera ({}: {}x{}, fx {:.1f}) is not the recording's ({}: {}x{}, fx {:.1f}); "
+            "--camera-info-topic {} uses the recording's",
+            path_, config_camera, c.width, c.height, c.fx, topic, info->width, info->height, info->K[0],
+            topic);
     } else {
       throw Error(path_ + ": no camera: the bag has no CameraInfo for its colour topic " + rec.rgb +
                   "; pass --camera-info-topic or set dataset.camera in the config" +
@@ -260,10 +274,11 @@ class BagFrameSource final : public pipeline::FrameSource {
     // The first colour image must fit the camera: said now, not at frame 0 of the run.
     const auto first = image_at(rgb_, 0, path_);
     if (first->width != static_cast<unsigned>(c.width) || first->height != static_cast<unsigned>(c.height))
-      throw Error(path_ + ": the colour images are " + std::to_string(first->width) + "x" +
-                  std::to_string(first->height) + " but the camera (" + source + ") is " + std::to_string(c.width) +
-                  "x" + std::to_string(c.height) +
-                  (info && !use_info ? "; --camera-info-topic " + topic + " uses the recording's calibration" : ""));
+      throw Error(
+          path_ + ": the colour images are " + std::to_string(first->width) + "x" +
+          std::to_string(first->height) + " but the camera (" + source + ") is " + std::to_string(c.width) +
+          "x" + std::to_string(c.height) +
+          (info && !use_info ? "; --camera-info-topic " + topic + " uses the recording's calibration" : ""));
     return file;
   }
 
@@ -273,7 +288,8 @@ class BagFrameSource final : public pipeline::FrameSource {
     const auto units = first_message<std_msgs::Float32>(bag_, topic, path_);
     if (!units) return;
     if (!(units->data > 0.0f) || units->data > 1.0f)
-      throw Error(path_ + ": " + topic + " = " + std::to_string(units->data) + " (expected metres per depth unit in (0, 1])");
+      throw Error(path_ + ": " + topic + " = " + std::to_string(units->data) +
+                  " (expected metres per depth unit in (0, 1])");
     metres_per_unit_ = units->data;
   }
 
@@ -283,7 +299,8 @@ class BagFrameSource final : public pipeline::FrameSource {
     if (!info) throw Error(path_ + ": no messages on " + rec.depth_info + " (the depth camera's intrinsics)");
     const PinholeCamera depth_camera = camera_from_info(*info, PinholeCamera{}.bf);
     SE3 T_c_d;
-    if (!rec.depth_extrinsics.empty()) {  // RealSense SDK: both transforms map the reference stream into theirs
+    if (!rec.depth_extrinsics
+             .empty()) {  // RealSense SDK: both transforms map the reference stream into theirs
       const auto T_rgb_ref = first_message<geometry_msgs::Transform>(bag_, rec.rgb_extrinsics, path_);
       const auto T_depth_ref = first_message<geometry_msgs::Transform>(bag_, rec.depth_extrinsics, path_);
       if (!T_rgb_ref || !T_depth_ref)
@@ -299,10 +316,12 @@ class BagFrameSource final : public pipeline::FrameSource {
   // T_c_d from the bag's /tf_static (a driver's static camera frames), colour frame <- depth frame.
   SE3 static_transform(const std::string& colour_frame, const std::string& depth_frame) const {
     if (colour_frame.empty() || depth_frame.empty())
-      throw Error(path_ + ": the depth is not registered to colour and the CameraInfo messages name no frame_id");
+      throw Error(path_ +
+                  ": the depth is not registered to colour and the CameraInfo messages name no frame_id");
     tf2::BufferCore tf;
     for (const rosbag::MessageInstance& m : rosbag::View(bag_, rosbag::TopicQuery("/tf_static"))) {
-      const auto msg = instantiate<tf2_msgs::TFMessage>(m, path_);  // held: a range-for would not keep it alive
+      const auto msg =
+          instantiate<tf2_msgs::TFMessage>(m, path_);  // held: a range-for would not keep it alive
       for (const auto& t : msg->transforms) tf.setTransform(t, "bag", true);
     }
     try {
@@ -317,8 +336,9 @@ class BagFrameSource final : public pipeline::FrameSource {
   cv::Mat aligned(const cv::Mat& depth_m, int index) const {
     const PinholeCamera& d = to_colour_->depth_camera();
     if (depth_m.cols != d.width || depth_m.rows != d.height)
-      throw Error(path_ + ": frame " + std::to_string(index) + " depth image is " + std::to_string(depth_m.cols) + "x" +
-                  std::to_string(depth_m.rows) + " (expected the depth camera's " + std::to_string(d.width) + "x" +
+      throw Error(path_ + ": frame " + std::to_string(index) + " depth image is " +
+                  std::to_string(depth_m.cols) + "x" + std::to_string(depth_m.rows) +
+                  " (expected the depth camera's " + std::to_string(d.width) + "x" +
                   std::to_string(d.height) + ")");
     return (*to_colour_)(depth_m);
   }
@@ -348,16 +368,18 @@ class BagFrameSource final : public pipeline::FrameSource {
       pairs_.push_back({static_cast<long>(i), d, l});
     }
     if (skipped > 0)
-      spdlog::warn("{}: {} colour images without a depth image within {} s were skipped", path_, skipped, max_dt_s);
-    if (pairs_.empty()) throw Error(path_ + ": no colour/depth pairs within " + std::to_string(max_dt_s) + " s");
+      spdlog::warn("{}: {} colour images without a depth image within {} s were skipped", path_, skipped,
+                   max_dt_s);
+    if (pairs_.empty())
+      throw Error(path_ + ": no colour/depth pairs within " + std::to_string(max_dt_s) + " s");
   }
 
   void check_size(const RgbdFrame& f) const {
     for (const cv::Mat* m : {&f.rgb, &f.depth_m, &f.labels})
       if (!m->empty() && (m->cols != camera_.width || m->rows != camera_.height))
-        throw Error(path_ + ": frame " + std::to_string(f.index) + " image is " + std::to_string(m->cols) + "x" +
-                    std::to_string(m->rows) + " (expected the camera's " + std::to_string(camera_.width) + "x" +
-                    std::to_string(camera_.height) + ")");
+        throw Error(path_ + ": frame " + std::to_string(f.index) + " image is " + std::to_string(m->cols) +
+                    "x" + std::to_string(m->rows) + " (expected the camera's " +
+                    std::to_string(camera_.width) + "x" + std::to_string(camera_.height) + ")");
   }
 
   std::string path_, layout_, camera_source_, registered_by_;

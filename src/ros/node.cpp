@@ -159,6 +159,7 @@ void S3mNode::on_frame(const ImageCPtr& rgb, const ImageCPtr& depth,
     RgbdFrame f;
     f.index = frames_++;
     f.t_s = to_seconds(rgb->header.stamp);
+    f.depth_dt_s = to_seconds(depth->header.stamp) - f.t_s;
     f.rgb = colour_to_bgr(*rgb);
     f.depth_m = depth_to_metres(*depth);
     if (labels) f.labels = labels_to_ids(*labels);

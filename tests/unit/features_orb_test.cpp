@@ -1,7 +1,7 @@
 // ORB extraction (pyramid, distribution), keypoint depth / virtual right coordinate, matching.
 #include <array>
-#include <random>
 #include <cmath>
+#include <random>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -56,7 +56,8 @@ TEST(ScalePyramid, LevelSigmaExponentScalesOnlyTheVariances) {
   const auto flat = ScalePyramid::make(1.2, 8, 0.0);
   for (int l = 0; l < 8; ++l) EXPECT_EQ(flat.sigma2[l], 1.0) << "level " << l;
   OrbConfig c;
-  EXPECT_EQ(OrbExtractor(c).pyramid().sigma2[1], ScalePyramid::make(1.2, 8, c.level_sigma_exponent).sigma2[1]);
+  EXPECT_EQ(OrbExtractor(c).pyramid().sigma2[1],
+            ScalePyramid::make(1.2, 8, c.level_sigma_exponent).sigma2[1]);
   c.level_sigma_exponent = -0.1;
   EXPECT_THROW(c.validate(), std::exception);
   c.level_sigma_exponent = 2.5;
@@ -65,7 +66,8 @@ TEST(ScalePyramid, LevelSigmaExponentScalesOnlyTheVariances) {
 
 TEST(Quadtree, KeepsIsolatedWeakCornersOverAStrongCluster) {
   std::vector<cv::KeyPoint> kps;
-  for (int i = 0; i < 200; ++i) kps.emplace_back(cv::Point2f(90.0f + i % 20, 90.0f + i / 20), 7.0f, -1, 10.0f + i);
+  for (int i = 0; i < 200; ++i)
+    kps.emplace_back(cv::Point2f(90.0f + i % 20, 90.0f + i / 20), 7.0f, -1, 10.0f + i);
   const cv::Point2f lone[3] = {{500, 100}, {100, 400}, {500, 400}};
   for (const auto& p : lone) kps.emplace_back(p, 7.0f, -1, 1.0f);
   const auto out = distribute_quadtree(kps, 0, 640, 0, 480, 8);
@@ -73,7 +75,8 @@ TEST(Quadtree, KeepsIsolatedWeakCornersOverAStrongCluster) {
   for (const auto& p : lone)
     EXPECT_EQ(std::count_if(out.begin(), out.end(), [&](const cv::KeyPoint& k) { return k.pt == p; }), 1);
   // The strongest corner of the cluster is kept.
-  EXPECT_EQ(std::count_if(out.begin(), out.end(), [](const cv::KeyPoint& k) { return k.response == 209.0f; }), 1);
+  EXPECT_EQ(std::count_if(out.begin(), out.end(), [](const cv::KeyPoint& k) { return k.response == 209.0f; }),
+            1);
 }
 
 TEST(OrbExtractor, CountLevelsAndSpread) {
@@ -129,7 +132,8 @@ TEST(OrbExtractor, KeypointsOfEveryLevelSitOnTheirCornersInLevel0Pixels) {
     float response = -1;
     cv::Point2d pt;
   };
-  std::vector<std::vector<std::array<Corner, 4>>> best(n_levels, std::vector<std::array<Corner, 4>>(centres.size()));
+  std::vector<std::vector<std::array<Corner, 4>>> best(n_levels,
+                                                       std::vector<std::array<Corner, 4>>(centres.size()));
   for (const auto& k : kps)
     for (std::size_t c = 0; c < centres.size(); ++c) {
       const double dx = k.pt.x - centres[c].x, dy = k.pt.y - centres[c].y;
@@ -176,8 +180,8 @@ TEST(OrbMatcher, DescriptorDistanceAndRotationHistogram) {
   b[31] = 0x01;
   EXPECT_EQ(descriptor_distance(a, b), 9);
   std::vector<float> diffs(20, 5.0f);
-  diffs.push_back(100.0f);  // 1 < 10 % of 20: not a dominant bin
-  diffs.push_back(-355.0f); // wraps to 5 deg
+  diffs.push_back(100.0f);   // 1 < 10 % of 20: not a dominant bin
+  diffs.push_back(-355.0f);  // wraps to 5 deg
   const auto keep = rotation_consistent(diffs);
   EXPECT_EQ(keep.size(), 21u);
   EXPECT_EQ(std::count(keep.begin(), keep.end(), 20), 0);
@@ -209,7 +213,7 @@ TEST(FrameFeatures, DepthRightCoordinateAndDiscontinuities) {
   const cv::Mat img = textured_image(640, 480, 9);
   cv::Mat depth(480, 640, CV_32FC1, cv::Scalar(2.0f));
   depth.colRange(320, 640).setTo(3.0f);  // a depth edge at u = 320
-  depth.rowRange(0, 40).setTo(0.0f);      // no depth at the top
+  depth.rowRange(0, 40).setTo(0.0f);     // no depth at the top
   const OrbExtractor ex(OrbConfig{});
   const auto f = compute_frame_features(img, depth, cam, ex, FeatureConfig{});
   ASSERT_GT(f.size(), 500);
@@ -229,7 +233,8 @@ TEST(FrameFeatures, DepthRightCoordinateAndDiscontinuities) {
       // row's information is z^4 / sigma^2.
       const float sigma = z < 2.5f ? 0.007f : 0.0145f;
       EXPECT_FLOAT_EQ(f.depth_sigma_m[i], sigma);
-      EXPECT_NEAR(f.inverse_depth_info(i), std::pow(z, 4) / (sigma * sigma), 1e-3 * std::pow(z, 4) / (sigma * sigma));
+      EXPECT_NEAR(f.inverse_depth_info(i), std::pow(z, 4) / (sigma * sigma),
+                  1e-3 * std::pow(z, 4) / (sigma * sigma));
       ++with_depth;
     }
   }
@@ -272,6 +277,47 @@ TEST(FrameFeatures, DepthIsInterpolatedAtTheSubPixelKeypoint) {
     fractional += std::abs(x - std::round(x)) > 0.2f;
   }
   EXPECT_GT(fractional, 100);
+}
+
+// Depth taken after the colour (unsynchronised streams) while the camera turns 2.5 deg about y and
+// moves 1 cm: the depth image sees the slanted plane z = 2 + 0.3 x (colour-instant camera frame)
+// from the depth-instant camera, ~22 px shifted. Given that motion, each keypoint's depth is the
+// plane's on its own ray; read at its own pixel it is a neighbour's, ~2.6 cm off.
+TEST(FrameFeatures, UnsynchronisedDepthIsReadWhereTheSurfaceWasAtTheDepthInstant) {
+  const PinholeCamera cam = vga_camera();
+  const cv::Mat img = textured_image(640, 480, 11);
+  const Vec3 n(-0.3, 0, 1);  // plane n . X_c = 2
+  const SE3 T_d_c = make_se3(Vec3(0.01, 0, 0.005), Quat(Eigen::AngleAxisd(2.5 * M_PI / 180, Vec3::UnitY())));
+  const SE3 T_c_d = T_d_c.inverse();
+  cv::Mat depth(480, 640, CV_32FC1);
+  for (int v = 0; v < depth.rows; ++v)
+    for (int u = 0; u < depth.cols; ++u) {
+      // X_d = s r_d (r_d.z = 1), X_c = T_c_d X_d on the plane.
+      const Vec3 r_d = cam.backproject(u, v, 1.0);
+      const double s = (2.0 - n.dot(T_c_d.translation())) / n.dot(T_c_d.linear() * r_d);
+      depth.at<float>(v, u) = float(s);
+    }
+  auto truth = [&](const cv::Point2f& p) { return 2.0 / n.dot(cam.backproject(p.x, p.y, 1.0)); };
+  const OrbExtractor ex(OrbConfig{});
+  const auto f = compute_frame_features(img, depth, cam, ex, FeatureConfig{}, T_d_c);
+  const auto g = compute_frame_features(img, depth, cam, ex, FeatureConfig{});
+  ASSERT_EQ(f.size(), g.size());
+  int checked = 0;
+  std::vector<double> uncompensated;
+  for (int i = 0; i < f.size(); ++i) {
+    const auto& p = f.keypoints[i].pt;
+    const Eigen::Vector2d at_depth = cam.project(T_d_c * cam.backproject(p.x, p.y, truth(p)));
+    if (!cam.in_image(at_depth.x(), at_depth.y(), 4.0) || !cam.in_image(p.x, p.y, 4.0)) continue;
+    ASSERT_TRUE(f.has_depth(i)) << p;
+    EXPECT_NEAR(f.depth_m[i], truth(p), 1e-3) << p;
+    EXPECT_FLOAT_EQ(f.u_right[i], static_cast<float>(p.x - 40.0 / f.depth_m[i]));
+    if (g.has_depth(i)) uncompensated.push_back(std::abs(g.depth_m[i] - truth(p)));
+    ++checked;
+  }
+  EXPECT_GT(checked, 400);
+  std::nth_element(uncompensated.begin(), uncompensated.begin() + uncompensated.size() / 2,
+                   uncompensated.end());
+  EXPECT_GT(uncompensated[uncompensated.size() / 2], 0.015);
 }
 
 TEST(FrameFeatures, DepthNoiseConfigIsChecked) {

@@ -37,14 +37,41 @@ float keypoint_depth(const cv::Mat& depth, float u, float v, const FeatureConfig
   const float d00 = depth.at<float>(y0, x0), d01 = depth.at<float>(y0, x0 + 1);
   const float d10 = depth.at<float>(y0 + 1, x0), d11 = depth.at<float>(y0 + 1, x0 + 1);
   if (!(d00 > 0.0f && d01 > 0.0f && d10 > 0.0f && d11 > 0.0f)) return z;
-  const float span = std::max(std::max(d00, d01), std::max(d10, d11)) - std::min(std::min(d00, d01), std::min(d10, d11));
+  const float span =
+      std::max(std::max(d00, d01), std::max(d10, d11)) - std::min(std::min(d00, d01), std::min(d10, d11));
   if (span > c.depth_discontinuity_ratio * z) return z;  // depth_window_px 0 does not look at them
   const float a = u - float(x0), b = v - float(y0);
   return (1 - b) * ((1 - a) * d00 + a * d01) + b * ((1 - a) * d10 + a * d11);
 }
 
+// The depth [m] of a keypoint at the colour instant, read where its surface was when the depth
+// image was taken (T_d_c: colour-instant camera to depth-instant camera). The point at depth z on
+// the keypoint's ray is T_d_c X(z) at the depth instant; z is the one whose depth-instant point the
+// depth image confirms. The pixel shift is mostly rotation and hardly depends on z, so a few
+// fixed-point steps from the pure-rotation shift converge. The shift found for the undistorted
+// keypoint is applied at its raw pixel (distortion is smooth over a few pixels).
+float depth_at_colour_instant(const cv::Mat& depth, const cv::Point2f& raw, const cv::Point2f& und,
+                              const PinholeCamera& cam, const SE3& T_d_c, const FeatureConfig& c) {
+  const Vec3 ray = T_d_c.linear() * cam.backproject(und.x, und.y, 1.0);
+  const Vec3& t = T_d_c.translation();
+  if (!(ray.z() > 0.1)) return 0.0f;
+  Eigen::Vector2d u_d = cam.project(ray);
+  float z_c = 0.0f;
+  for (int step = 0; step < 3; ++step) {
+    const float z_d =
+        keypoint_depth(depth, raw.x + float(u_d.x() - und.x), raw.y + float(u_d.y() - und.y), c);
+    if (z_d <= 0.0f) return 0.0f;
+    z_c = static_cast<float>((z_d - t.z()) / ray.z());
+    if (!(z_c >= c.min_depth_m && z_c <= c.max_depth_m)) return 0.0f;
+    u_d = cam.project(ray * double(z_c) + t);
+  }
+  return z_c;
+}
+
 // Sigma of a depth z [m] under the sensor model (DepthNoiseConfig).
-float depth_sigma(const DepthNoiseConfig& c, float z) { return static_cast<float>(c.sigma0_m + c.k_per_m * double(z) * z); }
+float depth_sigma(const DepthNoiseConfig& c, float z) {
+  return static_cast<float>(c.sigma0_m + c.k_per_m * double(z) * z);
+}
 
 void undistort_keypoints(std::vector<cv::KeyPoint>& kps, const PinholeCamera& cam) {
   if (kps.empty()) return;
@@ -108,8 +135,39 @@ void set_right_coordinates(FrameFeatures& f, double bf) {
     if (f.depth_m[i] > 0.0f) f.u_right[i] = static_cast<float>(f.keypoints[i].pt.x - bf / f.depth_m[i]);
 }
 
+std::vector<cv::Point2f> raw_pixels(const FrameFeatures& f, const PinholeCamera& camera) {
+  std::vector<cv::Point2f> px(f.keypoints.size());
+  for (std::size_t i = 0; i < px.size(); ++i) px[i] = f.keypoints[i].pt;
+  if (!camera.has_distortion() || px.empty()) return px;
+  // Undistorted pixels back through the lens: normalised rays projected with the distortion.
+  std::vector<cv::Point3f> rays(px.size());
+  for (std::size_t i = 0; i < px.size(); ++i)
+    rays[i] = {float((px[i].x - camera.cx) / camera.fx), float((px[i].y - camera.cy) / camera.fy), 1.0f};
+  const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  cv::projectPoints(rays, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), K, cv::Mat(camera.dist), px);
+  return px;
+}
+
+void read_keypoint_depths(FrameFeatures& f, const std::vector<cv::Point2f>& raw_px, const cv::Mat& depth_m,
+                          const PinholeCamera& camera, const FeatureConfig& config,
+                          const std::optional<SE3>& T_d_c) {
+  require(raw_px.size() == f.keypoints.size(), "read_keypoint_depths: one raw pixel per keypoint");
+  f.depth_m.assign(raw_px.size(), 0.0f);
+  f.depth_sigma_m.assign(raw_px.size(), 0.0f);
+  if (!depth_m.empty())
+    for (std::size_t i = 0; i < raw_px.size(); ++i) {
+      const float z =
+          T_d_c ? depth_at_colour_instant(depth_m, raw_px[i], f.keypoints[i].pt, camera, *T_d_c, config)
+                : keypoint_depth(depth_m, raw_px[i].x, raw_px[i].y, config);
+      f.depth_m[i] = z;
+      if (z > 0 && config.depth_noise.sensor()) f.depth_sigma_m[i] = depth_sigma(config.depth_noise, z);
+    }
+  set_right_coordinates(f, camera.bf);
+}
+
 FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m, const PinholeCamera& camera,
-                                     const OrbExtractor& extractor, const FeatureConfig& config) {
+                                     const OrbExtractor& extractor, const FeatureConfig& config,
+                                     const std::optional<SE3>& T_d_c) {
   require(!rgb.empty() && (rgb.type() == CV_8UC3 || rgb.type() == CV_8UC1),
           "compute_frame_features: expected a CV_8UC3 (BGR) or CV_8UC1 image");
   require(depth_m.empty() || (depth_m.type() == CV_32FC1 && depth_m.size() == rgb.size()),
@@ -124,20 +182,13 @@ FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m,
     gray = rgb;
   std::vector<cv::KeyPoint> raw;
   extractor.extract(gray, raw, f.descriptors);
-  // 2. Depth at the raw (distorted) pixel, where the depth image was sampled, and its sigma.
-  f.depth_m.assign(raw.size(), 0.0f);
-  f.depth_sigma_m.assign(raw.size(), 0.0f);
-  if (!depth_m.empty())
-    for (std::size_t i = 0; i < raw.size(); ++i) {
-      const float z = keypoint_depth(depth_m, raw[i].pt.x, raw[i].pt.y, config);
-      f.depth_m[i] = z;
-      if (z > 0 && config.depth_noise.sensor())
-        f.depth_sigma_m[i] = depth_sigma(config.depth_noise, z);
-    }
-  // 3. Undistort, 4. virtual right coordinate, 5. grid.
-  f.keypoints = std::move(raw);
+  // 2. Undistort.
+  f.keypoints = raw;
   if (camera.has_distortion()) undistort_keypoints(f.keypoints, camera);
-  set_right_coordinates(f, camera.bf);
+  // 3. Depth, its sigma and the virtual right coordinate; 4. grid.
+  std::vector<cv::Point2f> raw_px(raw.size());
+  for (std::size_t i = 0; i < raw.size(); ++i) raw_px[i] = raw[i].pt;
+  read_keypoint_depths(f, raw_px, depth_m, camera, config, T_d_c);
   f.grid.build(f.keypoints, camera.width, camera.height);
   return f;
 }

@@ -4,12 +4,14 @@
 // depth measurement into a stereo-like observation (ORB-SLAM's RGB-D trick), plus a grid for fast
 // "keypoints near (u, v)" queries.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
 #include "s3m/core/camera.hpp"
+#include "s3m/core/se3.hpp"
 #include "s3m/features/orb_extractor.hpp"
 
 namespace s3m::features {
@@ -24,8 +26,8 @@ struct DepthNoiseConfig {
   // i.e. sigma_z ~ z^2 * level scale / bf (10 cm at 2 m for bf 40): depth hardly counts, and local
   // BA then shrinks the motion even on exact depth.
   std::string model = "sensor";
-  double sigma0_m = 0.001;         // sensor noise at z = 0 [m]
-  double k_per_m = 0.0015;         // sensor noise growth [1/m]
+  double sigma0_m = 0.001;  // sensor noise at z = 0 [m]
+  double k_per_m = 0.0015;  // sensor noise growth [1/m]
   bool sensor() const { return model == "sensor"; }
   void validate() const;
 };
@@ -50,8 +52,8 @@ class FeatureGrid {
   void build(const std::vector<cv::KeyPoint>& kps, int width, int height, int cell_px = 10);
   // Indices of keypoints with |u - ku| < r and |v - kv| < r and level in [min_level, max_level]
   // (max_level < 0: any level).
-  std::vector<int> in_area(const std::vector<cv::KeyPoint>& kps, double u, double v, double r, int min_level = 0,
-                           int max_level = -1) const;
+  std::vector<int> in_area(const std::vector<cv::KeyPoint>& kps, double u, double v, double r,
+                           int min_level = 0, int max_level = -1) const;
 
  private:
   int cell_ = 10, cols_ = 0, rows_ = 0;
@@ -94,10 +96,24 @@ struct FrameFeatures {
 // rule, for extraction and for maps loaded from disk.
 void set_right_coordinates(FrameFeatures& f, double bf);
 
+// Reads each keypoint's depth at its raw (distorted) pixel raw_px[i], where the depth image is
+// sampled (with T_d_c, see compute_frame_features: where its surface was at the depth instant), and
+// sets its sigma and virtual right coordinate. Depth: CV_32F metres or empty (no depth).
+void read_keypoint_depths(FrameFeatures& f, const std::vector<cv::Point2f>& raw_px, const cv::Mat& depth_m,
+                          const PinholeCamera& camera, const FeatureConfig& config,
+                          const std::optional<SE3>& T_d_c = std::nullopt);
+// f's undistorted keypoints back at their raw (distorted) pixels.
+std::vector<cv::Point2f> raw_pixels(const FrameFeatures& f, const PinholeCamera& camera);
+
 // Extracts ORB from rgb (CV_8UC3 BGR or CV_8UC1), undistorts keypoints when the camera has
 // distortion, and reads depth (CV_32F metres, same size; may be empty = no depth) at the raw
 // keypoint pixels.
+// T_d_c: where the camera was when the depth image was taken, relative to the colour image's
+// instant (maps colour-instant camera points into the depth-instant camera). Given, each keypoint's
+// depth is read where its surface was at the depth instant and returned at the colour instant;
+// without it (synchronised images) at the keypoint's own pixel.
 FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m, const PinholeCamera& camera,
-                                     const OrbExtractor& extractor, const FeatureConfig& config);
+                                     const OrbExtractor& extractor, const FeatureConfig& config,
+                                     const std::optional<SE3>& T_d_c = std::nullopt);
 
 }  // namespace s3m::features

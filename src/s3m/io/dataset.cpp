@@ -30,6 +30,7 @@ RgbdFrame Dataset::load(std::size_t i) const {
   RgbdFrame f;
   f.index = static_cast<int>(i);
   f.t_s = e.t_rgb_s;
+  f.depth_dt_s = e.t_depth_s - e.t_rgb_s;
   // Colour stored at another size than the camera's (ScanNet) is resized to it.
   const cv::Size colour = p_.colour_size.area() > 0 ? p_.colour_size : size;
   f.rgb = read_rgb((fs::path(p_.dir) / e.rgb).string(), colour);

@@ -69,6 +69,7 @@ void fields(config::FieldVisitor& v, TrackerConfig& c) {
   v("max_pending_keyframes", c.max_pending_keyframes);
   v("min_init_depth_points", c.min_init_depth_points);
   v("anchor_keyframes", c.anchor_keyframes);
+  v("depth_time_compensation", c.depth_time_compensation);
   v("coast_frames", c.dead_reckoning.coast_frames);
   v("bridge_deg", c.bridge_deg);
   v("bridge_m", c.bridge_m);

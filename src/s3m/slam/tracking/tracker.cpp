@@ -147,13 +147,40 @@ TrackerOutput Tracker::process(const RgbdFrame& frame, int pending_keyframes) {
 }
 
 std::shared_ptr<const features::FrameFeatures> Tracker::extract(const RgbdFrame& frame) const {
-  return std::make_shared<features::FrameFeatures>(
-      features::compute_frame_features(frame.rgb, frame.depth_m, camera_, extractor_, feature_config_));
+  return std::make_shared<features::FrameFeatures>(features::compute_frame_features(
+      frame.rgb, frame.depth_m, camera_, extractor_, feature_config_, depth_instant(frame)));
+}
+
+std::optional<SE3> Tracker::depth_instant(const RgbdFrame& frame) const {
+  if (!velocity_ || state_ != FrameState::kOk) return std::nullopt;
+  return depth_instant(frame, *velocity_);
+}
+
+std::optional<SE3> Tracker::depth_instant(const RgbdFrame& frame, const SE3& step) const {
+  if (!config_.depth_time_compensation || frame.depth_dt_s == 0.0) return std::nullopt;
+  // The motion spans one step of step_dt_s_; a gap longer than a step (or a clock that went
+  // backwards) is not something to extrapolate it over.
+  const double s = frame.depth_dt_s / step_dt_s_;
+  if (!(step_dt_s_ > 0) || !(std::abs(s) <= 1.0)) return std::nullopt;
+  return se3_exp(s * se3_log(step));  // T_d_c: the camera moved on by s steps
+}
+
+void Tracker::reread_depth(Frame& cur, const RgbdFrame& frame) const {
+  const std::optional<SE3> T_d_c = depth_instant(frame, cur.T_c_w * last_.T_c_w.inverse());
+  if (!T_d_c || frame.depth_m.empty()) return;
+  auto f = std::make_shared<features::FrameFeatures>(*cur.f);
+  features::read_keypoint_depths(*f, features::raw_pixels(*f, camera_), frame.depth_m, camera_,
+                                 feature_config_, T_d_c);
+  cur.f = std::move(f);
 }
 
 TrackerOutput Tracker::retrack(const RgbdFrame& frame,
                                std::shared_ptr<const features::FrameFeatures> features,
                                int pending_keyframes) {
+  if (frame.t_s != last_frame_t_s_) {  // a deferred frame is retracked: same step
+    step_dt_s_ = frame.t_s - last_frame_t_s_;
+    last_frame_t_s_ = frame.t_s;
+  }
   TrackerOutput out = track(frame, std::move(features), pending_keyframes);
   if (!out.deferred && out.state != FrameState::kLost) reckoner_.keep(frame, last_.T_c_w);
   return out;
@@ -182,8 +209,11 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
     ok = resume_from_pose_ || track_reference_keyframe(cur);
   }
   resume_from_pose_ = false;
-  // 4. Local map: more matches, final pose.
+  // 4. Local map: more matches, final pose; unsynchronised depth first read again with the motion
+  //    measured so far (the prediction's velocity is a step older).
+  if (ok) reread_depth(cur, frame);
   if (ok) ok = track_local_map(cur);
+  out.features = cur.f;
   out.n_inliers = cur.n_map_matched();
   if (!ok && pending > 0) {  // the map is behind: nothing changed, let the caller retry
     out.deferred = true;

@@ -5,6 +5,7 @@
 // local-map tracking (a failure goes to track_lost(): depth odometry, the bridge, ODOMETRY or
 // LOST), 5 keyframe decision, 6 bookkeeping for the next frame. It reads only LocalMapSnapshot
 // copies and emits KeyFrameRequests, so it can run in its own thread next to local mapping.
+#include <limits>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -69,6 +70,10 @@ struct TrackerConfig {
   // The poses of lost frames (dead_reckoner.hpp); a frame depth odometry measured but the map does
   // not reach is ODOMETRY (in the trajectory at that pose) instead of LOST.
   DeadReckonerConfig dead_reckoning;
+  // Colour and depth taken at different instants (RgbdFrame::depth_dt_s): read each keypoint's
+  // depth where its surface was at the depth instant, predicted by the motion model, and move it to
+  // the colour instant. At 65 deg/s a 20 ms gap shifts the depth image ~12 px against the colour.
+  bool depth_time_compensation = true;
   void validate() const;
 };
 
@@ -107,7 +112,8 @@ class Tracker {
   // depth odometry has used them: do not write into them after passing them here.
   TrackerOutput process(const RgbdFrame& frame, int pending_keyframes = 0);
   // Step 1 of process() alone: the frame's features (they do not depend on the map, so System
-  // extracts them while local mapping may still be running).
+  // extracts them while local mapping may still be running). Unsynchronised depth is read where
+  // the motion model puts the camera at the depth instant.
   std::shared_ptr<const features::FrameFeatures> extract(const RgbdFrame& frame) const;
   // Tracks a frame with its already extracted features (extract(), or after a deferred failure).
   TrackerOutput retrack(const RgbdFrame& frame, std::shared_ptr<const features::FrameFeatures> features,
@@ -196,6 +202,13 @@ class Tracker {
   // the tracker's close depth except right after the first keyframe (all of them, like its points).
   void prepare_last_frame(Frame cur, double depth_limit_m);
   void note_visible(PointId id, int visible, int found);
+  // The camera at frame's depth instant relative to its colour instant, from the motion model;
+  // nullopt when synchronised or without a velocity to predict it.
+  std::optional<SE3> depth_instant(const RgbdFrame& frame) const;
+  // The same for a camera that moved by step (T_c_w(frame) = step * T_c_w(last)) since the last frame.
+  std::optional<SE3> depth_instant(const RgbdFrame& frame, const SE3& step) const;
+  // cur's depth read again at the depth instant its current pose implies (unsynchronised depth).
+  void reread_depth(Frame& cur, const RgbdFrame& frame) const;
   bool follow_merges(const LocalMapSnapshot& snapshot);  // false: a sub-map this one never joined
 
   PinholeCamera camera_;
@@ -211,6 +224,8 @@ class Tracker {
   bool localize_only_ = false;
   int submap_ = 0;               // the sub-map being tracked (requests carry it; poses are in its frame)
   std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
+  double last_frame_t_s_ = std::numeric_limits<double>::quiet_NaN();  // the last frame tracked
+  double step_dt_s_ = 0;  // time between the last two frames tracked, the step velocity_ spans [s]
   int last_keyframe_frame_ = 0;
   int peak_inliers_ = 0;       // most map points tracked in one frame since the last keyframe
   KeyframeId n_requests_ = 0;  // keyframe ids are assigned by the Map in request order
