@@ -56,7 +56,10 @@ run::RunOptions slam_run(const std::string& name, const std::string& dir) {
   run::RunOptions o = options(name, true);
   o.dataset_dir = dir;
   o.slam_only = true;
+  // As `s3m run DIR` without a preset: no camera written (sim.yaml's "", the folder's own camera,
+  // is a camera the config writes, which the rig would not replace).
   o.config.dataset.camera = "";
+  o.config.written.erase("dataset.camera");
   o.config.dataset.depth_registration = "auto";
   return o;
 }

@@ -227,6 +227,32 @@ TEST(UnregisteredDepth, SevenScenesDepthFoundUnregisteredIsDrawnInWithItsKinectR
   expect_defaults(registered.slam);
 }
 
+TEST(UnregisteredDepth, TheRigsCameraIsItsOverlaysAndACameraTheConfigWritesStays) {
+  BoxesSource kinect(1.106, 8, "", *camera_preset("7scenes"));
+  // The switch to the two cameras is the overlay's: said with what it set, listed in overlays.
+  PipelineConfig c;
+  const std::string why = resolve_depth_registration(c, kinect, true);
+  EXPECT_NE(why.find("overlay 7scenes_rig set dataset.camera = 7scenes_kinect_v1, slam.features."),
+            std::string::npos)
+      << why;
+  EXPECT_EQ(c.overlays, std::vector<std::string>{kSevenScenesRigOverlay});
+  // A camera the config writes, even the one-camera preset these intrinsics are, stays; its depth
+  // is then read as one camera's.
+  PipelineConfig written =
+      pipeline_config_from_yaml(YAML::Load("dataset: {camera: 7scenes}\n"), "preset.yaml");
+  const std::string why2 = resolve_depth_registration(written, kinect, true);
+  EXPECT_EQ(written.dataset.camera, "7scenes") << why2;
+  EXPECT_EQ(written.overlays, std::vector<std::string>{kUnregisteredDepthOverlay}) << why2;
+  expect_unregistered_settings(written.slam);
+  // Listed by a preset, the overlay leaves the preset's camera too.
+  PipelineConfig listed =
+      pipeline_config_from_yaml(YAML::Load("dataset: {camera: tum_fr1}\n"), "preset.yaml");
+  const OverlayResult r = apply_overlay(listed, kSevenScenesRigOverlay, "test");
+  EXPECT_EQ(listed.dataset.camera, "tum_fr1");
+  EXPECT_EQ(r.kept, std::vector<std::string>{"dataset.camera"});
+  EXPECT_NE(describe(r, listed).find("left as the config writes them: dataset.camera"), std::string::npos);
+}
+
 TEST(UnregisteredDepth, TheRigSettingsAreThoseOfTheKitchenPreset) {
   // `s3m run DIR` without a preset must track a 7-Scenes folder as config/kitchen_7scenes.yaml does.
   const PipelineConfig kitchen =
@@ -234,6 +260,7 @@ TEST(UnregisteredDepth, TheRigSettingsAreThoseOfTheKitchenPreset) {
   EXPECT_EQ(kitchen.dataset.camera, "7scenes_kinect_v1");
   PipelineConfig applied;
   apply_overlay(applied, kSevenScenesRigOverlay, "test");
+  EXPECT_EQ(applied.dataset.camera, kitchen.dataset.camera);
   const slam::SlamConfig& k = kitchen.slam;
   EXPECT_DOUBLE_EQ(applied.slam.features.depth_discontinuity_ratio, k.features.depth_discontinuity_ratio);
   EXPECT_EQ(applied.slam.features.depth_window_px, k.features.depth_window_px);

@@ -104,6 +104,19 @@ TEST(EffectiveConfig, RelativePathsBecomeAbsolute) {
   EXPECT_NE(effective_config_text(c).find("camera: 7scenes_kinect_v1"), std::string::npos);
 }
 
+TEST(EffectiveConfig, TheSevenScenesRigsCameraIsInTheEffectiveConfig) {
+  // The rig's camera comes with its overlay (as `s3m run` applies it to a 7-Scenes folder), so the
+  // file that reruns the run names both, and the summary marks the camera automatic.
+  pipeline::PipelineConfig c;
+  pipeline::apply_overlay(c, "7scenes_rig", "test");
+  const std::string text = effective_config_text(c);
+  EXPECT_NE(text.find("camera: 7scenes_kinect_v1"), std::string::npos) << text;
+  EXPECT_NE(text.find("overlays: [7scenes_rig]"), std::string::npos) << text;
+  EXPECT_EQ(reread(c, "rig.yaml").dataset.camera, "7scenes_kinect_v1");
+  EXPECT_NE(settings_summary(c).find("\n  dataset.camera: 7scenes_kinect_v1 (automatic)"), std::string::npos)
+      << settings_summary(c);
+}
+
 TEST(EffectiveConfig, WrittenKeysAreThoseThePresetSets) {
   const pipeline::PipelineConfig c = pipeline::load_pipeline_config(
       write_tmp("written.yaml",

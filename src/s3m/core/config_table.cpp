@@ -20,39 +20,42 @@ class KeyLister final : public FieldVisitor {
 void read_section(const YAML::Node& node, const Table& table, const std::string& ctx,
                   const std::set<std::string>& keep, const std::string& prefix, ReadKeys& out);
 
+// Declares a read of each key of the table on one YamlMap.
 class Reader final : public FieldVisitor {
  public:
-  Reader(const YAML::Node& node, const std::string& ctx, const std::set<std::string>& keep,
-         std::string prefix, ReadKeys& out)
-      : node_(node), ctx_(ctx), keep_(keep), prefix_(std::move(prefix)), out_(out) {}
+  Reader(YamlMap& map, const std::string& ctx, const std::set<std::string>& keep, std::string prefix,
+         ReadKeys& out)
+      : map_(map), ctx_(ctx), keep_(keep), prefix_(std::move(prefix)), out_(out) {}
 
  protected:
   void value(const char* key, ValueRef v) override {
-    if (take(key)) std::visit([&](auto* member) { read_value(key, *member); }, v);
+    map_.on(key, [this, v](const YAML::Node& value, const std::string& k) {
+      if (take(k))
+        std::visit([&](auto* member) { *member = yaml_as<std::decay_t<decltype(*member)>>(value, k, ctx_); },
+                   v);
+    });
   }
   void custom(const char* key, const Custom& c) override {
-    if (take(key)) c.read(node_[key], key, ctx_);
+    map_.on(key, [this, read = c.read](const YAML::Node& value, const std::string& k) {
+      if (take(k)) read(value, k, ctx_);
+    });
   }
   void section(const char* key, const Table& t) override {
-    if (const YAML::Node sub = node_[key]) read_section(sub, t, ctx_, keep_, prefix_ + key + ".", out_);
+    map_.on(key, [this, t](const YAML::Node& sub, const std::string& k) {
+      read_section(sub, t, ctx_, keep_, prefix_ + k + ".", out_);
+    });
   }
 
  private:
-  template <class T>
-  void read_value(const char* key, T& member) {
-    member = yaml_as<T>(node_[key], key, ctx_);
-  }
-
-  // Whether to read key: present in the YAML and not to be kept.
-  bool take(const char* key) {
-    if (!node_[key]) return false;
+  // Whether to read a key present in the YAML: not when it is to be kept.
+  bool take(const std::string& key) {
     std::string path = prefix_ + key;
     const bool keep = keep_.count(path) > 0;
     (keep ? out_.kept : out_.set).push_back(std::move(path));
     return !keep;
   }
 
-  const YAML::Node& node_;
+  YamlMap& map_;
   const std::string& ctx_;
   const std::set<std::string>& keep_;
   std::string prefix_;
@@ -61,9 +64,10 @@ class Reader final : public FieldVisitor {
 
 void read_section(const YAML::Node& node, const Table& table, const std::string& ctx,
                   const std::set<std::string>& keep, const std::string& prefix, ReadKeys& out) {
-  check_known_keys(node, keys(table), ctx);  // first, so that a typo is named with the keys taken
-  Reader r(node, ctx, keep, prefix, out);
+  YamlMap map(node, ctx);
+  Reader r(map, ctx, keep, prefix, out);
   table(r);
+  map.read();  // a key the table does not take is refused before any is read
 }
 
 // A value as YAML: scalars as text (numbers the shortest that read back exactly), lists in flow style.

@@ -70,7 +70,7 @@ struct ReadKeys {
 };
 
 // Reads a YAML map into the object behind `table`. Absent keys keep their values; an unknown key
-// is a ParseError naming ctx, the line and the keys the section takes (check_known_keys).
+// is a ParseError naming ctx, the line and the keys the section takes (YamlMap).
 ReadKeys read(const YAML::Node& node, const Table& table, const std::string& ctx,
               const std::set<std::string>& keep = {}, const std::string& prefix = "");
 
@@ -82,7 +82,7 @@ YAML::Node write(const T& c) {
   return write(table_of(copy));
 }
 
-// The table's own keys, in order (what check_known_keys lists).
+// The table's own keys, in order (those an unknown-key error lists).
 std::vector<std::string> keys(const Table& table);
 // Every key and its value as text, dotted ("features.orb.n_features"), in table order.
 std::vector<std::pair<std::string, std::string>> values(const Table& table);

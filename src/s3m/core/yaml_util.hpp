@@ -1,7 +1,10 @@
 #pragma once
-// Small helpers to read Config structs from YAML with errors that name the file and key.
-// Config structs list their keys in a table (config_table.hpp), whose reader uses these.
+// Small helpers to read YAML files with errors that name the file, the line and the key. Config
+// structs list their keys in a table (config_table.hpp), whose reader uses these; the other file
+// formats (camera, model card, class map) read their maps with YamlMap.
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
@@ -24,13 +27,46 @@ T yaml_as(const YAML::Node& v, const std::string& key, const std::string& ctx) {
   }
 }
 
-// Reads node[key] into out when present.
-template <typename T>
-void yaml_get(const YAML::Node& node, const std::string& key, T& out, const std::string& ctx) {
-  if (const YAML::Node v = node[key]) out = yaml_as<T>(v, key, ctx);
-}
+// A YAML map whose keys are each named once, in the read that takes them. The reads are declared
+// first; read() then refuses a key that no read takes (a ParseError with the file, the line, the
+// key and the keys the map takes) before it runs any, so that a misspelt key is reported as such
+// rather than as the key it should have been missing, and runs them in the order declared:
+//   YamlMap m(node, path);
+//   m.get("fx", cam.fx).on("T_c_d", [&](const YAML::Node& v, const std::string& key) { ... });
+//   m.read();
+// A node that is a value or a list where the map belongs is refused the same way; an empty one
+// (null) reads as a map without keys.
+class YamlMap {
+ public:
+  // value: the key's node, undefined (!value) when the map lacks the key (always() only).
+  using Read = std::function<void(const YAML::Node& value, const std::string& key)>;
 
-// Throws ParseError if node (a map) has a key not listed in known; catches typos in configs.
-void check_known_keys(const YAML::Node& node, const std::vector<std::string>& known, const std::string& ctx);
+  YamlMap(YAML::Node node, std::string ctx) : node_(std::move(node)), ctx_(std::move(ctx)) {}
+
+  // out = the key's value as a T, when present.
+  template <typename T>
+  YamlMap& get(const std::string& key, T& out) {
+    return on(key,
+              [&out, ctx = ctx_](const YAML::Node& v, const std::string& k) { out = yaml_as<T>(v, k, ctx); });
+  }
+  // read(value, key) when the key is present.
+  YamlMap& on(const std::string& key, Read read);
+  // read(value, key) also when it is absent: a required key, a default that depends on it.
+  YamlMap& always(const std::string& key, Read read);
+  // A key taken and not read (a note for people).
+  YamlMap& ignore(const std::string& key);
+
+  void read() const;
+
+ private:
+  struct Entry {
+    std::string key;
+    Read read;  // empty: ignored
+    bool always = false;
+  };
+  const YAML::Node node_;
+  std::string ctx_;
+  std::vector<Entry> entries_;
+};
 
 }  // namespace s3m

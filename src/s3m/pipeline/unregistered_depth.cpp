@@ -35,15 +35,15 @@ std::string resolve_depth_registration(PipelineConfig& config, const std::vector
   if (registered) return "registered (" + why + ")";
   // Read as one 585 px camera, 7-Scenes' depth lands ~8 px and 10 % off its colour pixels; drawn in
   // from its own camera it is the colour pixel's, and the kitchen's trajectory improves (see
-  // docs/DECISIONS.md, "7-Scenes rig"). A set "unregistered" keeps one camera.
-  if (mode == "auto" && may_use_rig && is_seven_scenes_depth_camera(camera)) {
-    config.dataset.camera = "7scenes_kinect_v1";
+  // docs/DECISIONS.md, "7-Scenes rig"). The overlay names the two cameras (dataset.camera); a set
+  // "unregistered", or a camera the config writes, keeps one camera.
+  if (mode == "auto" && may_use_rig && config.written.count("dataset.camera") == 0 &&
+      is_seven_scenes_depth_camera(camera)) {
     const OverlayResult o = apply_overlay(config, kSevenScenesRigOverlay, "7-Scenes depth drawn into colour");
     return "not registered (" + why +
-           "); 585 px at 640x480 are 7-Scenes' Kinect v1 depth camera: its depth is "
-           "drawn into the colour camera by s3m with the camera preset 7scenes_kinect_v1 (colour 529 px, the "
-           "depth "
-           "camera 2.5 cm beside it); " +
+           "); 585 px at 640x480 are 7-Scenes' Kinect v1 depth camera: its depth is drawn into the colour "
+           "camera by s3m with the camera preset " +
+           config.dataset.camera + " (colour 529 px, the depth camera 2.5 cm beside it); " +
            describe(o, config);
   }
   const OverlayResult o = apply_overlay(config, kUnregisteredDepthOverlay, "depth not registered");

@@ -25,9 +25,10 @@ bool is_seven_scenes_depth_camera(const PinholeCamera& camera);
 // and depth edges); when the depth is not registered (checked or set) the overlay
 // unregistered_depth is applied to the keys config.written does not hold. Depth found unregistered
 // beside 7-Scenes' intrinsics is that dataset's Kinect v1: when the caller can open the frames
-// again (`may_use_rig`), config.dataset.camera becomes "7scenes_kinect_v1" (the two cameras; the
-// caller reopens the frames with it) and the overlay 7scenes_rig is applied instead. Returns what
-// was decided and why, with what the overlay set and left, for the log and metrics.json.
+// again (`may_use_rig`) and config.written has no dataset.camera, the overlay 7scenes_rig is
+// applied instead, which sets dataset.camera to "7scenes_kinect_v1" (the two cameras; the caller
+// reopens the frames with it). Returns what was decided and why, with what the overlay set and
+// left, for the log and metrics.json.
 std::string resolve_depth_registration(PipelineConfig& config, const std::vector<RgbdFrame>& sample,
                                        const PinholeCamera& camera, const std::string& registered_by = "",
                                        bool may_use_rig = false);

@@ -2,6 +2,7 @@
 
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include <opencv2/core.hpp>
 
@@ -44,9 +45,11 @@ std::vector<std::string> read_class_names(const std::string& path) {
       const std::string id_str = trim(t.substr(0, tab));
       if (!id_str.empty() && id_str.find_first_not_of("0123456789") == std::string::npos) {
         const std::size_t id = id_str.size() > 6 ? 999999 : std::stoul(id_str);
-        if (id > 65535) throw ParseError(path, line_no, "class id " + id_str + " too large", "an id <= 65535");
+        if (id > 65535)
+          throw ParseError(path, line_no, "class id " + id_str + " too large", "an id <= 65535");
         if (names.size() <= id) names.resize(id + 1);
-        if (!names[id].empty()) throw ParseError(path, line_no, "class id " + id_str + " listed twice", "unique ids");
+        if (!names[id].empty())
+          throw ParseError(path, line_no, "class id " + id_str + " listed twice", "unique ids");
         names[id] = trim(t.substr(tab + 1));
         continue;
       }
@@ -64,46 +67,67 @@ ClassMap ClassMap::load(const std::string& yaml_path, const std::vector<std::str
   try {
     return parse(root, yaml_path, source_names, target);
   } catch (const YAML::Exception& e) {  // an entry of the wrong shape
-    throw ParseError(yaml_path, e.mark.line + 1, "bad class map entry: " + e.msg, "the layout in class_map.hpp");
+    throw ParseError(yaml_path, e.mark.line + 1, "bad class map entry: " + e.msg,
+                     "the layout in class_map.hpp");
   }
 }
 
-ClassMap ClassMap::parse(const YAML::Node& root, const std::string& yaml_path, const std::vector<std::string>& source_names,
-                         const ClassList& target) {
-  check_known_keys(root, {"source", "default", "map", "palette"}, yaml_path);
+ClassMap ClassMap::parse(const YAML::Node& root, const std::string& yaml_path,
+                         const std::vector<std::string>& source_names, const ClassList& target) {
+  std::string default_name = "other";
+  int default_line = 0;
+  YAML::Node map;
+  std::optional<YAML::Node> palette;
+  YamlMap keys(root, yaml_path);
+  keys.ignore("source");  // which model's classes, for people
+  keys.on("default", [&](const YAML::Node& v, const std::string& key) {
+    default_name = yaml_as<std::string>(v, key, yaml_path);
+    default_line = v.Mark().line + 1;
+  });
+  keys.always("map", [&](const YAML::Node& v, const std::string& key) {
+    if (!v || !v.IsMap())
+      throw ParseError(yaml_path, 0, "missing '" + key + "' section",
+                       "map: {project_class: [source classes]}");
+    map = v;
+  });
+  keys.on("palette", [&palette](const YAML::Node& v, const std::string&) { palette = v; });
+  keys.read();
+
   std::map<std::string, int> source_index;
   for (std::size_t i = 0; i < source_names.size(); ++i)
     if (!source_names[i].empty()) source_index.emplace(source_names[i], static_cast<int>(i));
 
   ClassMap m;
-  std::string default_name = "other";
-  yaml_get(root, "default", default_name, yaml_path);
-  const ClassId def = target_id(target, default_name, yaml_path, root["default"] ? root["default"].Mark().line + 1 : 0);
+  const ClassId def = target_id(target, default_name, yaml_path, default_line);
   m.table_.assign(source_names.size(), def);
   std::vector<bool> seen(source_names.size(), false);
 
-  const YAML::Node map = root["map"];
-  if (!map || !map.IsMap()) throw ParseError(yaml_path, 0, "missing 'map' section", "map: {project_class: [source classes]}");
   for (const auto& kv : map) {
     const int line = kv.first.Mark().line + 1;
     const ClassId to = target_id(target, kv.first.as<std::string>(), yaml_path, line);
     std::vector<std::string> from;
-    if (kv.second.IsScalar()) from.push_back(kv.second.as<std::string>());
-    else if (kv.second.IsSequence()) from = kv.second.as<std::vector<std::string>>();
-    else throw ParseError(yaml_path, line, "bad entry", "a source class name or a list of them");
+    if (kv.second.IsScalar())
+      from.push_back(kv.second.as<std::string>());
+    else if (kv.second.IsSequence())
+      from = kv.second.as<std::vector<std::string>>();
+    else
+      throw ParseError(yaml_path, line, "bad entry", "a source class name or a list of them");
     for (const auto& name : from) {
       const auto it = source_index.find(name);
       if (it == source_index.end())
-        throw ParseError(yaml_path, line, "source class '" + name + "' is not in the source class list", "a name from the model's class list");
-      if (seen[it->second]) throw ParseError(yaml_path, line, "source class '" + name + "' mapped twice", "each source class once");
+        throw ParseError(yaml_path, line, "source class '" + name + "' is not in the source class list",
+                         "a name from the model's class list");
+      if (seen[it->second])
+        throw ParseError(yaml_path, line, "source class '" + name + "' mapped twice",
+                         "each source class once");
       seen[it->second] = true;
       m.table_[it->second] = to;
     }
   }
 
   std::vector<ClassInfo> infos = target.all();
-  if (const YAML::Node pal = root["palette"]) {
-    for (const auto& kv : pal) {
+  if (palette) {
+    for (const auto& kv : *palette) {
       const int line = kv.first.Mark().line + 1;
       const ClassId id = target_id(target, kv.first.as<std::string>(), yaml_path, line);
       std::vector<int> rgb;
@@ -111,7 +135,8 @@ ClassMap ClassMap::parse(const YAML::Node& root, const std::string& yaml_path, c
         rgb = kv.second.as<std::vector<int>>();
       } catch (const YAML::Exception&) {
       }
-      if (rgb.size() != 3 || rgb[0] < 0 || rgb[0] > 255 || rgb[1] < 0 || rgb[1] > 255 || rgb[2] < 0 || rgb[2] > 255)
+      if (rgb.size() != 3 || rgb[0] < 0 || rgb[0] > 255 || rgb[1] < 0 || rgb[1] > 255 || rgb[2] < 0 ||
+          rgb[2] > 255)
         throw ParseError(yaml_path, line, "bad palette colour", "[r, g, b] with values 0..255");
       infos[id].r = static_cast<std::uint8_t>(rgb[0]);
       infos[id].g = static_cast<std::uint8_t>(rgb[1]);

@@ -18,38 +18,45 @@ std::string resolve(const std::string& base, const std::string& p) {
 
 int line_of(const YAML::Node& n) { return n ? n.Mark().line + 1 : 0; }
 
-// Reads an enum-like string key, checking it against the allowed spellings.
-int choice(const YAML::Node& node, const std::string& key, const std::vector<std::string>& allowed, int def,
-           const std::string& ctx) {
-  if (!node || !node[key]) return def;
-  const std::string v = node[key].as<std::string>();
-  for (std::size_t i = 0; i < allowed.size(); ++i)
-    if (allowed[i] == v) return static_cast<int>(i);
-  std::string list;
-  for (const auto& a : allowed) list += (list.empty() ? "" : " | ") + a;
-  throw ParseError(ctx, line_of(node[key]), "bad value '" + v + "' for '" + key + "'", list);
+// A read of an enum-like string into out: its index in the allowed spellings.
+template <class E>
+YamlMap::Read choice(E& out, std::vector<std::string> allowed, const std::string& ctx) {
+  return [&out, allowed = std::move(allowed), &ctx](const YAML::Node& v, const std::string& key) {
+    const std::string s = v.as<std::string>();
+    for (std::size_t i = 0; i < allowed.size(); ++i)
+      if (allowed[i] == s) {
+        out = static_cast<E>(i);
+        return;
+      }
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : " | ") + a;
+    throw ParseError(ctx, line_of(v), "bad value '" + s + "' for '" + key + "'", list);
+  };
 }
 
-std::array<double, 3> triple(const YAML::Node& node, const std::string& key, std::array<double, 3> def,
-                             const std::string& ctx) {
-  if (!node || !node[key]) return def;
-  const YAML::Node v = node[key];
-  if (v.IsScalar()) {
-    const double x = v.as<double>();
-    return {x, x, x};
-  }
-  std::vector<double> xs;
-  try {
-    xs = v.as<std::vector<double>>();
-  } catch (const YAML::Exception&) {
-  }
-  if (xs.size() != 3) throw ParseError(ctx, line_of(v), "bad value for '" + key + "'", "a number or a list of 3 numbers");
-  return {xs[0], xs[1], xs[2]};
+// A read of a number or a list of 3 numbers (one per channel) into out.
+YamlMap::Read triple(std::array<double, 3>& out, const std::string& ctx) {
+  return [&out, &ctx](const YAML::Node& v, const std::string& key) {
+    if (v.IsScalar()) {
+      const double x = v.as<double>();
+      out = {x, x, x};
+      return;
+    }
+    std::vector<double> xs;
+    try {
+      xs = v.as<std::vector<double>>();
+    } catch (const YAML::Exception&) {
+    }
+    if (xs.size() != 3)
+      throw ParseError(ctx, line_of(v), "bad value for '" + key + "'", "a number or a list of 3 numbers");
+    out = {xs[0], xs[1], xs[2]};
+  };
 }
 
 }  // namespace
 
-ModelCard parse_model_card(const YAML::Node& root, const std::string& card_path, const std::string& model_dir);
+ModelCard parse_model_card(const YAML::Node& root, const std::string& card_path,
+                           const std::string& model_dir);
 
 void ModelCard::validate() const {
   auto fail = [&](const std::string& what, const std::string& expected) {
@@ -65,7 +72,8 @@ void ModelCard::validate() const {
   if (top_k < 1 || top_k > kMaxTopK)
     fail("top_k = " + std::to_string(top_k) + " out of range",
          "1.." + std::to_string(kMaxTopK) + " (labels a map voxel keeps, s3m::kMaxTopK)");
-  if (label_stride < 1 || label_stride > 16) fail("label_stride = " + std::to_string(label_stride) + " out of range", "1..16");
+  if (label_stride < 1 || label_stride > 16)
+    fail("label_stride = " + std::to_string(label_stride) + " out of range", "1..16");
   if (!thread_count_ok(threads))
     fail("threads = " + std::to_string(threads) + " out of range", thread_count_range("OpenCV's default"));
 }
@@ -75,51 +83,49 @@ ModelCard load_model_card(const std::string& card_path, const std::string& model
   try {
     return parse_model_card(root, card_path, model_dir);
   } catch (const YAML::Exception& e) {  // a value of the wrong shape (a map where a name belongs, ...)
-    throw ParseError(card_path, e.mark.line + 1, "bad model card entry: " + e.msg, "the layout in model_card.hpp");
+    throw ParseError(card_path, e.mark.line + 1, "bad model card entry: " + e.msg,
+                     "the layout in model_card.hpp");
   }
 }
 
-ModelCard parse_model_card(const YAML::Node& root, const std::string& card_path, const std::string& model_dir) {
+ModelCard parse_model_card(const YAML::Node& root, const std::string& card_path,
+                           const std::string& model_dir) {
   const std::string& ctx = card_path;
-  check_known_keys(root, {"name", "model", "classes", "class_map", "ignore_classes", "input", "output", "upsample", "label_stride",
-                          "top_k", "threads", "notes", "training", "metrics"},
-                   ctx);
   const std::string card_dir = fs::path(card_path).parent_path().string();
   const std::string data_dir = model_dir.empty() ? card_dir : model_dir;
   ModelCard c;
   c.card_path = card_path;
   std::string model, classes, class_map;
-  yaml_get(root, "name", c.name, ctx);
-  yaml_get(root, "model", model, ctx);
-  yaml_get(root, "classes", classes, ctx);
-  yaml_get(root, "class_map", class_map, ctx);
-  yaml_get(root, "ignore_classes", c.ignore_classes, ctx);
-  yaml_get(root, "top_k", c.top_k, ctx);
-  yaml_get(root, "threads", c.threads, ctx);
-  yaml_get(root, "label_stride", c.label_stride, ctx);
+  YamlMap m(root, ctx);
+  m.get("name", c.name).get("model", model).get("classes", classes).get("class_map", class_map);
+  m.get("ignore_classes", c.ignore_classes);
+  m.always("input", [&](const YAML::Node& in, const std::string& key) {
+    if (!in || !in.IsMap())
+      throw ParseError(ctx, 0, "missing '" + key + "' section", "input: {width, height, ...}");
+    int rgb = 0;
+    YamlMap i(in, ctx);
+    i.get("width", c.input_width).get("height", c.input_height);
+    i.on("channel_order", choice(rgb, {"rgb", "bgr"}, ctx));
+    i.get("scale", c.scale).on("mean", triple(c.mean, ctx)).on("std", triple(c.std, ctx));
+    i.on("resize", choice(c.resize, {"stretch", "letterbox"}, ctx));
+    i.read();
+    c.rgb = rgb == 0;
+  });
+  m.on("output", [&](const YAML::Node& out, const std::string&) {
+    int layout = 0;  // one layout, NCHW; the key says so
+    YamlMap o(out, ctx);
+    o.on("layout", choice(layout, {"nchw"}, ctx));
+    o.on("type", choice(c.output, {"logits", "probabilities"}, ctx));
+    o.on("grid", choice(c.grid, {"half_pixel", "align_corners"}, ctx));
+    o.read();
+  });
+  m.on("upsample", choice(c.upsample, {"linear", "nearest"}, ctx));
+  m.get("label_stride", c.label_stride).get("top_k", c.top_k).get("threads", c.threads);
+  m.ignore("notes").ignore("training").ignore("metrics");  // for people
+  m.read();
   c.model_path = resolve(data_dir, model);
   c.classes_path = resolve(data_dir, classes);
   c.class_map_path = resolve(card_dir, class_map);
-  c.upsample = static_cast<ModelCard::Upsample>(choice(root, "upsample", {"linear", "nearest"}, 0, ctx));
-
-  const YAML::Node in = root["input"];
-  if (!in || !in.IsMap()) throw ParseError(ctx, 0, "missing 'input' section", "input: {width, height, ...}");
-  check_known_keys(in, {"width", "height", "channel_order", "scale", "mean", "std", "resize"}, ctx);
-  yaml_get(in, "width", c.input_width, ctx);
-  yaml_get(in, "height", c.input_height, ctx);
-  yaml_get(in, "scale", c.scale, ctx);
-  c.rgb = choice(in, "channel_order", {"rgb", "bgr"}, 0, ctx) == 0;
-  c.mean = triple(in, "mean", c.mean, ctx);
-  c.std = triple(in, "std", c.std, ctx);
-  c.resize = static_cast<ModelCard::Resize>(choice(in, "resize", {"stretch", "letterbox"}, 0, ctx));
-
-  const YAML::Node out = root["output"];
-  if (out) {
-    check_known_keys(out, {"layout", "type", "grid"}, ctx);
-    choice(out, "layout", {"nchw"}, 0, ctx);
-    c.output = static_cast<ModelCard::Output>(choice(out, "type", {"logits", "probabilities"}, 0, ctx));
-    c.grid = static_cast<ModelCard::Grid>(choice(out, "grid", {"half_pixel", "align_corners"}, 0, ctx));
-  }
   c.validate();
   return c;
 }

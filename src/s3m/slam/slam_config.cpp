@@ -201,10 +201,8 @@ void fields(config::FieldVisitor& v, LoopClosingConfig& c) {
 namespace {
 
 SE3 read_pose(const YAML::Node& n, const std::string& ctx) {
-  check_known_keys(n, {"t", "q"}, ctx);
   std::vector<double> t{0, 0, 0}, q{0, 0, 0, 1};
-  yaml_get(n, "t", t, ctx);
-  yaml_get(n, "q", q, ctx);
+  YamlMap(n, ctx).get("t", t).get("q", q).read();
   if (t.size() != 3 || q.size() != 4)
     throw ParseError(ctx, n.Mark().line + 1, "bad T_c_r", "t: [x, y, z] and q: [qx, qy, qz, qw]");
   const Quat quat(q[3], q[0], q[1], q[2]);
