@@ -134,6 +134,7 @@ class SplitWorldPoses final : public pipeline::PoseSource, public pipeline::Sess
   void load_map(const std::string&, bool) override {}
   bool save_map(const std::string&) const override { return false; }
   Submaps submaps() const override { return {}; }
+  features::DepthNoiseEstimate depth_noise() const override { return {}; }
   std::optional<pipeline::KeyframePoses> moved_world() const override {
     return moved_ ? std::optional(sub_) : std::nullopt;
   }

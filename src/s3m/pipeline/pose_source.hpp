@@ -10,6 +10,7 @@
 
 #include "s3m/core/frame_state.hpp"
 #include "s3m/core/rgbd_frame.hpp"
+#include "s3m/features/depth_noise_estimator.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
 
@@ -59,6 +60,8 @@ class SessionMap {
     bool world_moved = false;
   };
   virtual Submaps submaps() const = 0;
+  // After finish(): what tracking learnt about the depth sensor (noise curve, colour-depth offset).
+  virtual features::DepthNoiseEstimate depth_noise() const = 0;
   // After finish(), when the world moved (Submaps::world_moved): every keyframe now in it, culled
   // ones included, with its pose; every other keyframe has left it. Otherwise nothing.
   virtual std::optional<KeyframePoses> moved_world() const = 0;

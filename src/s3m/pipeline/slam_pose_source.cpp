@@ -61,6 +61,7 @@ class SlamPoses final : public PoseSource, public SessionMap {
                        ? "used in the final BA"
                        : "not used (over slam.mapper.dense_links.max_median_deg / _m: do depth and colour "
                          "line up?)");
+    spdlog::info("SLAM: {}", features::describe(system_.depth_noise()));
     return corrected_poses(system_.late_corrections());
   }
   io::Trajectory camera_trajectory() const override { return without_lost(system_.camera_trajectory()); }
@@ -99,6 +100,7 @@ class SlamPoses final : public PoseSource, public SessionMap {
     return {system_.n_new_submaps(), system_.n_merges(), system_.n_keyframes_outside_world(),
             system_.n_frames_outside_world(), system_.world_moved()};
   }
+  features::DepthNoiseEstimate depth_noise() const override { return system_.depth_noise(); }
   std::optional<KeyframePoses> moved_world() const override {
     if (!system_.world_moved()) return std::nullopt;
     KeyframePoses world = keyframe_poses();

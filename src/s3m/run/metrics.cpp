@@ -153,6 +153,24 @@ json map_json(const pipeline::Pipeline& p, const pipeline::OutputPaths& paths, c
 
 // Every state's frame count, and which frames were LOST (as [first, last] index ranges) or
 // RELOCALISED: LOST frames are neither in the trajectory files nor in the map.
+// What SLAM learnt about the depth sensor next to the model it was configured with.
+json depth_noise_json(const features::DepthNoiseEstimate& e, const features::DepthNoiseConfig& configured) {
+  json bins = json::array();
+  for (const auto& b : e.bins) bins.push_back({{"z_m", b.z_m}, {"n", b.n}, {"sigma_m", b.sigma_m}});
+  json j = {
+      {"samples", e.samples},
+      {"what",
+       "z measured - z of the tracked map point, robust sigma per depth bin: the sensor's noise "
+       "plus the map point's own error"},
+      {"bins", bins},
+      {"configured",
+       {{"model", configured.model}, {"sigma0_m", configured.sigma0_m}, {"k_per_m", configured.k_per_m}}},
+      {"colour_depth_offset",
+       {{"frames", e.offset_frames}, {"median_s", e.offset_median_s}, {"max_abs_s", e.offset_max_abs_s}}}};
+  if (e.fitted) j["fit"] = {{"sigma0_m", e.sigma0_m}, {"k_per_m", e.k_per_m}};
+  return j;
+}
+
 json tracking_json(const std::vector<pipeline::FrameOutcome>& frames) {
   json states = json::object(), lost = json::array(), relocalised = json::array();
   for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -212,6 +230,8 @@ json compute_metrics(const pipeline::Pipeline& p, const pipeline::FrameSource& s
                               {"keyframes_outside_world", sub.keyframes_outside_world},
                               {"frames_outside_world", sub.frames_outside_world},
                               {"world_moved", sub.world_moved}};
+  if (session)
+    m["tracking"]["depth_noise"] = depth_noise_json(session->depth_noise(), config.slam.features.depth_noise);
   m["timings_ms"] = timings_json(p.timings());
   const TrajectoryScore traj = evaluate_trajectory(p, source, config, paths);
   m["trajectory"] = traj.json;

@@ -95,6 +95,9 @@ class System {
   bool closes_loops() const { return back_.closes_loops(); }
   bool relocalises() const { return back_.relocalises(); }
   int n_lost_frames() const { return front_.n_lost_frames(); }
+  // What tracking learnt about the depth sensor (features/depth_noise_estimator.hpp); tracking
+  // thread, or after finish().
+  features::DepthNoiseEstimate depth_noise() const { return front_.depth_noise(); }
   int n_relocalised_frames() const { return front_.n_relocalised_frames(); }
   int n_loops() const { return back_.n_loops(); }  // threaded: after finish()
   // Sub-maps (map_merge.hpp): whether this session starts them, how many it started, how many

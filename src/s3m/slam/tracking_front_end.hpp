@@ -76,6 +76,7 @@ class TrackingFrontEnd {
   // Loop corrections received and not yet returned by track() (after finish(): the late ones).
   std::vector<LoopCorrection> take_corrections();
   int n_lost_frames() const { return n_lost_; }
+  features::DepthNoiseEstimate depth_noise() const { return tracker_.depth_noise(); }
   int n_relocalised_frames() const { return n_relocalised_; }
   int n_new_submaps() const { return next_submap_ - 1; }
 

@@ -227,6 +227,7 @@ TrackerOutput Tracker::track(const RgbdFrame& frame, std::shared_ptr<const featu
   }
   state_ = FrameState::kOk;
   velocity_ = cur.T_c_w * last_.T_c_w.inverse();
+  learn_sensor(cur, frame);
   out.state = state_;
   out.T_w_c = cur.T_c_w.inverse();
   // 5. Keyframe decision (localisation only: a new local map instead of a keyframe).
@@ -396,6 +397,14 @@ void Tracker::prepare_last_frame(Frame cur, double depth_limit_m) {
     cur.matched[i] = 1;
   }
   last_ = std::move(cur);
+}
+
+void Tracker::learn_sensor(const Frame& cur, const RgbdFrame& frame) {
+  sensor_.add_offset(frame.depth_dt_s);
+  const features::FrameFeatures& f = *cur.f;
+  for (int i = 0; i < f.size(); ++i)
+    if (cur.matched[i] && cur.pid[i] != kNoId && f.has_depth(i))
+      sensor_.add(f.depth_m[i], (cur.T_c_w * cur.p_w[i]).z());
 }
 
 void Tracker::note_visible(PointId id, int visible, int found) {

@@ -14,6 +14,7 @@
 #include "s3m/core/camera.hpp"
 #include "s3m/core/frame_state.hpp"
 #include "s3m/core/rgbd_frame.hpp"
+#include "s3m/features/depth_noise_estimator.hpp"
 #include "s3m/features/frame_features.hpp"
 #include "s3m/features/orb_extractor.hpp"
 #include "s3m/slam/map/local_map.hpp"
@@ -139,6 +140,8 @@ class Tracker {
   // and for wants_local_map).
   void set_local_map(std::shared_ptr<const LocalMapSnapshot> snapshot, int frame_index);
   FrameState state() const { return state_; }
+  // What tracking has learnt about the depth sensor so far (depth_noise_estimator.hpp).
+  features::DepthNoiseEstimate depth_noise() const { return sensor_.estimate(); }
   const features::OrbExtractor& extractor() const { return extractor_; }
 
  private:
@@ -202,6 +205,8 @@ class Tracker {
   // the tracker's close depth except right after the first keyframe (all of them, like its points).
   void prepare_last_frame(Frame cur, double depth_limit_m);
   void note_visible(PointId id, int visible, int found);
+  // A tracked frame's inlier depths against their map points' (and its colour-depth offset).
+  void learn_sensor(const Frame& cur, const RgbdFrame& frame);
   // The camera at frame's depth instant relative to its colour instant, from the motion model;
   // nullopt when synchronised or without a velocity to predict it.
   std::optional<SE3> depth_instant(const RgbdFrame& frame) const;
@@ -232,7 +237,8 @@ class Tracker {
   KeyframeId ref_kf_ = kNoId;
   SE3 T_w_ref_ = SE3::Identity();
   std::unordered_map<PointId, PointVisibility> visibility_;
-  std::vector<PendingKeyFrame> pending_;  // requested keyframes without a snapshot yet, oldest first
+  std::vector<PendingKeyFrame> pending_;
+  features::DepthNoiseEstimator sensor_;  // requested keyframes without a snapshot yet, oldest first
 };
 
 }  // namespace s3m::slam
