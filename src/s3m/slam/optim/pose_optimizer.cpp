@@ -51,20 +51,11 @@ PoseObservation keypoint_observation(const features::FrameFeatures& f, int i, co
   return o;
 }
 
-PoseFit classify_fit(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& camera,
-                     const PoseOptimizerConfig& config) {
-  Eigen::Vector3d e;
-  Eigen::Matrix<double, 3, 6> J;
-  const int rows = residual_and_jacobian(o, T_c_w, camera, e, J);
-  if (rows == 0) return PoseFit::kOutlier;
-  if (rows == 3 && e.squaredNorm() <= config.chi2_stereo) return PoseFit::kFull;
-  if (e.head<2>().squaredNorm() > config.chi2_mono) return PoseFit::kOutlier;
-  return rows == 3 ? PoseFit::kPixelsOnly : PoseFit::kFull;
-}
-
 bool fits_pose(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& camera,
                const PoseOptimizerConfig& config) {
-  return classify_fit(o, T_c_w, camera, config) != PoseFit::kOutlier;
+  double chi2 = 0;
+  const bool in_front = reprojection_chi2(o, T_c_w, camera, chi2);
+  return in_front && chi2 <= (features::has_right(o.u_right) ? config.chi2_stereo : config.chi2_mono);
 }
 
 bool reprojection_chi2(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& camera,
@@ -93,7 +84,7 @@ PoseOptimizerResult optimize_pose(const std::vector<PoseObservation>& obs, const
       Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
       int used = 0;
       for (int i = 0; i < n; ++i) {
-        if (res.inlier[i] != char(PoseFit::kFull)) continue;
+        if (!res.inlier[i]) continue;
         const int rows = residual_and_jacobian(obs[i], res.T_c_w, camera, e, J);
         if (rows == 0) continue;
         const double chi2 = e.head(rows).squaredNorm();
@@ -112,10 +103,10 @@ PoseOptimizerResult optimize_pose(const std::vector<PoseObservation>& obs, const
       if (xi.squaredNorm() < 1e-14) break;
     }
     // 2. Reclassify every observation (outliers may come back).
-    for (int i = 0; i < n; ++i) res.inlier[i] = char(classify_fit(obs[i], res.T_c_w, camera, config));
+    for (int i = 0; i < n; ++i) res.inlier[i] = fits_pose(obs[i], res.T_c_w, camera, config);
   }
   res.n_inliers = 0;
-  for (char c : res.inlier) res.n_inliers += c != 0;
+  for (char c : res.inlier) res.n_inliers += c;
   return res;
 }
 

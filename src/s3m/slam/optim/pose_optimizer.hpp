@@ -39,16 +39,9 @@ struct PoseOptimizerConfig {
   void validate() const;
 };
 
-// How an observation fits a pose. A point whose pixel agrees while its depth row does not stays a
-// match (kPixelsOnly: counted as an inlier, kept for the keyframe and the map) but is left out of
-// the pose solve, as an outlier would be. When the depth model is wrong (too small a sigma, depth
-// from another instant) rejecting such points empties the frame of inliers and makes a keyframe of
-// nearly every frame (the simulator's 0.3x noise rows: 177-266 keyframes in 300 frames, 21-33 so).
-enum class PoseFit : char { kOutlier = 0, kFull = 1, kPixelsOnly = 2 };
-
 struct PoseOptimizerResult {
   SE3 T_c_w = SE3::Identity();
-  std::vector<char> inlier;  // per observation: a PoseFit (0 = outlier, non-zero = inlier)
+  std::vector<char> inlier;  // per observation
   int n_inliers = 0;
 };
 
@@ -60,12 +53,8 @@ PoseOptimizerResult optimize_pose(const std::vector<PoseObservation>& obs, const
 // when the point is behind the camera.
 bool reprojection_chi2(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& camera, double& chi2);
 
-// The optimiser's test: in front of the camera at T_c_w and chi2 within the 95 % bound of its
-// degrees of freedom (config.chi2_stereo with a depth row, else chi2_mono): kFull; a depth row
-// over that bound whose pixel rows are within chi2_mono: kPixelsOnly.
-PoseFit classify_fit(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& camera,
-                     const PoseOptimizerConfig& config);
-// classify_fit is not kOutlier.
+// The optimiser's inlier test: in front of the camera at T_c_w, chi2 within the 95 % bound of its
+// degrees of freedom (config.chi2_stereo with a virtual right coordinate, else chi2_mono).
 bool fits_pose(const PoseObservation& o, const SE3& T_c_w, const PinholeCamera& camera,
                const PoseOptimizerConfig& config);
 
