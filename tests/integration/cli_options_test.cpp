@@ -28,6 +28,7 @@ TEST(CliOptions, BadValuesAreRefusedNamingTheOptionAndValue) {
   const std::string seq = "'" + sequence_dir() + "'", file = "'" + (dir / "a_file").string() + "'";
   const std::vector<Refusal> cases = {
       {"run " + seq + " --max-frames -3 --out '" + (dir / "r").string() + "'", "'-3' is not a count"},
+      {"segeval --pred-dir " + seq + " --gt-dir " + seq + " --max-images 2.5", "'2.5' is not a count"},
       {"sim --frames 5 --snapshots 1,abc --out '" + (dir / "s").string() + "'",
        "--snapshots: 'abc' is not a frame number"},
       {"sim --frames 5 --snapshots 9 --out '" + (dir / "s").string() + "'",
@@ -42,8 +43,10 @@ TEST(CliOptions, BadValuesAreRefusedNamingTheOptionAndValue) {
   for (const Refusal& c : cases) {
     std::string log;
     // CLI11's own validation errors exit 105, s3m's errors 1.
-    EXPECT_EQ(run_s3m(c.args, dir / "log.txt", &log), c.args.rfind("run", 0) == 0 ? 105 : 1) << c.args << "\n"
-                                                                                             << log;
+    EXPECT_EQ(run_s3m(c.args, dir / "log.txt", &log),
+              c.args.rfind("run", 0) == 0 || c.args.rfind("segeval", 0) == 0 ? 105 : 1)
+        << c.args << "\n"
+        << log;
     EXPECT_NE(log.find(c.message), std::string::npos) << c.args << "\n" << log;
     EXPECT_EQ(log.find("unexpected error"), std::string::npos) << log;
   }
