@@ -11,6 +11,7 @@
 #include "interrupt.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/shipped_files.hpp"
+#include "s3m/io/output_folder.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/run/progress.hpp"
 #include "s3m/run/run.hpp"
@@ -63,7 +64,7 @@ pipeline::PipelineConfig demo_pipeline_config() {
 }
 
 void run_demo(const DemoArgs& a) {
-  require_folder_path(a.out, "--out");
+  io::require_folder_path(a.out, "--out");
   const std::atomic<bool>& stop = install_interrupt_handler();
   const std::string seq = a.out + "/sequence", run = a.out + "/run";
   std::cout << "s3m demo: 1/3 simulating " << a.frames << " frames (" << a.scene << ", " << a.trajectory

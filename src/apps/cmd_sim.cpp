@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
+#include "s3m/io/output_folder.hpp"
 #include "s3m/sim/simulate.hpp"
 
 namespace s3m::apps {
@@ -113,7 +114,7 @@ void run(const SimArgs& a, const CLI::App& cmd) {
   if (given("--camera") || given("--width") || given("--height"))
     cfg.sensor.camera = sim::sensor_camera(a.camera, a.width, a.height);
   cfg.validate();
-  require_folder_path(a.out_dir, "--out");
+  io::require_folder_path(a.out_dir, "--out");
   refuse_recording(a.out_dir, a.force);
   if (!a.snapshots.empty())
     snapshot_frames(a.snapshots, std::size_t(cfg.trajectory.frames));  // before the work

@@ -27,15 +27,6 @@ inline CLI::Validator count_option() {
       "COUNT");
 }
 
-// An output folder option: refused up front when the path is an existing file (creating the
-// folder would fail halfway through the work otherwise).
-inline void require_folder_path(const std::string& path, const std::string& option) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (fs::exists(path, ec) && !fs::is_directory(path, ec))
-    throw Error(option + " '" + path + "' is a file, not a folder: give a folder to write into");
-}
-
 // A file argument that also takes the folder holding it under its usual name: the folder
 // `s3m run --out` wrote (what a user has just seen printed as "outputs: OUT") for its map.ot or
 // trajectory_camera.txt, a dataset folder for its groundtruth.txt. `missing` says what a folder

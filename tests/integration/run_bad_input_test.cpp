@@ -264,7 +264,7 @@ TEST(RunBadInput, ModelCardWhoseClassCountDoesNotMatchTheModel) {
 TEST(RunBadInput, OutputDirectoryThatCannotBeCreated) {
   run::RunOptions o = options_for(short_sequence("outdir"), "blocker");
   std::ofstream(o.out_dir) << "a file where the output folder should be";
-  run_error(o, {o.out_dir, "cannot create the output directory"});
+  run_error(o, {"--out '" + o.out_dir + "' is a file, not a folder"});
 }
 
 // Lowers the file-size limit while alive: writes beyond it fail with EFBIG (SIGXFSZ ignored), as

@@ -7,6 +7,7 @@
 #include "io_test_util.hpp"
 #include "s3m/io/atomic_file.hpp"
 #include "s3m/io/gt_voxels.hpp"
+#include "s3m/io/output_folder.hpp"
 #include "s3m/io/ply.hpp"
 
 using namespace s3m;
@@ -20,14 +21,37 @@ TEST(IoAtomicFile, WritesAndLeavesOldContentOnFailure) {
   const auto dir = fresh_temp_dir();
   const auto path = (dir / "a.txt").string();
   write_text_atomic(path, "first\n");
-  expect_error([&] { write_file_atomic(path, [](std::ostream& os) { os << "partial"; throw std::runtime_error("boom"); }); },
-               {"a.txt", "boom"});
+  expect_error(
+      [&] {
+        write_file_atomic(path, [](std::ostream& os) {
+          os << "partial";
+          throw std::runtime_error("boom");
+        });
+      },
+      {"a.txt", "boom"});
   std::ifstream in(path);
   std::stringstream ss;
   ss << in.rdbuf();
   EXPECT_EQ(ss.str(), "first\n");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1);  // no temp file left
-  expect_error([&] { write_text_atomic((dir / "no_dir" / "x.txt").string(), "x"); }, {"no_dir", "does not exist"});
+  expect_error([&] { write_text_atomic((dir / "no_dir" / "x.txt").string(), "x"); },
+               {"no_dir", "does not exist"});
+}
+
+TEST(IoOutputFolder, AFileIsRefusedAndAFolderIsMadeWithItsParents) {
+  const auto dir = fresh_temp_dir();
+  const std::string file = write_file(dir / "a_file", "not a folder");
+  expect_error([&] { require_folder_path(file, "--out"); }, {"--out '" + file + "' is a file, not a folder"});
+  expect_error([&] { create_output_folder(file, "--out"); },
+               {"--out '" + file + "' is a file, not a folder"});
+  expect_error([&] { create_output_folder((dir / "a_file" / "sub").string(), "--out"); },
+               {"--out: cannot create the output directory", "a_file"});
+  const fs::path nested = dir / "x" / "y";
+  require_folder_path(nested.string(), "--out");  // checks only
+  EXPECT_FALSE(fs::exists(dir / "x"));
+  create_output_folder(nested.string(), "--out");
+  EXPECT_TRUE(fs::is_directory(nested));
+  create_output_folder(nested.string(), "--out");  // already there: fine
 }
 
 TEST(IoGtVoxels, RoundTripAndErrors) {
@@ -43,7 +67,8 @@ TEST(IoGtVoxels, RoundTripAndErrors) {
   EXPECT_EQ(back.centres_w[0], map.centres_w[0]);
   const auto noheader = write_file(dir / "n.txt", "resolution 0.05\n0 0 0 1\n");
   expect_error([&] { read_gt_voxels(noheader); }, {"n.txt:1", "missing header"});
-  const auto badid = write_file(dir / "b.txt", "# s3m ground-truth voxel map v1\nresolution 0.05\n0 0 0 1\n0 0 0 1.5\n");
+  const auto badid =
+      write_file(dir / "b.txt", "# s3m ground-truth voxel map v1\nresolution 0.05\n0 0 0 1\n0 0 0 1.5\n");
   expect_error([&] { read_gt_voxels(badid); }, {"b.txt:4", "class_id 1.5", "integer"});
   const auto nores = write_file(dir / "r.txt", "# s3m ground-truth voxel map v1\n0 0 0 1\n");
   expect_error([&] { read_gt_voxels(nores); }, {"r.txt:2", "missing resolution"});

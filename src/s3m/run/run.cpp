@@ -10,6 +10,7 @@
 
 #include "s3m/core/error.hpp"
 #include "s3m/core/timing.hpp"
+#include "s3m/io/output_folder.hpp"
 #include "s3m/pipeline/cost_estimate.hpp"
 #include "s3m/pipeline/depth_scale.hpp"
 #include "s3m/pipeline/factories.hpp"
@@ -117,16 +118,6 @@ Components build(const RunOptions& o) {
   return c;
 }
 
-// Before any frame is processed, so a bad --out costs nothing (filesystem_error is no s3m::Error).
-void create_output_dir(const std::string& dir) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw Error("run: cannot create the output directory '" + dir +
-                "': " + (ec ? ec.message() : "a file of that name exists") +
-                " (expected a writable folder for --out)");
-}
-
 // Reads the frames in order. A frame whose files cannot be read (ParseError: truncated, corrupt,
 // wrong size) is skipped once an earlier frame was read: a long run must not end with nothing
 // because of one bad file, and SLAM bridges a missing frame as it bridges a dropped one. Before
@@ -195,7 +186,7 @@ RunResult run_dataset(const RunOptions& o) {
   o.config.validate();
   Components c = build(o);
   if (!o.slam_only) pipeline::check_cost(c.config, c.source->camera(), o.force);  // before the first frame
-  create_output_dir(o.out_dir);
+  io::create_output_folder(o.out_dir, "--out");  // before any frame: a bad --out costs nothing
 
   RunResult r;
   r.frames_total = c.source->size();
