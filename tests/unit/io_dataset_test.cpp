@@ -58,6 +58,7 @@ TEST(IoTumDataset, WriterReaderRoundTrip) {
     const RgbdFrame f = ds.load(i);
     EXPECT_EQ(f.index, i);
     EXPECT_NEAR(f.t_s, 100.0 + 0.1 * i, 1e-9);
+    EXPECT_EQ(f.depth_dt_s, 0.0);  // written together
     EXPECT_EQ(f.rgb.at<cv::Vec3b>(5, 7), cv::Vec3b(i, 2 * i, 3 * i));
     EXPECT_FLOAT_EQ(f.depth_m.at<float>(3, 3), 0.5f + i * 0.25f);  // exact in mm
     EXPECT_EQ(f.depth_m.at<float>(0, 0), 0.0f);
@@ -74,13 +75,17 @@ TEST(IoTumDataset, AssociatesByNearestTimestampWithoutAssociationsFile) {
   const auto dir = write_sequence(3, false);
   fs::remove(dir / "associations.txt");
   // Depth stamps jittered by 5-15 ms, and an extra depth frame that matches nothing.
-  write_file(dir / "depth.txt",
-             "# depth\n99.5 depth/100.000000.png\n100.015 depth/100.000000.png\n100.095 depth/100.100000.png\n"
-             "100.205 depth/100.200000.png\n");
+  write_file(
+      dir / "depth.txt",
+      "# depth\n99.5 depth/100.000000.png\n100.015 depth/100.000000.png\n100.095 depth/100.100000.png\n"
+      "100.205 depth/100.200000.png\n");
   auto ds = TumDataset::open(dir.string());
   ASSERT_EQ(ds.size(), 3u);
   EXPECT_NEAR(ds.entries()[0].t_depth_s, 100.015, 1e-12);
   EXPECT_NEAR(ds.entries()[1].t_depth_s, 100.095, 1e-12);
+  // The frames carry the pairing gap: tracking reads their depth at the depth instant.
+  EXPECT_NEAR(ds.load(0).depth_dt_s, 0.015, 1e-9);
+  EXPECT_NEAR(ds.load(1).depth_dt_s, -0.005, 1e-9);
   // A tighter window drops the 15 ms pair (rgb frame 0 has no depth then: warned, not silent).
   TumDatasetOptions opt;
   opt.max_dt_s = 0.01;
@@ -111,14 +116,17 @@ TEST(IoTumDataset, BadInputErrorsNameFileAndLine) {
   const auto d = dir.string();
   // Missing image referenced from associations.txt line 2.
   fs::remove(dir / "depth" / "100.100000.png");
-  expect_error([&] { TumDataset::open(d); }, {"associations.txt:2", "image file 'depth/100.100000.png' not found"});
+  expect_error([&] { TumDataset::open(d); },
+               {"associations.txt:2", "image file 'depth/100.100000.png' not found"});
   // Malformed associations line.
   write_file(dir / "associations.txt", "100.000000 rgb/100.000000.png 100.000000\n");
-  expect_error([&] { TumDataset::open(d); }, {"associations.txt:1", "found 3 columns", "t_rgb rgb_path t_depth depth_path"});
+  expect_error([&] { TumDataset::open(d); },
+               {"associations.txt:1", "found 3 columns", "t_rgb rgb_path t_depth depth_path"});
   // Non-monotonic rgb.txt.
   fs::remove(dir / "associations.txt");
   write_file(dir / "rgb.txt", "100.1 rgb/100.100000.png\n100.0 rgb/100.000000.png\n");
-  expect_error([&] { TumDataset::open(d); }, {"rgb.txt:2", "not after the previous one", "strictly increasing"});
+  expect_error([&] { TumDataset::open(d); },
+               {"rgb.txt:2", "not after the previous one", "strictly increasing"});
   write_file(dir / "rgb.txt", "100.0 rgb/100.000000.png\nnan rgb/100.100000.png\n");
   expect_error([&] { TumDataset::open(d); }, {"rgb.txt:2", "non-finite value 'nan' as timestamp"});
   fs::remove(dir / "rgb.txt");
@@ -170,7 +178,8 @@ TEST(IoTumDataset, Eth3dCalibrationAndAssociatedTxt) {
   // Written at 1000 per metre, read at 5000: a fifth.
   EXPECT_FLOAT_EQ(ds.load(1).depth_m.at<float>(3, 3), 0.75f / 5);
   write_file(dir / "calibration.txt", "100 110 3.5\n");
-  expect_error([&] { TumDataset::open(dir.string()); }, {"calibration.txt:1", "found 3 columns", "fx fy cx cy"});
+  expect_error([&] { TumDataset::open(dir.string()); },
+               {"calibration.txt:1", "found 3 columns", "fx fy cx cy"});
   write_file(dir / "calibration.txt", "0 110 3.5 2.5\n");
   expect_error([&] { TumDataset::open(dir.string()); }, {"calibration.txt:1", "focal length <= 0"});
 }
@@ -183,7 +192,8 @@ TEST(IoTumDataset, DepthCameraSectionAlignsDepthToColour) {
   DepthCamera depth{tiny_camera(), make_se3(Vec3(0.05, 0, 0), Quat::Identity())};
   write_camera_yaml((dir / "camera.yaml").string(), tiny_camera(), depth);
   const auto ds = TumDataset::open(dir.string());
-  EXPECT_NE(ds.depth_registered_by().find("depth_camera of " + (dir / "camera.yaml").string()), std::string::npos)
+  EXPECT_NE(ds.depth_registered_by().find("depth_camera of " + (dir / "camera.yaml").string()),
+            std::string::npos)
       << ds.depth_registered_by();
   const cv::Mat d = ds.load(0).depth_m;  // frame 0: 0.5 m everywhere but a hole at (0, 0)
   ASSERT_EQ(d.size(), cv::Size(8, 6));
