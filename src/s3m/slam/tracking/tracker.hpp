@@ -237,8 +237,8 @@ class Tracker {
   KeyframeId ref_kf_ = kNoId;
   SE3 T_w_ref_ = SE3::Identity();
   std::unordered_map<PointId, PointVisibility> visibility_;
-  std::vector<PendingKeyFrame> pending_;
-  features::DepthNoiseEstimator sensor_;  // requested keyframes without a snapshot yet, oldest first
+  std::vector<PendingKeyFrame> pending_;  // requested keyframes without a snapshot yet, oldest first
+  features::DepthNoiseEstimator sensor_;  // inlier depth residuals and colour-depth offsets (learn_sensor)
 };
 
 }  // namespace s3m::slam
