@@ -110,3 +110,17 @@ TEST(Se3, WeightedMeanOfNearbyPoses) {
   EXPECT_THROW(weighted_mean({}), std::exception);
   EXPECT_THROW(weighted_mean({{A, 0.0}}), std::exception);
 }
+
+TEST(Se3, PowerComposesAndInverts) {
+  // A screw motion: 10 deg about z and 3 cm along x per step.
+  Vec6 xi;
+  xi << 0.03, 0.0, 0.0, 0.0, 0.0, 10.0 * M_PI / 180.0;
+  const SE3 T = se3_exp(xi);
+  EXPECT_EQ(se3_power(T, 1.0).matrix(), T.matrix());  // bit for bit
+  EXPECT_LT((se3_power(T, 2.0).matrix() - (T * T).matrix()).norm(), 1e-12);
+  EXPECT_LT((se3_power(T, -1.0).matrix() - T.inverse().matrix()).norm(), 1e-12);
+  const SE3 half = se3_power(T, 0.5);
+  EXPECT_LT(((half * half).matrix() - T.matrix()).norm(), 1e-12);
+  EXPECT_NEAR(rotation_angle_rad(half.linear()), 5.0 * M_PI / 180.0, 1e-12);
+  EXPECT_LT((se3_power(T, 0.0).matrix() - SE3::Identity().matrix()).norm(), 1e-15);
+}

@@ -77,6 +77,8 @@ Vec6 se3_log(const SE3& T) {
   return xi;
 }
 
+SE3 se3_power(const SE3& T, double x) { return x == 1.0 ? T : se3_exp(x * se3_log(T)); }
+
 SE3 orthonormalized(const SE3& T) {
   Eigen::JacobiSVD<Mat3> svd(T.linear(), Eigen::ComputeFullU | Eigen::ComputeFullV);
   Mat3 R = svd.matrixU() * svd.matrixV().transpose();

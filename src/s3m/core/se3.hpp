@@ -23,6 +23,9 @@ Mat3 so3_exp(const Vec3& phi_rad);
 Vec3 so3_log(const Mat3& R);
 SE3 se3_exp(const Vec6& xi);
 Vec6 se3_log(const SE3& T);
+// T^x: the constant-velocity motion T applied x times (x = 1: T itself, bit for bit; x may be
+// fractional or negative).
+SE3 se3_power(const SE3& T, double x);
 
 // Rotation angle of R in radians, in [0, pi].
 double rotation_angle_rad(const Mat3& R);

@@ -9,9 +9,6 @@
 
 namespace s3m::slam {
 namespace {
-// T^x on SE3, the constant-velocity motion over x frames (x = 1: T itself, bit for bit).
-SE3 power(const SE3& T, double x) { return x == 1.0 ? T : se3_exp(x * se3_log(T)); }
-
 // How far one alignment may move, in 30 Hz frame periods between the two frames (at least 1).
 // OpenCV's bounds on one alignment suit consecutive 30 Hz frames; whole periods, so that jitter in
 // a 30 Hz stream's stamps changes nothing.
@@ -66,11 +63,11 @@ std::optional<DeadReckoner::Reckoning> DeadReckoner::reckon(const RgbdFrame& fra
     // views that share nothing have no motion to measure, yet in a box-like room the alignment
     // finds the view turned round as the same view and both starts confirm it (see
     // docs/DECISIONS.md, "Tracking: depth odometry across gaps").
-    const SE3 predicted = power(*velocity_, n);
+    const SE3 predicted = se3_power(*velocity_, n);
     if (views_may_overlap(predicted)) motion = measure(last_, frame, predicted);
   }
   if (motion) {
-    velocity_ = power(*motion, 1.0 / n);
+    velocity_ = se3_power(*motion, 1.0 / n);
     return Reckoning{*motion * T_c_w_last_, true};
   }
   if (coasted_ < config_.coast_frames) return Reckoning{*velocity_ * T_c_w_last, false};  // the prediction

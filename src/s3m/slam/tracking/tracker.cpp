@@ -162,7 +162,7 @@ std::optional<SE3> Tracker::depth_instant(const RgbdFrame& frame, const SE3& ste
   // backwards) is not something to extrapolate it over.
   const double s = frame.depth_dt_s / step_dt_s_;
   if (!(step_dt_s_ > 0) || !(std::abs(s) <= 1.0)) return std::nullopt;
-  return se3_exp(s * se3_log(step));  // T_d_c: the camera moved on by s steps
+  return se3_power(step, s);  // T_d_c: the camera moved on by s steps
 }
 
 void Tracker::reread_depth(Frame& cur, const RgbdFrame& frame) const {
