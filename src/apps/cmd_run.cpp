@@ -25,6 +25,7 @@ struct RunArgs {
 };
 
 void print_summary(const run::RunResult& r, const std::string& out) {
+  if (!r.written) return;  // nothing was processed, nothing to sum up
   const auto& m = r.metrics;
   std::cout << "frames: " << r.frames_done << "/" << r.frames_total
             << (r.interrupted ? " (interrupted)" : "");
@@ -150,7 +151,8 @@ void register_run(CLI::App& app) {
     print_summary(r, args->out);
     if (r.interrupted)
       throw Interrupted("run: stopped after " + std::to_string(r.frames_done) + " of " +
-                        std::to_string(r.frames_total) + " frames; " + args->out + " holds those frames");
+                        std::to_string(r.frames_total) + " frames; " + args->out +
+                        (r.written ? " holds those frames" : " is left as it was"));
   });
 }
 

@@ -125,6 +125,34 @@ TEST(PipelineRun, InterruptedRunLeavesLoadableOutputs) {
   EXPECT_TRUE(r.metrics["interrupted"].get<bool>());
 }
 
+// Every file under dir with its bytes.
+std::map<std::string, std::string> folder_bytes(const std::string& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) out[fs::relative(e.path(), dir).string()] = read_bytes(e.path().string());
+  return out;
+}
+
+TEST(PipelineRun, ARunStoppedBeforeItsFirstFrameLeavesTheFolderAsItWas) {
+  // Ctrl-C before the first frame over a complete earlier run: nothing is written over it.
+  run::RunOptions o = options("stopped_at_once", /*deterministic=*/true);
+  o.max_frames = 10;
+  run::run_dataset(o);
+  const auto before = folder_bytes(o.out_dir);
+  ASSERT_TRUE(before.count("metrics.json") && before.count("trajectory_camera.txt"));
+  o.stop_after_frames = 0;
+  const run::RunResult r = run::run_dataset(o);
+  EXPECT_TRUE(r.interrupted);
+  EXPECT_FALSE(r.written);
+  EXPECT_EQ(r.frames_done, 0u);
+  EXPECT_TRUE(folder_bytes(o.out_dir) == before) << "the earlier run was changed";
+  // Into a folder that did not exist: none is left behind.
+  o.out_dir += "_new";
+  fs::remove_all(o.out_dir);
+  EXPECT_FALSE(run::run_dataset(o).written);
+  EXPECT_FALSE(fs::exists(o.out_dir));
+}
+
 TEST(PipelineRun, ARunIntoAnEarlierRunsFolderLeavesNoneOfItsProductsBehind) {
   run::RunOptions full = options("stale", true);
   full.max_frames = 20;

@@ -14,8 +14,7 @@ run::RunOptions default_options(const std::string& dataset, const std::string& o
   o.out_dir = (scratch_dir() / out_name).string();
   fs::remove_all(o.out_dir);
   o.config.threads.deterministic = true;  // built-in defaults otherwise: segmenter.type auto
-  o.poses = "gt";
-  o.max_frames = 3;
+  o.max_frames = 12;  // more than the keyframes SLAM makes of it, so segmenting fewer shows
   o.report = false;
   return o;
 }
@@ -31,6 +30,11 @@ TEST(RunDefaultSegmenter, RecordingWithoutSimulatorFilesGetsTheRealImageModel) {
   EXPECT_EQ(r.metrics["inputs"]["segmenter"], "deeplabv3plus_mnv2_ade20k_fast");
   EXPECT_EQ(r.metrics["inputs"]["segmenter_reason"],
             "dataset has no sim.yaml or label images: real-camera default");
+  // No label images to score the others: only the frames that go into the map are segmented.
+  EXPECT_EQ(r.metrics["segmented"], r.metrics["integrated"]);
+  EXPECT_LT(r.metrics["segmented"].get<int>(), r.metrics["frames"].get<int>()) << r.metrics;
+  EXPECT_NE(read_bytes(r.metrics["outputs"]["config_effective"]).find("segment: integrated"),
+            std::string::npos);
   const auto& classes = r.metrics["map"]["class_voxels"];
   ASSERT_TRUE(classes.is_array());
   ASSERT_GT(r.metrics["map"]["voxels"].get<std::size_t>(), 0u);
@@ -51,6 +55,10 @@ TEST(RunDefaultSegmenter, SimulatorSequenceKeepsTheOracle) {
       << r.metrics["inputs"];
   EXPECT_EQ(r.metrics["inputs"]["segmenter_reason"],
             "simulator sequence (sim.yaml): its ground-truth labels through the noisy oracle");
+  // Label images score every frame: every frame is segmented.
+  EXPECT_EQ(r.metrics["segmented"], r.metrics["frames"]);
+  EXPECT_NE(read_bytes(r.metrics["outputs"]["config_effective"]).find("segment: all_frames"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -58,19 +58,21 @@ TEST(SemanticsOnnx, ArgmaxOnSyntheticImageAtCameraSize) {
     for (const char* up : {"nearest", "linear", "linear\nlabel_stride: 2"}) {
       SCOPED_TRACE(std::string(model) + " " + up);
       // 32x24 camera image stretched to the 16x16 input; the strided model outputs 8x8.
-      OnnxSegmenter seg(load_model_card(write_card("argmax", card_text(kData + model, 16, 16, std::string("upsample: ") + up + "\n"))));
+      OnnxSegmenter seg(load_model_card(
+          write_card("argmax", card_text(kData + model, 16, 16, std::string("upsample: ") + up + "\n"))));
       const LabelMap m = seg.segment(test_image());
       ASSERT_EQ(m.rows(), 24);
       ASSERT_EQ(m.cols(), 32);
-      EXPECT_EQ(m.argmax.at<ClassId>(4, 4), cls::kWall);     // red
-      EXPECT_EQ(m.argmax.at<ClassId>(4, 28), cls::kChair);   // blue
-      EXPECT_EQ(m.argmax.at<ClassId>(22, 2), cls::kOther);   // black -> spaceship -> other
+      EXPECT_EQ(m.argmax.at<ClassId>(4, 4), cls::kWall);    // red
+      EXPECT_EQ(m.argmax.at<ClassId>(4, 28), cls::kChair);  // blue
+      EXPECT_EQ(m.argmax.at<ClassId>(22, 2), cls::kOther);  // black -> spaceship -> other
       EXPECT_EQ(m.argmax.at<ClassId>(20, 26), cls::kChair);
       // all pixels far from the colour edges are right
       int wrong = 0;
       for (int r = 0; r < 12; ++r)
         for (int c = 0; c < 32; ++c)
-          if (std::abs(c - 16) > 4) wrong += m.argmax.at<ClassId>(r, c) != (c < 16 ? cls::kWall : cls::kChair);
+          if (std::abs(c - 16) > 4)
+            wrong += m.argmax.at<ClassId>(r, c) != (c < 16 ? cls::kWall : cls::kChair);
       EXPECT_EQ(wrong, 0);
     }
 }
@@ -81,7 +83,7 @@ TEST(SemanticsOnnx, LetterboxKeepsGeometry) {
                            "tiny_rgb.classes.txt\ninput: {width: 16, height: 16, scale: 0.00392156862745098, "
                            "resize: letterbox}\nupsample: nearest\n";
   OnnxSegmenter seg(load_model_card(write_card("letterbox", card)));
-  cv::Mat img(16, 32, CV_8UC3, cv::Scalar(0, 255, 0));    // green = floor
+  cv::Mat img(16, 32, CV_8UC3, cv::Scalar(0, 255, 0));      // green = floor
   img(cv::Rect(0, 0, 32, 4)).setTo(cv::Scalar(0, 0, 255));  // top band red = wall
   const LabelMap m = seg.segment(img);
   EXPECT_EQ(m.argmax.at<ClassId>(0, 10), cls::kWall);
@@ -109,9 +111,11 @@ TEST(SemanticsOnnx, BadCardsAndModelsFailAtLoadWithClearMessages) {
   const auto corrupt = (fs::temp_directory_path() / "s3m_corrupt.onnx").string();
   std::ofstream(corrupt) << "this is not a protobuf \xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff";
   expect_error(card_text(corrupt), "not a valid ONNX model");
-  expect_error(card_text(kData + "tiny_rgb.onnx", 20, 16), "input size 16x20 (HxW) does not match the model's input 'input' of shape [1,3,16,16]");
+  expect_error(card_text(kData + "tiny_rgb.onnx", 20, 16),
+               "input size 16x20 (HxW) does not match the model's input 'input' of shape [1,3,16,16]");
   // an output that is not NCHW (tiny_flat.onnx: [1,4,256])
-  expect_error(card_text(kData + "tiny_flat.onnx"), kData + "tiny_flat.onnx: output must be NCHW [1, C, H, W], got 3 dimensions");
+  expect_error(card_text(kData + "tiny_flat.onnx"),
+               kData + "tiny_flat.onnx: output must be NCHW [1, C, H, W], got 3 dimensions");
   // class list with 3 names for a 4-channel model
   const auto names3 = (fs::temp_directory_path() / "s3m_names3.txt").string();
   std::ofstream(names3) << "wall\nfloor\nchair\n";
@@ -124,6 +128,48 @@ TEST(SemanticsOnnx, BadCardsAndModelsFailAtLoadWithClearMessages) {
   expect_error(card_text() + "output: {type: {a: 1}}\n", "bad model card entry");
   expect_error(card_text(kData + "tiny_rgb.onnx", 100000, 16), "input size missing or out of range");
   expect_error("classes: x.txt\ninput: {width: 16, height: 16}\n", "no 'model' given");
+}
+
+TEST(SemanticsOnnx, NonFiniteCardValuesAreRefusedAtLoad) {
+  auto card = [](const std::string& input_extra) {
+    return "name: t\nmodel: " + kData + "tiny_rgb.onnx\nclasses: " + kData +
+           "tiny_rgb.classes.txt\ninput: {width: 16, height: 16, " + input_extra + "}\n";
+  };
+  auto expect_refused = [&](const std::string& extra, const std::string& needle) {
+    try {
+      load_model_card(write_card("nonfinite", card(extra)));
+      FAIL() << "a card with " << extra << " loaded";
+    } catch (const ParseError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  expect_refused("scale: .inf", "input.scale must be positive and finite");
+  expect_refused("scale: .nan", "input.scale must be positive and finite");
+  expect_refused("mean: .nan", "input.mean entries must be finite");
+  expect_refused("mean: [0, -.inf, 0]", "input.mean entries must be finite");
+  expect_refused("std: [1, 1, .inf]", "input.std entries must be positive and finite");
+  EXPECT_NO_THROW(load_model_card(write_card("finite", card("scale: 0.5, mean: [0.1, 0.2, 0.3], std: 2"))));
+}
+
+TEST(SemanticsOnnx, OutputThatIsNotFiniteIsAnErrorNamingTheModel) {
+  // A std of 1e-300 is a valid number, but it blows every non-black pixel up to infinity in
+  // float: the blank load-time image still passes, the first real image must not.
+  OnnxSegmenter seg(load_model_card(write_card("finite_std", card_text())));
+  const cv::Mat red(16, 16, CV_8UC3, cv::Scalar(0, 0, 255));
+  EXPECT_NO_THROW(seg.segment(red));
+  const std::string text = "name: t\nmodel: " + kData + "tiny_rgb.onnx\nclasses: " + kData +
+                           "tiny_rgb.classes.txt\ninput: {width: 16, height: 16, std: 1e-300}\n";
+  OnnxSegmenter broken(load_model_card(write_card("tinystd", text)));
+  try {
+    broken.segment(red);
+    FAIL() << "an output of infinities was turned into labels";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(kData + "tiny_rgb.onnx: the model's output holds NaN or infinity at channel "),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("s3m_card_tinystd.yaml"), std::string::npos) << what;
+  }
 }
 
 TEST(SemanticsOnnx, CardTopKAboveWhatAVoxelKeepsIsRefusedAtLoad) {

@@ -66,7 +66,8 @@ void fields(config::FieldVisitor& v, ThreadingConfig& c) {
 void fields(config::FieldVisitor& v, FlowConfig& c) {
   v("integrate", config::choice(c.integrate, {{"keyframes", IntegrateMode::kKeyframes},
                                               {"all_frames", IntegrateMode::kAllFrames}}));
-  v("segment", config::choice(c.segment, {{"integrated", SegmentMode::kIntegrated},
+  v("segment", config::choice(c.segment, {{"auto", SegmentMode::kAuto},
+                                          {"integrated", SegmentMode::kIntegrated},
                                           {"all_frames", SegmentMode::kAllFrames}}));
   v("final_reintegration", c.final_reintegration);
 }

@@ -26,6 +26,8 @@ enum class IntegrateMode {
 
 // Which frames are segmented.
 enum class SegmentMode {
+  kAuto,        // s3m run: every frame when the dataset has ground-truth labels to score them, else
+                // only the integrated ones; a Pipeline built without a dataset: as kIntegrated
   kIntegrated,  // only frames that go into the map (cheapest)
   kAllFrames,   // every frame (needed for per-frame segmentation mIoU on every frame)
 };
@@ -65,7 +67,7 @@ struct ThreadingConfig {
 
 struct FlowConfig {
   IntegrateMode integrate = IntegrateMode::kKeyframes;
-  SegmentMode segment = SegmentMode::kAllFrames;
+  SegmentMode segment = SegmentMode::kAuto;
   // Re-integrate all kept keyframe clouds with the final optimised keyframe poses at the end, so the
   // saved map agrees with the saved (bundle-adjusted) keyframe trajectory.
   bool final_reintegration = true;

@@ -219,6 +219,7 @@ json compute_metrics(const pipeline::Pipeline& p, const pipeline::FrameSource& s
   m["tracked"] = c.tracked;
   m["keyframes"] = c.keyframes;
   m["integrated"] = c.integrated;
+  m["segmented"] = c.segmented;
   m["corrections"] = c.corrections;
   m["wall_time_s"] = info.wall_time_s;
   m["fps"] = info.wall_time_s > 0 ? c.frames / info.wall_time_s : 0.0;

@@ -60,6 +60,17 @@ struct Components {
   RunInfo info;
 };
 
+// flow.segment auto: segmenting a frame that never reaches the map is only worth its cost when
+// labels are there to score it.
+void resolve_segment_mode(pipeline::FlowConfig& flow, bool has_labels) {
+  if (flow.segment != pipeline::SegmentMode::kAuto) return;
+  flow.segment = has_labels ? pipeline::SegmentMode::kAllFrames : pipeline::SegmentMode::kIntegrated;
+  spdlog::info(
+      "run: flow.segment auto: {}",
+      has_labels ? "every frame (all_frames: the dataset's label images score each one)"
+                 : "only the frames that go into the map (integrated: no label images to score the others)");
+}
+
 Components build(const RunOptions& o) {
   Components c{
       o.config,
@@ -103,6 +114,7 @@ Components build(const RunOptions& o) {
     pipeline::record_segmenter_choice(c.config, choice);
     c.info.segmenter_reason = choice.reason;
     map = std::make_unique<pipeline::MapIntegrator>(c.config.map);
+    resolve_segment_mode(c.config.flow, c.source->has_labels());
   }
   c.info.segmenter = segmenter ? segmenter->name() : (o.slam_only ? "none (--slam-only)" : "none");
   const bool has_map = map != nullptr;
@@ -186,6 +198,7 @@ RunResult run_dataset(const RunOptions& o) {
   o.config.validate();
   Components c = build(o);
   if (!o.slam_only) pipeline::check_cost(c.config, c.source->camera(), o.force);  // before the first frame
+  const bool out_existed = fs::exists(o.out_dir);
   io::create_output_folder(o.out_dir, "--out");  // before any frame: a bad --out costs nothing
 
   RunResult r;
@@ -220,6 +233,17 @@ RunResult run_dataset(const RunOptions& o) {
     spdlog::warn("run: stopped after {} of {} frames; writing what was processed", r.frames_done,
                  r.frames_total);
 
+  if (r.frames_done == 0) {
+    std::error_code ec;
+    if (!out_existed) fs::remove(o.out_dir, ec);  // the folder this run made, still empty
+    spdlog::warn("run: no frame was processed; {} is left as it was", o.out_dir);
+    if (!c.info.stopped_by.empty())
+      throw Error(
+          fmt::format("run: stopped at frame {} of {}: {}; nothing was processed, {} is left as it was",
+                      submitted, r.frames_total, c.info.stopped_by, o.out_dir));
+    return r;
+  }
+  r.written = true;
   // Outputs first (trajectory and map are what a user keeps), then the evaluation of them.
   const bool keep_loaded = r.interrupted && same_folder(o.map_dir, o.out_dir);
   if (keep_loaded) spdlog::warn("run: interrupted: the session loaded from {} is not overwritten", o.out_dir);

@@ -47,6 +47,7 @@ struct RunResult {
   std::size_t frames_done = 0;     // frames that went through the pipeline
   std::size_t frames_skipped = 0;  // frames whose files could not be read (metrics.json: skipped_frames)
   bool interrupted = false;
+  bool written = false;      // false: no frame was processed, so out_dir was left as it was
   std::string report_html;   // empty when no report was made
   std::string report_error;  // why the report is missing, if it is
   nlohmann::json metrics;    // what metrics.json holds
@@ -54,7 +55,9 @@ struct RunResult {
 
 // Throws s3m::Error / ParseError for bad input (dataset, config, model), with file and line. An
 // unreadable frame is skipped (RunResult::frames_skipped); more than
-// config.dataset.max_unreadable_in_a_row in a row throw, after the outputs so far are written.
+// config.dataset.max_unreadable_in_a_row in a row throw, after the outputs so far are written. A run
+// that processed no frame (stopped before the first) writes nothing: an empty run must not replace
+// what the folder held.
 RunResult run_dataset(const RunOptions& options);
 
 }  // namespace s3m::run

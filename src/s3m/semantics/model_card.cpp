@@ -1,4 +1,5 @@
 #include "s3m/semantics/model_card.hpp"
+#include <cmath>
 
 #include <filesystem>
 
@@ -66,9 +67,12 @@ void ModelCard::validate() const {
   if (classes_path.empty()) fail("no 'classes' given", "classes: <class names file>");
   if (input_width <= 0 || input_height <= 0 || input_width > 8192 || input_height > 8192)
     fail("input size missing or out of range", "input: {width: W, height: H}, 1..8192 pixels");
-  if (!(scale > 0)) fail("input.scale must be positive", "scale > 0");
+  if (!(scale > 0) || !std::isfinite(scale))
+    fail("input.scale must be positive and finite", "0 < scale < inf");
+  for (double m : mean)
+    if (!std::isfinite(m)) fail("input.mean entries must be finite", "a number (not .nan or .inf)");
   for (double s : std)
-    if (!(s > 0)) fail("input.std entries must be positive", "std > 0");
+    if (!(s > 0) || !std::isfinite(s)) fail("input.std entries must be positive and finite", "0 < std < inf");
   if (top_k < 1 || top_k > kMaxTopK)
     fail("top_k = " + std::to_string(top_k) + " out of range",
          "1.." + std::to_string(kMaxTopK) + " (labels a map voxel keeps, s3m::kMaxTopK)");

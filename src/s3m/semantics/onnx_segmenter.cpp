@@ -18,13 +18,15 @@ OnnxSegmenter::OnnxSegmenter(ModelCard card) : card_(std::move(card)) {
   if (!std::filesystem::exists(card_.model_path))
     throw Error(ctx + ": model file '" + card_.model_path + "' not found");
   model_classes_ = read_class_names(card_.classes_path);
-  map_ = card_.class_map_path.empty() ? ClassMap::by_name(model_classes_) : ClassMap::load(card_.class_map_path, model_classes_);
+  map_ = card_.class_map_path.empty() ? ClassMap::by_name(model_classes_)
+                                      : ClassMap::load(card_.class_map_path, model_classes_);
 
   ignored_.assign(model_classes_.size(), false);
   for (const auto& n : card_.ignore_classes) {
     const auto it = std::find(model_classes_.begin(), model_classes_.end(), n);
     if (it == model_classes_.end())
-      throw ParseError(ctx, 0, "ignore_classes names '" + n + "', which is not in " + card_.classes_path, "model class names");
+      throw ParseError(ctx, 0, "ignore_classes names '" + n + "', which is not in " + card_.classes_path,
+                       "model class names");
     ignored_[it - model_classes_.begin()] = true;
   }
   for (ClassId id = 0; id < map_.target().size(); ++id)
@@ -47,7 +49,8 @@ OnnxSegmenter::OnnxSegmenter(ModelCard card) : card_(std::move(card)) {
   check_model(input);
 }
 
-std::unique_ptr<OnnxSegmenter> OnnxSegmenter::from_card(const std::string& card_path, const std::string& model_dir) {
+std::unique_ptr<OnnxSegmenter> OnnxSegmenter::from_card(const std::string& card_path,
+                                                        const std::string& model_dir) {
   return std::make_unique<OnnxSegmenter>(load_model_card(card_path, model_dir));
 }
 
@@ -60,17 +63,20 @@ void OnnxSegmenter::check_model(const OnnxInputInfo& in) {
                 " dimensions (expected NCHW, 4)");
   if ((in.dims[1] > 0 && in.dims[1] != 3) || (in.dims[2] > 0 && in.dims[2] != card_.input_height) ||
       (in.dims[3] > 0 && in.dims[3] != card_.input_width))
-    throw Error(card_.card_path + ": input size " + want + " (HxW) does not match the model's input '" + in.name +
-                "' of shape [" + std::to_string(in.dims[0]) + "," + std::to_string(in.dims[1]) + "," +
-                std::to_string(in.dims[2]) + "," + std::to_string(in.dims[3]) + "] in " + card_.model_path);
+    throw Error(card_.card_path + ": input size " + want + " (HxW) does not match the model's input '" +
+                in.name + "' of shape [" + std::to_string(in.dims[0]) + "," + std::to_string(in.dims[1]) +
+                "," + std::to_string(in.dims[2]) + "," + std::to_string(in.dims[3]) + "] in " +
+                card_.model_path);
   const cv::Mat blank(card_.input_height, card_.input_width, CV_8UC3, cv::Scalar::all(0));
   Geometry geo;
   const cv::Mat out = forward(preprocess(blank, geo));
   if (out.dims != 4 || out.size[0] != 1)
-    throw Error(card_.model_path + ": output must be NCHW [1, C, H, W], got " + std::to_string(out.dims) + " dimensions");
+    throw Error(card_.model_path + ": output must be NCHW [1, C, H, W], got " + std::to_string(out.dims) +
+                " dimensions");
   if (out.size[1] != static_cast<int>(model_classes_.size()))
-    throw Error(card_.card_path + ": class list " + card_.classes_path + " has " + std::to_string(model_classes_.size()) +
-                " classes but the model outputs " + std::to_string(out.size[1]) + " channels");
+    throw Error(card_.card_path + ": class list " + card_.classes_path + " has " +
+                std::to_string(model_classes_.size()) + " classes but the model outputs " +
+                std::to_string(out.size[1]) + " channels");
   output_size_ = cv::Size(out.size[3], out.size[2]);
 }
 
@@ -79,7 +85,8 @@ cv::Mat OnnxSegmenter::preprocess(const cv::Mat& bgr, Geometry& geo) const {
   cv::Size fit(W, H);
   if (card_.resize == ModelCard::Resize::kLetterbox) {
     const double s = std::min(double(W) / bgr.cols, double(H) / bgr.rows);
-    fit = cv::Size(std::clamp(int(std::lround(bgr.cols * s)), 1, W), std::clamp(int(std::lround(bgr.rows * s)), 1, H));
+    fit = cv::Size(std::clamp(int(std::lround(bgr.cols * s)), 1, W),
+                   std::clamp(int(std::lround(bgr.rows * s)), 1, H));
   }
   geo.scale_x = double(fit.width) / bgr.cols;
   geo.scale_y = double(fit.height) / bgr.rows;
@@ -87,8 +94,10 @@ cv::Mat OnnxSegmenter::preprocess(const cv::Mat& bgr, Geometry& geo) const {
   geo.offset_y = (H - fit.height) / 2;
 
   cv::Mat resized, f;
-  if (fit == bgr.size()) resized = bgr;
-  else cv::resize(bgr, resized, fit, 0, 0, cv::INTER_LINEAR);  // what blobFromImage does
+  if (fit == bgr.size())
+    resized = bgr;
+  else
+    cv::resize(bgr, resized, fit, 0, 0, cv::INTER_LINEAR);  // what blobFromImage does
   if (card_.rgb) cv::cvtColor(resized, resized, cv::COLOR_BGR2RGB);
   resized.convertTo(f, CV_32FC3, card_.scale);
   f -= cv::Scalar(card_.mean[0], card_.mean[1], card_.mean[2]);
@@ -100,13 +109,32 @@ cv::Mat OnnxSegmenter::preprocess(const cv::Mat& bgr, Geometry& geo) const {
 }
 
 cv::Mat OnnxSegmenter::forward(const cv::Mat& blob) {
+  cv::Mat out;
   try {
     net_.setInput(blob);
-    return net_.forward();
+    out = net_.forward();
   } catch (const cv::Exception& e) {
-    throw Error(card_.model_path + ": forward pass failed for input " + std::to_string(card_.input_height) + "x" +
-                std::to_string(card_.input_width) + " (HxW from " + card_.card_path + "): " + e.err);
+    throw Error(card_.model_path + ": forward pass failed for input " + std::to_string(card_.input_height) +
+                "x" + std::to_string(card_.input_width) + " (HxW from " + card_.card_path + "): " + e.err);
   }
+  require_finite(out);
+  return out;
+}
+
+// NaN or infinity in the output would become labels without a class and a map without a label,
+// silently: a broken model (or input normalisation) is an error instead.
+void OnnxSegmenter::require_finite(const cv::Mat& out) const {
+  if (cv::checkRange(out, true)) return;  // an N-d array: no position from OpenCV
+  std::string where;
+  cv::Point at;
+  if (out.dims == 4 && out.isContinuous() && !cv::checkRange(out.reshape(1, 1), true, &at)) {
+    const int plane = out.size[2] * out.size[3], i = at.x;
+    where = " at channel " + std::to_string(i / plane) + ", row " + std::to_string(i % plane / out.size[3]) +
+            ", column " + std::to_string(i % out.size[3]);
+  }
+  throw Error(card_.model_path + ": the model's output holds NaN or infinity" + where +
+              " (check the model, and the input normalisation scale / mean / std in " + card_.card_path +
+              ")");
 }
 
 std::vector<cv::Mat> OnnxSegmenter::project_probabilities(const cv::Mat& out) const {
@@ -141,7 +169,8 @@ std::vector<cv::Mat> OnnxSegmenter::project_probabilities(const cv::Mat& out) co
 
 cv::Mat OnnxSegmenter::camera_to_output(const Geometry& geo) const {
   // camera u -> input x = (u + 0.5) sx - 0.5 + ox -> output grid (half-pixel or align-corners).
-  const double Wi = card_.input_width, Hi = card_.input_height, Wo = output_size_.width, Ho = output_size_.height;
+  const double Wi = card_.input_width, Hi = card_.input_height, Wo = output_size_.width,
+               Ho = output_size_.height;
   double ax, bx, ay, by;
   if (card_.grid == ModelCard::Grid::kAlignCorners) {
     const double kx = Wi > 1 ? (Wo - 1) / (Wi - 1) : 0, ky = Hi > 1 ? (Ho - 1) / (Hi - 1) : 0;
@@ -156,7 +185,8 @@ cv::Mat OnnxSegmenter::camera_to_output(const Geometry& geo) const {
 }
 
 LabelMap OnnxSegmenter::segment(const cv::Mat& bgr) {
-  require(!bgr.empty() && bgr.type() == CV_8UC3, "OnnxSegmenter::segment: expected a non-empty CV_8UC3 BGR image");
+  require(!bgr.empty() && bgr.type() == CV_8UC3,
+          "OnnxSegmenter::segment: expected a non-empty CV_8UC3 BGR image");
   // 1. resize / letterbox and normalise into an NCHW blob
   Geometry geo;
   const cv::Mat blob = preprocess(bgr, geo);
@@ -169,12 +199,14 @@ LabelMap OnnxSegmenter::segment(const cv::Mat& bgr) {
   const int k = card_.top_k;
   if (card_.upsample == ModelCard::Upsample::kLinear) {
     const int s = card_.label_stride;
-    const double ax = M.at<double>(0, 0), bx = M.at<double>(0, 2), ay = M.at<double>(1, 1), by = M.at<double>(1, 2);
+    const double ax = M.at<double>(0, 0), bx = M.at<double>(0, 2), ay = M.at<double>(1, 1),
+                 by = M.at<double>(1, 2);
     if (s == 1) return resample_topk(proj, active_, k, bgr.size(), AxisMap{ax, bx, ay, by});
     // coarse pixel u' stands for the centre of camera block [s u', s u' + s): u = s u' + (s - 1) / 2
     const cv::Size coarse((bgr.cols + s - 1) / s, (bgr.rows + s - 1) / s);
     const double c = 0.5 * (s - 1);
-    const LabelMap m = resample_topk(proj, active_, k, coarse, AxisMap{ax * s, ax * c + bx, ay * s, ay * c + by});
+    const LabelMap m =
+        resample_topk(proj, active_, k, coarse, AxisMap{ax * s, ax * c + bx, ay * s, ay * c + by});
     return upsample_blocks(m, s, bgr.size());
   }
   const LabelMap small = topk_from_planes(proj, active_, k);
@@ -183,7 +215,8 @@ LabelMap OnnxSegmenter::segment(const cv::Mat& bgr) {
   for (int u = 0; u < bgr.cols; ++u)
     xs[u] = std::clamp(int(std::lround(M.at<double>(0, 0) * u + M.at<double>(0, 2))), 0, small.cols() - 1);
   for (int v = 0; v < bgr.rows; ++v) {
-    const int y = std::clamp(int(std::lround(M.at<double>(1, 1) * v + M.at<double>(1, 2))), 0, small.rows() - 1);
+    const int y =
+        std::clamp(int(std::lround(M.at<double>(1, 1) * v + M.at<double>(1, 2))), 0, small.rows() - 1);
     const ClassId* si = small.ids.ptr<ClassId>(y);
     const float* sp = small.probs.ptr<float>(y);
     ClassId* di = full.ids.ptr<ClassId>(v);

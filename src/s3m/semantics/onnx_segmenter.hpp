@@ -22,7 +22,8 @@ class OnnxSegmenter : public Segmenter {
   // and the problem (missing/corrupt model, input size differing from the model's declared input,
   // class list length != output channels, bad class map).
   explicit OnnxSegmenter(ModelCard card);
-  static std::unique_ptr<OnnxSegmenter> from_card(const std::string& card_path, const std::string& model_dir = "");
+  static std::unique_ptr<OnnxSegmenter> from_card(const std::string& card_path,
+                                                  const std::string& model_dir = "");
 
   LabelMap segment(const cv::Mat& bgr) override;
   using Segmenter::segment;
@@ -43,6 +44,7 @@ class OnnxSegmenter : public Segmenter {
   };
   cv::Mat preprocess(const cv::Mat& bgr, Geometry& geo) const;
   cv::Mat forward(const cv::Mat& blob);
+  void require_finite(const cv::Mat& out) const;
   std::vector<cv::Mat> project_probabilities(const cv::Mat& out) const;
   cv::Mat camera_to_output(const Geometry& geo) const;  // 2x3 affine, camera px -> output px
   void check_model(const OnnxInputInfo& in);
@@ -51,8 +53,8 @@ class OnnxSegmenter : public Segmenter {
   cv::dnn::Net net_;
   std::vector<std::string> model_classes_;
   ClassMap map_;
-  std::vector<bool> ignored_;     // per model class: excluded from the softmax
-  std::vector<ClassId> active_;   // project classes that receive probability mass
+  std::vector<bool> ignored_;    // per model class: excluded from the softmax
+  std::vector<ClassId> active_;  // project classes that receive probability mass
   cv::Size output_size_;
 };
 
