@@ -1,8 +1,9 @@
 // `s3m plan map.ot --from x,y,z (--to-class bed | --to x,y,z) [--radius 0.3] [--near 0.5]
 // [--out path.json] [--tum path.txt]`: a collision-free path for a spherical robot through the
-// map's distance field, to a free point near the nearest instance of a class or to a point.
+// map's distance field, to a free point near the nearest (by path) instance of a class or to a point.
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -54,7 +55,8 @@ void run_plan(PlanOptions o) {
                            {"required_clearance_m", required_clearance(field, o.planner)},
                            {"unknown_space", o.unknown},
                            {"seed", o.planner.seed}};
-  // 2. Goal points: near the nearest instance of the class, or the given point.
+  // 2. Goal points: near the class's nearest instances, or the given point.
+  std::optional<navigation::ClassGoal> class_goal;
   std::vector<Eigen::Vector3d> goals{o.to.empty() ? Eigen::Vector3d::Zero() : point(o.to)};
   if (!o.to_class.empty()) {
     if (const auto problem = navigation::point_problem(field, o.planner, start, "start"); !problem.empty())
@@ -64,18 +66,16 @@ void run_plan(PlanOptions o) {
     gc.clearance_m = required_clearance(field, o.planner);
     gc.min_voxels = o.min_voxels;
     const auto goal =
-        navigation::class_goal(field, ClassId(class_by_name(*tree, o.to_class, o.min_voxels)), start, gc);
+        navigation::class_goal(field, class_by_name(*tree, o.to_class, o.min_voxels), start, gc);
     if (goal.goals_w.empty())
-      throw Error("plan: no free point within " + std::to_string(o.near_m) + " m of the nearest " +
-                  o.to_class + " (centroid " + to_json(goal.instance.centroid_w).dump() +
+      throw Error("plan: no free point within " + std::to_string(o.near_m) + " m of the " +
+                  std::to_string(goal.instances.size()) + " nearest " + o.to_class +
+                  " instance(s) (nearest centroid " + to_json(goal.instances.front().centroid_w).dump() +
                   ") has the clearance " + std::to_string(gc.clearance_m) +
                   " m; try a larger --near or a smaller --radius");
     goals = goal.goals_w;
+    class_goal = goal;
     result["class"] = o.to_class;
-    result["instance"] = {{"centroid_m", to_json(goal.instance.centroid_w)},
-                          {"bbox_min_m", to_json(goal.instance.bbox_min_w)},
-                          {"bbox_max_m", to_json(goal.instance.bbox_max_w)},
-                          {"voxels", goal.instance.voxels}};
     result["near_m"] = o.near_m;
   }
   // 3. Path (throws with the reason when there is none).
@@ -86,6 +86,13 @@ void run_plan(PlanOptions o) {
     throw Error(std::string("plan: ") + e.what());
   }
   result["to"] = to_json(path.waypoints_w.back());
+  if (class_goal) {
+    const auto& inst = class_goal->instances[class_goal->goal_instance[path.goal_index]];
+    result["instance"] = {{"centroid_m", to_json(inst.centroid_w)},
+                          {"bbox_min_m", to_json(inst.bbox_min_w)},
+                          {"bbox_max_m", to_json(inst.bbox_max_w)},
+                          {"voxels", inst.voxels}};
+  }
   result["waypoints_m"] = nlohmann::json::array();
   for (const auto& p : path.waypoints_w) result["waypoints_m"].push_back(to_json(p));
   result["length_m"] = path.length_m;
@@ -119,7 +126,7 @@ void register_plan(CLI::App& app) {
       ->required()
       ->expected(3)
       ->delimiter(',');
-  cmd->add_option("--to-class", opts->to_class, "class name: go near its nearest instance");
+  cmd->add_option("--to-class", opts->to_class, "class name: go near its nearest instance (by path)");
   cmd->add_option("--to", opts->to, "x,y,z [m]: go to this point")->expected(3)->delimiter(',');
   cmd->add_option("--radius", opts->planner.radius_m, "robot radius [m]")->capture_default_str();
   cmd->add_option("--margin", opts->planner.margin_m, "clearance on top of the radius [m]; < 0: one voxel")

@@ -11,6 +11,7 @@
 #include "s3m/navigation/goals.hpp"
 #include "s3m/navigation/path_io.hpp"
 #include "s3m/navigation/planner.hpp"
+#include "s3m/navigation/reachability.hpp"
 
 using namespace s3m;
 using namespace s3m::navigation;
@@ -96,11 +97,29 @@ TEST(NavigationPlanner, ReasonsWhenThereIsNoPath) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message({0.5, 1.0, 0.7}, {3.5, 1.0, 0.7}).find("no path found"), std::string::npos);
+  EXPECT_NE(message({0.5, 1.0, 0.7}, {3.5, 1.0, 0.7}).find("is connected to the start"), std::string::npos);
   EXPECT_NE(message({2.05, 1.0, 0.7}, {3.5, 1.0, 0.7}).find("inside an obstacle"), std::string::npos);
   EXPECT_NE(message({1.9, 1.0, 0.7}, {0.5, 1.0, 0.7}).find("too close"), std::string::npos);
   EXPECT_NE(message({9.0, 1.0, 0.7}, {0.5, 1.0, 0.7}).find("outside the map"), std::string::npos);
   EXPECT_NE(message({0.5, 1.0, 0.7}, {0.5, 1.0, 1.48}).find("goal"), std::string::npos);
+}
+
+TEST(NavigationReachability, GridLengthsThroughTheDoorAndNoneWhenClosed) {
+  auto open = world();
+  const DistanceField field(open->tree);
+  // Straight through the door: 30 axis steps of 10 cm.
+  const auto r = grid_reachability(field, {0.55, 1.05, 0.75}, {{3.55, 1.05, 0.75}, {1.05, 1.05, 0.75}}, 0.3);
+  EXPECT_NEAR(r.lengths_m[0], 3.0, 1e-5);
+  EXPECT_NEAR(r.lengths_m[1], 0.5, 1e-5);
+  auto closed = world(/*door_open=*/false);
+  const DistanceField field2(closed->tree);
+  const auto r2 =
+      grid_reachability(field2, {0.55, 1.05, 0.75}, {{3.55, 1.05, 0.75}, {1.05, 1.05, 0.75}}, 0.3);
+  EXPECT_TRUE(std::isinf(r2.lengths_m[0]));
+  EXPECT_NEAR(r2.lengths_m[1], 0.5, 1e-5);
+  // The start's side of the wall: x 0..1.95 minus 0.3 m clearance all round, at 10 cm voxels.
+  EXPECT_GT(r2.voxels_reached, 100u);
+  EXPECT_LT(r2.voxels_reached, 20u * 20u * 15u);
 }
 
 TEST(NavigationGoals, NearTheNearestBedAndAbsentClassesListed) {
@@ -110,7 +129,9 @@ TEST(NavigationGoals, NearTheNearestBedAndAbsentClassesListed) {
   cfg.near_m = 0.5;
   cfg.clearance_m = 0.3;
   const auto goal = class_goal(field, cls::kBed, {0.5, 1.0, 0.7}, cfg);
-  EXPECT_EQ(goal.instance.voxels, 100u);
+  ASSERT_EQ(goal.instances.size(), 1u);
+  EXPECT_EQ(goal.instances[0].voxels, 100u);
+  EXPECT_EQ(goal.goal_instance.size(), goal.goals_w.size());
   ASSERT_FALSE(goal.goals_w.empty());
   for (const auto& g : goal.goals_w) {
     // Within near_m of the bed's box (x 3.0..3.5, y 0..0.5, z 0..0.4) and with the clearance.

@@ -53,11 +53,42 @@ NearGrid near_grid(const DistanceField& field, const std::vector<mapping::VoxelI
   return g;
 }
 
+// Free points within near_m of one instance's voxels (those of the class inside its box), nearest
+// to the start first, spread out so that an unreachable pocket costs one goal, not all.
+std::vector<Eigen::Vector3d> goals_near(const DistanceField& field,
+                                        const std::vector<mapping::VoxelInfo>& class_voxels,
+                                        const mapping::ObjectInstance& inst, const Eigen::Vector3d& start_w,
+                                        const ClassGoalConfig& cfg) {
+  std::vector<mapping::VoxelInfo> voxels;
+  for (const auto& v : class_voxels)
+    if (box_distance(v.center_w, inst.bbox_min_w, inst.bbox_max_w) <= 0.5 * v.size_m) voxels.push_back(v);
+  NearGrid g = near_grid(field, voxels, inst, cfg.near_m);
+  std::vector<Eigen::Vector3d> candidates, out;
+  for (int z = 0; z < g.size.z(); ++z)
+    for (int y = 0; y < g.size.y(); ++y)
+      for (int x = 0; x < g.size.x(); ++x) {
+        const Eigen::Vector3d c = g.centre(x, y, z);
+        if (g.at(x, y, z) <= cfg.near_m && field.contains(c) && field.clearance(c) >= cfg.clearance_m)
+          candidates.push_back(c);
+      }
+  std::stable_sort(candidates.begin(), candidates.end(), [&](const auto& a, const auto& b) {
+    return (a - start_w).squaredNorm() < (b - start_w).squaredNorm();
+  });
+  for (const auto& c : candidates) {
+    if (out.size() >= cfg.max_goals) break;
+    const bool apart = std::all_of(out.begin(), out.end(),
+                                   [&](const auto& o) { return (o - c).norm() >= cfg.goal_spacing_m; });
+    if (apart) out.push_back(c);
+  }
+  return out;
+}
+
 }  // namespace
 
 void ClassGoalConfig::validate() const {
-  require(near_m > 0.0 && clearance_m >= 0.0 && goal_spacing_m >= 0.0 && max_goals >= 1,
-          "class goal: near_m must be > 0, clearance_m and goal_spacing_m >= 0, max_goals >= 1");
+  require(near_m > 0.0 && clearance_m >= 0.0 && goal_spacing_m >= 0.0 && max_goals >= 1 && max_instances >= 1,
+          "class goal: near_m must be > 0, clearance_m and goal_spacing_m >= 0, max_goals and max_instances "
+          ">= 1");
 }
 
 std::string classes_present(const mapping::SemanticOcTree& tree, std::size_t min_voxels) {
@@ -75,40 +106,24 @@ ClassGoal class_goal(const DistanceField& field, ClassId label, const Eigen::Vec
                      const ClassGoalConfig& cfg) {
   cfg.validate();
   const auto& tree = field.tree();
-  // 1. The instance nearest to the start.
+  // 1. The instances nearest to the start; 2. free points round each.
   const auto instances = mapping::object_instances(tree, label, cfg.min_voxels);
   if (instances.empty())
     throw Error("the map has no " + tree.classes().at(label).name +
                 " (no instance of >= " + std::to_string(cfg.min_voxels) +
                 " voxels); classes present: " + classes_present(tree, cfg.min_voxels));
   ClassGoal out;
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& inst : instances)
-    if (const double d = box_distance(start_w, inst.bbox_min_w, inst.bbox_max_w); d < best)
-      best = d, out.instance = inst;
-  // 2. Its voxels (those of the class inside its box), and the free cells within near_m of them.
-  const auto& inst = out.instance;
-  std::vector<mapping::VoxelInfo> voxels;
-  for (const auto& v : mapping::voxels_of_class(tree, label))
-    if (box_distance(v.center_w, inst.bbox_min_w, inst.bbox_max_w) <= 0.5 * v.size_m) voxels.push_back(v);
-  NearGrid g = near_grid(field, voxels, inst, cfg.near_m);
-  std::vector<Eigen::Vector3d> candidates;
-  for (int z = 0; z < g.size.z(); ++z)
-    for (int y = 0; y < g.size.y(); ++y)
-      for (int x = 0; x < g.size.x(); ++x) {
-        const Eigen::Vector3d c = g.centre(x, y, z);
-        if (g.at(x, y, z) <= cfg.near_m && field.contains(c) && field.clearance(c) >= cfg.clearance_m)
-          candidates.push_back(c);
-      }
-  // 3. Nearest to the start first, spread out so that an unreachable pocket costs one try, not all.
-  std::stable_sort(candidates.begin(), candidates.end(), [&](const auto& a, const auto& b) {
-    return (a - start_w).squaredNorm() < (b - start_w).squaredNorm();
+  out.instances = instances;
+  std::stable_sort(out.instances.begin(), out.instances.end(), [&](const auto& a, const auto& b) {
+    return box_distance(start_w, a.bbox_min_w, a.bbox_max_w) <
+           box_distance(start_w, b.bbox_min_w, b.bbox_max_w);
   });
-  for (const auto& c : candidates) {
-    if (out.goals_w.size() >= cfg.max_goals) break;
-    const bool apart = std::all_of(out.goals_w.begin(), out.goals_w.end(),
-                                   [&](const auto& g2) { return (g2 - c).norm() >= cfg.goal_spacing_m; });
-    if (apart) out.goals_w.push_back(c);
+  if (out.instances.size() > cfg.max_instances) out.instances.resize(cfg.max_instances);
+  const auto class_voxels = mapping::voxels_of_class(tree, label);
+  for (std::size_t k = 0; k < out.instances.size(); ++k) {
+    const auto goals = goals_near(field, class_voxels, out.instances[k], start_w, cfg);
+    out.goals_w.insert(out.goals_w.end(), goals.begin(), goals.end());
+    out.goal_instance.insert(out.goal_instance.end(), goals.size(), k);
   }
   return out;
 }

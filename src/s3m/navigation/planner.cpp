@@ -1,5 +1,6 @@
 #include "s3m/navigation/planner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include <ompl/util/RandomNumbers.h>
 
 #include "s3m/core/error.hpp"
+#include "s3m/navigation/reachability.hpp"
 
 namespace s3m::navigation {
 namespace ob = ompl::base;
@@ -79,6 +81,29 @@ std::vector<Eigen::Vector3d> attempt(const ob::SpaceInformationPtr& si, const Ei
   return out;
 }
 
+// The grid search's voxel path from start to goal, shortcut and smoothed by OMPL's simplifier: it
+// starts in the shortest corridor, where a sampled path may start in a longer one. Empty when a
+// segment of it fails OMPL's motion check (the start and goal points sit off their voxel centres).
+std::vector<Eigen::Vector3d> simplified_grid_path(const ob::SpaceInformationPtr& si,
+                                                  const Eigen::Vector3d& start, const Eigen::Vector3d& goal,
+                                                  std::vector<Eigen::Vector3d> cells,
+                                                  const PlannerConfig& cfg) {
+  cells.front() = start;
+  cells.back() = goal;
+  og::PathGeometric path(si);
+  ob::ScopedState<> s(si->getStateSpace());
+  for (const auto& p : cells) {
+    for (int i = 0; i < 3; ++i) s[i] = p[i];
+    path.append(s.get());
+  }
+  if (!path.check()) return {};
+  og::PathSimplifier simplifier(si);
+  simplifier.simplify(path, cfg.simplify_time_s);
+  std::vector<Eigen::Vector3d> out;
+  for (std::size_t i = 0; i < path.getStateCount(); ++i) out.push_back(to_point(path.getState(i)));
+  return out;
+}
+
 }  // namespace
 
 void PlannerConfig::validate() const {
@@ -128,34 +153,58 @@ Path plan_path(const DistanceField& field, const Eigen::Vector3d& start_w,
       goal_problems = problem;
   }
   if (usable.empty()) throw Error(goals_w.empty() ? "no goal point given" : goal_problems);
-  // 2. Each goal in turn: the shortest of `attempts` smoothed RRTConnect paths. Seeding OMPL's seed
-  // generator before each query makes the planners' and simplifier's draws repeatable.
+  // 2. Goals the start is connected to, nearest by path first (a grid search over the field).
+  const double need = required_clearance(field, cfg);
+  std::vector<Eigen::Vector3d> usable_w;
+  for (const std::size_t gi : usable) usable_w.push_back(goals_w[gi]);
+  const Reachability reach = grid_reachability(field, start_w, usable_w, need);
+  std::vector<std::size_t> order;
+  for (std::size_t k = 0; k < usable.size(); ++k)
+    if (std::isfinite(reach.lengths_m[k])) order.push_back(k);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](auto a, auto b) { return reach.lengths_m[a] < reach.lengths_m[b]; });
+  char buf[320];
+  if (order.empty()) {
+    std::snprintf(
+        buf, sizeof buf,
+        "none of the %zu usable goal point(s) is connected to the start %s through space with clearance "
+        ">= %.3f m (unknown space counted as %s; the start's free region is %.2f m^3)",
+        usable.size(), fmt_point(start_w).c_str(), need, to_string(field.config().unknown).c_str(),
+        double(reach.voxels_reached) * std::pow(field.resolution(), 3));
+    throw Error(buf);
+  }
+  // 3. OMPL to the nearest goal; farther ones only while their grid distance could still beat the
+  // best path. Each goal: the shortest of `attempts` RRTConnect paths and the grid search's path,
+  // each shortcut and smoothed. Seeding OMPL's seed generator before each goal makes the planners'
+  // and the simplifier's draws repeatable.
   const QuietOmpl quiet;
-  const auto si = space_information(field, required_clearance(field, cfg));
-  for (const std::size_t gi : usable) {
+  const auto si = space_information(field, need);
+  Path best;
+  best.length_m = std::numeric_limits<double>::infinity();
+  for (std::size_t n = 0; n < order.size() && n < 3; ++n) {
+    const std::size_t k = order[n];
+    if (reach.lengths_m[k] >= best.length_m) break;
     ompl::RNG::setSeed(cfg.seed);
-    Path best;
-    best.length_m = std::numeric_limits<double>::infinity();
-    for (int a = 0; a < cfg.attempts; ++a) {
-      auto waypoints = attempt(si, start_w, goals_w[gi], cfg);
-      if (!waypoints.empty() && path_length(waypoints) < best.length_m) {
-        best.waypoints_w = std::move(waypoints);
-        best.length_m = path_length(best.waypoints_w);
-      }
+    for (int a = 0; a <= cfg.attempts; ++a) {
+      auto waypoints = a == cfg.attempts
+                           ? simplified_grid_path(si, start_w, goals_w[usable[k]], reach.paths_w[k], cfg)
+                           : attempt(si, start_w, goals_w[usable[k]], cfg);
+      if (waypoints.empty() || path_length(waypoints) >= best.length_m) continue;
+      best.waypoints_w = std::move(waypoints);
+      best.length_m = path_length(best.waypoints_w);
+      best.goal_index = usable[k];
     }
-    if (best.waypoints_w.empty()) continue;
-    best.goal_index = gi;
+  }
+  if (!best.waypoints_w.empty()) {
     best.min_clearance_m = min_clearance(field, best.waypoints_w);
     best.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return best;
   }
-  char buf[256];
   std::snprintf(
       buf, sizeof buf,
-      "no path found from %s to any of %zu usable goal point(s) (RRTConnect, %d x %.2f s each, clearance "
-      ">= %.3f m, unknown space counted as %s): the goal is not reachable through the mapped free space",
-      fmt_point(start_w).c_str(), usable.size(), cfg.attempts, cfg.time_limit_s,
-      required_clearance(field, cfg), to_string(field.config().unknown).c_str());
+      "no path found from %s to the %zu goal point(s) connected to it (RRTConnect, %d x %.2f s each, "
+      "clearance >= %.3f m): the way is narrower than the grid search saw; try a larger --time-limit",
+      fmt_point(start_w).c_str(), order.size(), cfg.attempts, cfg.time_limit_s, need);
   throw Error(buf);
 }
 

@@ -39,8 +39,10 @@ double required_clearance(const DistanceField& field, const PlannerConfig& cfg);
 std::string point_problem(const DistanceField& field, const PlannerConfig& cfg, const Eigen::Vector3d& p_w,
                           const std::string& what);
 
-// A path from start_w to the first goal (in the given order) one can be found to. Throws s3m::Error
-// when the start is unusable, no goal is usable, or no goal was reached in time (saying what was tried).
+// A path from start_w to one of goals_w: a grid search over the field finds the goals the start is
+// connected to, OMPL plans to the nearest of them by that search (and to up to two more while they
+// could give a shorter path), and the shortest path is returned. Throws s3m::Error when the start is
+// unusable, no goal is usable or connected, or OMPL found no path in time (saying what was tried).
 Path plan_path(const DistanceField& field, const Eigen::Vector3d& start_w,
                const std::vector<Eigen::Vector3d>& goals_w, const PlannerConfig& cfg);
 
