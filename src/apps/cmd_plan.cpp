@@ -65,8 +65,13 @@ void run_plan(PlanOptions o) {
     gc.near_m = o.near_m;
     gc.clearance_m = required_clearance(field, o.planner);
     gc.min_voxels = o.min_voxels;
-    const auto goal =
-        navigation::class_goal(field, class_by_name(*tree, o.to_class, o.min_voxels), start, gc);
+    const ClassId id = class_by_name(*tree, o.to_class, o.min_voxels);
+    navigation::ClassGoal goal;
+    try {
+      goal = navigation::class_goal(field, id, start, gc);
+    } catch (const Error& e) {
+      throw Error(std::string("plan: ") + e.what());
+    }
     if (goal.goals_w.empty())
       throw Error("plan: no free point within " + std::to_string(o.near_m) + " m of the " +
                   std::to_string(goal.instances.size()) + " nearest " + o.to_class +
