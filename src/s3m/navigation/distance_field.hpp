@@ -36,7 +36,9 @@ class DistanceField {
   DistanceField& operator=(const DistanceField&) = delete;
 
   // Folds in every voxel whose occupancy changed since the last update (OctoMap's change detection:
-  // updateNode / insertPointCloud record them) inside the field's box.
+  // updateNode / insertPointCloud record them) inside the field's box. SemanticOcTree::
+  // applyFrameUpdate, the pipeline's parallel insertion, records no changes yet: after it, build a
+  // new field.
   void update();
 
   // Distance [m] from p_w to the centre of the nearest obstacle voxel, measured between voxel
