@@ -103,7 +103,7 @@ void run_plan(PlanOptions o) {
   result["length_m"] = path.length_m;
   result["min_clearance_m"] = path.min_clearance_m;
   result["planning_time_s"] = path.planning_time_s;
-  result["planner"] = "RRTConnect + shortcut + B-spline (OMPL)";
+  result["planner"] = "RRTConnect and the grid path, shortcut + B-spline (OMPL)";
   // 4. Outputs.
   if (!o.out.empty()) write_text_atomic(o.out, result.dump(2) + "\n");
   if (!o.tum.empty()) navigation::write_path_tum(o.tum, path.waypoints_w);

@@ -136,6 +136,31 @@ std::string point_problem(const DistanceField& field, const PlannerConfig& cfg, 
   return what + " " + fmt_point(p_w) + " " + where + buf;
 }
 
+namespace {
+
+// Indices into `usable` of the goals the start is connected to, nearest by grid path first; throws
+// with the size of the start's free region when there is none.
+std::vector<std::size_t> connected_goals(const DistanceField& field, const Eigen::Vector3d& start_w,
+                                         const std::vector<Eigen::Vector3d>& usable_w, double need,
+                                         const Reachability& reach) {
+  std::vector<std::size_t> order;
+  for (std::size_t k = 0; k < usable_w.size(); ++k)
+    if (std::isfinite(reach.lengths_m[k])) order.push_back(k);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](auto a, auto b) { return reach.lengths_m[a] < reach.lengths_m[b]; });
+  if (!order.empty()) return order;
+  char buf[320];
+  std::snprintf(
+      buf, sizeof buf,
+      "none of the %zu usable goal point(s) is connected to the start %s through space with clearance "
+      ">= %.3f m (unknown space counted as %s; the start's free region is %.2f m^3)",
+      usable_w.size(), fmt_point(start_w).c_str(), need, to_string(field.config().unknown).c_str(),
+      double(reach.voxels_reached) * std::pow(field.resolution(), 3));
+  throw Error(buf);
+}
+
+}  // namespace
+
 Path plan_path(const DistanceField& field, const Eigen::Vector3d& start_w,
                const std::vector<Eigen::Vector3d>& goals_w, const PlannerConfig& cfg) {
   cfg.validate();
@@ -143,36 +168,19 @@ Path plan_path(const DistanceField& field, const Eigen::Vector3d& start_w,
   // 1. The start and the usable goals.
   if (const auto problem = point_problem(field, cfg, start_w, "start"); !problem.empty())
     throw Error(problem);
-  std::string goal_problems;
+  std::string goal_problem;
   std::vector<std::size_t> usable;
+  std::vector<Eigen::Vector3d> usable_w;
   for (std::size_t i = 0; i < goals_w.size(); ++i) {
     const auto problem = point_problem(field, cfg, goals_w[i], "goal");
-    if (problem.empty())
-      usable.push_back(i);
-    else if (goal_problems.empty())
-      goal_problems = problem;
+    if (problem.empty()) usable.push_back(i), usable_w.push_back(goals_w[i]);
+    if (!problem.empty() && goal_problem.empty()) goal_problem = problem;
   }
-  if (usable.empty()) throw Error(goals_w.empty() ? "no goal point given" : goal_problems);
+  if (usable.empty()) throw Error(goals_w.empty() ? "no goal point given" : goal_problem);
   // 2. Goals the start is connected to, nearest by path first (a grid search over the field).
   const double need = required_clearance(field, cfg);
-  std::vector<Eigen::Vector3d> usable_w;
-  for (const std::size_t gi : usable) usable_w.push_back(goals_w[gi]);
   const Reachability reach = grid_reachability(field, start_w, usable_w, need);
-  std::vector<std::size_t> order;
-  for (std::size_t k = 0; k < usable.size(); ++k)
-    if (std::isfinite(reach.lengths_m[k])) order.push_back(k);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](auto a, auto b) { return reach.lengths_m[a] < reach.lengths_m[b]; });
-  char buf[320];
-  if (order.empty()) {
-    std::snprintf(
-        buf, sizeof buf,
-        "none of the %zu usable goal point(s) is connected to the start %s through space with clearance "
-        ">= %.3f m (unknown space counted as %s; the start's free region is %.2f m^3)",
-        usable.size(), fmt_point(start_w).c_str(), need, to_string(field.config().unknown).c_str(),
-        double(reach.voxels_reached) * std::pow(field.resolution(), 3));
-    throw Error(buf);
-  }
+  const auto order = connected_goals(field, start_w, usable_w, need, reach);
   // 3. OMPL to the nearest goal; farther ones only while their grid distance could still beat the
   // best path. Each goal: the shortest of `attempts` RRTConnect paths and the grid search's path,
   // each shortcut and smoothed. Seeding OMPL's seed generator before each goal makes the planners'
@@ -181,31 +189,27 @@ Path plan_path(const DistanceField& field, const Eigen::Vector3d& start_w,
   const auto si = space_information(field, need);
   Path best;
   best.length_m = std::numeric_limits<double>::infinity();
-  for (std::size_t n = 0; n < order.size() && n < 3; ++n) {
+  for (std::size_t n = 0; n < order.size() && n < 3 && reach.lengths_m[order[n]] < best.length_m; ++n) {
     const std::size_t k = order[n];
-    if (reach.lengths_m[k] >= best.length_m) break;
     ompl::RNG::setSeed(cfg.seed);
     for (int a = 0; a <= cfg.attempts; ++a) {
       auto waypoints = a == cfg.attempts
-                           ? simplified_grid_path(si, start_w, goals_w[usable[k]], reach.paths_w[k], cfg)
-                           : attempt(si, start_w, goals_w[usable[k]], cfg);
+                           ? simplified_grid_path(si, start_w, usable_w[k], reach.paths_w[k], cfg)
+                           : attempt(si, start_w, usable_w[k], cfg);
       if (waypoints.empty() || path_length(waypoints) >= best.length_m) continue;
       best.waypoints_w = std::move(waypoints);
       best.length_m = path_length(best.waypoints_w);
       best.goal_index = usable[k];
     }
   }
-  if (!best.waypoints_w.empty()) {
-    best.min_clearance_m = min_clearance(field, best.waypoints_w);
-    best.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return best;
-  }
-  std::snprintf(
-      buf, sizeof buf,
-      "no path found from %s to the %zu goal point(s) connected to it (RRTConnect, %d x %.2f s each, "
-      "clearance >= %.3f m): the way is narrower than the grid search saw; try a larger --time-limit",
-      fmt_point(start_w).c_str(), order.size(), cfg.attempts, cfg.time_limit_s, need);
-  throw Error(buf);
+  if (best.waypoints_w.empty())  // the grid path is a path: only a failed motion check gets here
+    throw Error(
+        "no path found from " + fmt_point(start_w) + " to the " + std::to_string(order.size()) +
+        " goal point(s) connected to it: OMPL's motion check refused the grid path and RRTConnect found "
+        "none in time; try a larger --time-limit");
+  best.min_clearance_m = min_clearance(field, best.waypoints_w);
+  best.planning_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return best;
 }
 
 double path_length(const std::vector<Eigen::Vector3d>& waypoints_w) {

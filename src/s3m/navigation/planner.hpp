@@ -1,7 +1,8 @@
 #pragma once
 // Collision-free paths for a spherical robot through a DistanceField, with OMPL: RRTConnect on the
 // field's box with clearance >= radius + margin as the validity check and motions checked every
-// half voxel, then OMPL's shortcutting and B-spline smoothing. World frame, metres.
+// half voxel, then OMPL's shortcutting and B-spline smoothing; a grid search over the field picks
+// the goal and its path, simplified the same way, competes. World frame, metres.
 #include <cstdint>
 #include <string>
 #include <vector>
