@@ -7,8 +7,9 @@
 
 namespace s3m::navigation {
 
-// "t x y z qx qy qz qw" per waypoint [s, m]: t is the arc length flown at speed_mps, the pose looks
-// along the next segment, level (yaw only; the last waypoint keeps the previous heading). Atomic.
+// "t x y z qx qy qz qw" per waypoint [s, m]: t is the arc length flown at speed_mps, the pose turns
+// about the world z axis to look along the next segment's horizontal part (level in a z-up world;
+// the last waypoint keeps the previous heading). Atomic.
 void write_path_tum(const std::string& path, const std::vector<Eigen::Vector3d>& waypoints_w,
                     double speed_mps = 1.0);
 
