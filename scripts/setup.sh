@@ -23,7 +23,7 @@ done
 
 packages=(
   build-essential cmake ninja-build pkg-config ccache git clang clang-format libclang-rt-14-dev
-  libopencv-dev libopencv-contrib-dev libeigen3-dev libceres-dev liboctomap-dev libembree-dev libtbb-dev
+  libopencv-dev libopencv-contrib-dev libeigen3-dev libceres-dev liboctomap-dev libdynamicedt3d-dev libompl-dev libembree-dev libtbb-dev
   libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib

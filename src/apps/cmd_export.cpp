@@ -1,5 +1,6 @@
-// `s3m export map.ot --ply map.ply [--color-ot map_color.ot] [--bt map.bt]`: converts a semantic
-// map for other tools (MeshLab/CloudCompare, octovis, octomap_server).
+// `s3m export map.ot --ply map.ply [--color-ot map_color.ot] [--bt map.bt] [--costmap out.yaml
+// [--min-z Z --max-z Z] [--class-costs costs.yaml]]`: converts a semantic map for other tools
+// (MeshLab/CloudCompare, octovis, octomap_server, a ground robot's map_server).
 #include <cstdio>
 #include <filesystem>
 #include <set>
@@ -8,13 +9,15 @@
 #include "s3m/core/error.hpp"
 #include "s3m/mapping/export.hpp"
 #include "s3m/mapping/map_io.hpp"
+#include "s3m/navigation/costmap.hpp"
 
 namespace s3m::apps {
 
 namespace {
 
 struct ExportOptions {
-  std::string map, ply, color_ot, bt;
+  std::string map, ply, color_ot, bt, costmap, class_costs;
+  navigation::CostmapConfig costmap_cfg;
   std::string ply_color = "rgb";
 };
 
@@ -23,7 +26,8 @@ struct ExportOptions {
 void refuse_overwrites(const ExportOptions& o) {
   namespace fs = std::filesystem;
   std::set<std::string> outputs;
-  for (const auto& [option, out] : {std::pair{"--ply", o.ply}, {"--color-ot", o.color_ot}, {"--bt", o.bt}}) {
+  for (const auto& [option, out] :
+       {std::pair{"--ply", o.ply}, {"--color-ot", o.color_ot}, {"--bt", o.bt}, {"--costmap", o.costmap}}) {
     if (out.empty()) continue;
     std::error_code ec;
     if (fs::exists(out, ec) && fs::equivalent(out, o.map, ec))
@@ -35,8 +39,9 @@ void refuse_overwrites(const ExportOptions& o) {
 }
 
 void run_export(const ExportOptions& o) {
-  require(!o.ply.empty() || !o.color_ot.empty() || !o.bt.empty(),
-          "nothing to do: give --ply, --color-ot and/or --bt");
+  require(!o.ply.empty() || !o.color_ot.empty() || !o.bt.empty() || !o.costmap.empty(),
+          "nothing to do: give --ply, --color-ot, --bt and/or --costmap");
+  require(o.class_costs.empty() || !o.costmap.empty(), "--class-costs goes with --costmap");
   refuse_overwrites(o);
   require(o.ply_color == "rgb" || o.ply_color == "class", "--ply-color must be 'rgb' or 'class'");
   // 1. Load (refuses truncated/corrupt files with the reason).
@@ -57,6 +62,15 @@ void run_export(const ExportOptions& o) {
     mapping::export_binary_octree(*tree, o.bt);
     std::printf("export: wrote %s (binary occupancy OcTree)\n", o.bt.c_str());
   }
+  if (!o.costmap.empty()) {
+    auto cfg = o.costmap_cfg;
+    if (!o.class_costs.empty())
+      cfg.class_costs = navigation::load_class_costs(o.class_costs, tree->classes());
+    const auto grid = navigation::make_costmap(*tree, cfg);
+    navigation::write_costmap(grid, o.costmap);
+    std::printf("export: wrote %s (map_server costmap, %d x %d cells at %.3f m, z %.2f..%.2f m)\n",
+                o.costmap.c_str(), grid.width, grid.height, grid.resolution_m, cfg.min_z_m, cfg.max_z_m);
+  }
 }
 
 }  // namespace
@@ -74,6 +88,15 @@ void register_export(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--color-ot", opts->color_ot, "ColorOcTree .ot coloured by semantic class");
   cmd->add_option("--bt", opts->bt, "binary occupancy OcTree .bt");
+  cmd->add_option("--costmap", opts->costmap,
+                  "2-D costmap for a ground robot: map_server YAML (the PGM image is written beside it)");
+  cmd->add_option("--min-z", opts->costmap_cfg.min_z_m, "costmap: lowest height projected [m]")
+      ->capture_default_str();
+  cmd->add_option("--max-z", opts->costmap_cfg.max_z_m, "costmap: highest height projected [m]")
+      ->capture_default_str();
+  cmd->add_option("--class-costs", opts->class_costs,
+                  "costmap: YAML of class: lethal | free | 0..100 | {inflated: RADIUS_M} (unlisted: lethal)")
+      ->check(CLI::ExistingFile);
   cmd->callback([opts] { run_export(*opts); });
 }
 

@@ -1,5 +1,7 @@
 // `s3m query map.ot --class chair [--json]`: object instances of a class in a semantic map;
-// `--at x y z` asks for the class at a point; without either, a per-class summary.
+// `--at x y z` asks for the class at a point; `--clearance x,y,z` for the distance to the nearest
+// obstacle (distance field, unknown space counted as occupied unless --unknown free); without any,
+// a per-class summary.
 #include <cstdio>
 #include <iostream>
 
@@ -9,6 +11,7 @@
 #include "s3m/core/error.hpp"
 #include "s3m/mapping/map_io.hpp"
 #include "s3m/mapping/queries.hpp"
+#include "s3m/navigation/distance_field.hpp"
 
 namespace s3m::apps {
 
@@ -17,7 +20,9 @@ namespace {
 struct QueryOptions {
   std::string map;
   std::string cls;
-  std::vector<double> at;
+  std::vector<double> at, clearance;
+  std::string unknown = "occupied";
+  double max_distance_m = 2.0;
   std::size_t min_voxels = 10;  // the viewer's instance_min_voxels: specks are not objects
   bool json = false;
 };
@@ -57,6 +62,13 @@ void print_text(const nlohmann::json& result) {
                   a["occupancy"].get<double>(), a["size_m"].get<double>(), a["center_m"][0].get<double>(),
                   a["center_m"][1].get<double>(), a["center_m"][2].get<double>());
   }
+  if (result.contains("clearance")) {
+    const auto& c = result["clearance"];
+    std::printf("clearance %.3f m at (%.3f, %.3f, %.3f) (unknown space %s, saturates at %.2f m)\n",
+                c["clearance_m"].get<double>(), c["point_m"][0].get<double>(), c["point_m"][1].get<double>(),
+                c["point_m"][2].get<double>(), c["unknown_space"].get<std::string>().c_str(),
+                c["max_distance_m"].get<double>());
+  }
   if (result.contains("instances")) {
     std::printf("%zu instance(s)\n", result["instances"].size());
     for (const auto& o : result["instances"])
@@ -87,9 +99,23 @@ void run_query(const QueryOptions& o) {
                                       {"center_m", to_json(v->center_w)}}
                      : nlohmann::json(nullptr);
   }
-  // 3. Instances of a class, or a per-class voxel count.
+  // 3. Clearance at a point (distance field over the whole map).
+  if (!o.clearance.empty()) {
+    require(o.clearance.size() == 3, "--clearance needs three coordinates x,y,z [m]");
+    navigation::DistanceFieldConfig fc;
+    fc.unknown = navigation::unknown_space_from_string(o.unknown);
+    fc.max_distance_m = o.max_distance_m;
+    const navigation::DistanceField field(*tree, fc);
+    const Eigen::Vector3d p(o.clearance[0], o.clearance[1], o.clearance[2]);
+    result["clearance"] = {{"point_m", to_json(p)},
+                           {"clearance_m", field.clearance(p)},
+                           {"inside_map", field.contains(p)},
+                           {"unknown_space", o.unknown},
+                           {"max_distance_m", o.max_distance_m}};
+  }
+  // 4. Instances of a class, or a per-class voxel count.
   if (!o.cls.empty()) result["instances"] = instances_json(*tree, class_by_name(*tree, o.cls), o.min_voxels);
-  if (o.cls.empty() && o.at.empty()) {
+  if (o.cls.empty() && o.at.empty() && o.clearance.empty()) {
     result["classes"] = nlohmann::json::object();
     for (const auto& c : tree->classes().all()) {
       const auto n = mapping::voxels_of_class(*tree, c.id).size();
@@ -114,6 +140,15 @@ void register_query(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--class,-c", opts->cls, "class name: list its object instances (connected components)");
   cmd->add_option("--at", opts->at, "x y z [m]: class of the voxel at this world point")->expected(3);
+  cmd->add_option("--clearance", opts->clearance,
+                  "x,y,z [m]: distance to the nearest obstacle from this point")
+      ->expected(3)
+      ->delimiter(',');
+  cmd->add_option("--unknown", opts->unknown, "for --clearance, unknown space counts as: occupied or free")
+      ->check(CLI::IsMember({"occupied", "free"}))
+      ->capture_default_str();
+  cmd->add_option("--max-distance", opts->max_distance_m, "for --clearance, distances saturate here [m]")
+      ->capture_default_str();
   cmd->add_option("--min-voxels", opts->min_voxels, "ignore instances smaller than this")
       ->capture_default_str();
   cmd->add_flag("--json", opts->json, "print JSON instead of text");

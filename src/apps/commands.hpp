@@ -52,6 +52,7 @@ void register_check(CLI::App& app);    // what s3m makes of a dataset folder, be
 void register_demo(CLI::App& app);     // simulate + run + report, no arguments
 void register_segeval(CLI::App& app);  // segmentation evaluation
 void register_query(CLI::App& app);    // semantic map queries
+void register_plan(CLI::App& app);     // paths through a map to a class or point
 void register_export(CLI::App& app);   // map export (PLY, ColorOcTree, .bt)
 void register_vocab(CLI::App& app);    // bag-of-words vocabulary training
 void register_tum2bag(CLI::App& app);  // TUM directory -> ROS1 bag (ROS builds)

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   s3m::apps::register_demo(app);
   s3m::apps::register_segeval(app);
   s3m::apps::register_query(app);
+  s3m::apps::register_plan(app);
   s3m::apps::register_export(app);
   s3m::apps::register_view(app);
   s3m::apps::register_vocab(app);
