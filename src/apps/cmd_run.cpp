@@ -1,4 +1,5 @@
-// `s3m run`: the full pipeline on a TUM-layout dataset (real or simulated) or, in ROS builds, a rosbag.
+// `s3m run`: the full pipeline on a TUM-layout dataset (real or simulated), a ROS 2 recording or, in
+// ROS builds, a ROS1 bag.
 #include <iostream>
 
 #include <spdlog/spdlog.h>
@@ -74,8 +75,9 @@ void register_run(CLI::App& app) {
   cmd->add_option(
       "dataset", args->dataset,
       "TUM-layout directory (rgb.txt, depth.txt, ...; ETH3D too), a 7-Scenes folder as downloaded "
-      "(frame-NNNNNN.color.png, ...), a ScanNet export (color/, depth/, ...) or a Replica scene "
-      "(results/, traj.txt); omit with --rosbag");
+      "(frame-NNNNNN.color.png, ...), a ScanNet export (color/, depth/, ...), a Replica scene "
+      "(results/, traj.txt) or a ROS 2 recording (.mcap, .db3, or a rosbag2 folder with metadata.yaml); "
+      "omit with --rosbag");
   cmd->add_option("--config", args->config,
                   "pipeline preset, e.g. config/tum_fr1.yaml (default: built-in defaults)");
   cmd->add_option("--out", args->out, "output directory")->required();
@@ -111,6 +113,7 @@ void register_run(CLI::App& app) {
       throw Error("run: give either a dataset directory or --rosbag FILE.bag (exactly one)");
     o.dataset_dir = args->dataset;
     if (!args->bag.bag.empty()) o.open_source = rosbag_source(args->bag);
+    if (is_ros2_recording(args->dataset)) o.open_source = ros2_source(args->dataset, args->bag);
     o.out_dir = args->out;
     o.config =
         args->config.empty() ? pipeline::PipelineConfig{} : pipeline::load_pipeline_config(args->config);

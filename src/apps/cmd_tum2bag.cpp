@@ -38,22 +38,24 @@ ros1::BagTopics bag_topics(const RosbagArgs& a) {
 
 void add_rosbag_options(CLI::App& cmd, RosbagArgs& a) {
   cmd.add_option("--rosbag", a.bag, "read frames from a ROS1 bag instead of a directory (ROS builds)");
-  cmd.add_option(
-      "--rgb-topic", a.rgb_topic,
-      "with --rosbag: colour sensor_msgs/Image topic (default: recognised from the bag's topics: TUM "
-      "RGB-D, RealSense SDK, realsense2_camera, openni_launch, Azure Kinect)");
-  cmd.add_option(
-      "--depth-topic", a.depth_topic,
-      "with --rosbag: depth image topic registered to colour (16UC1 mm or 32FC1 m; default: recognised)");
+  cmd.add_option("--rgb-topic", a.rgb_topic,
+                 "with --rosbag or a ROS 2 recording: colour sensor_msgs/Image topic (default: recognised "
+                 "from the bag's topics: TUM "
+                 "RGB-D, RealSense SDK, realsense2_camera, openni_launch, Azure Kinect, orbbec_camera)");
+  cmd.add_option("--depth-topic", a.depth_topic,
+                 "with --rosbag or a ROS 2 recording: depth image topic registered to colour (16UC1 mm or "
+                 "32FC1 m; default: recognised)");
   cmd.add_option(
       "--camera-info-topic", a.camera_info_topic,
-      "with --rosbag: sensor_msgs/CameraInfo topic (default: recognised, or the colour topic's "
+      "with --rosbag or a ROS 2 recording: sensor_msgs/CameraInfo topic (default: recognised, or the colour "
+      "topic's "
       "camera_info; a RealSense's or Azure Kinect's own calibration wins over the config's dataset.camera, "
       "which wins over other recordings'; \"none\": dataset.camera)");
   cmd.add_option("--labels-topic", a.labels_topic,
-                 "with --rosbag: optional mono16 ground-truth class ids (oracle)");
+                 "with --rosbag or a ROS 2 recording: optional mono16 ground-truth class ids (oracle)");
   cmd.add_option("--gt-topic", a.gt_topic,
-                 "with --rosbag: optional geometry_msgs/PoseStamped ground truth (T_w_c)")
+                 "with --rosbag or a ROS 2 recording: optional geometry_msgs/PoseStamped ground truth "
+                 "(T_w_c; ROS 2: or nav_msgs/msg/Odometry)")
       ->capture_default_str();
 }
 
