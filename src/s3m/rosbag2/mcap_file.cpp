@@ -76,7 +76,7 @@ class McapFile final : public StorageFile {
     std::vector<std::uint8_t> record, chunk;
     for (;;) {
       const std::uint8_t op = read_record(pos, record);
-      const std::string where = path_ + ": record 0x" + hex(op) + " at byte " + std::to_string(pos);
+      const std::string where = path_ + ": " + record_name(op) + " at byte " + std::to_string(pos);
       ByteReader r({record.data(), record.size()}, where);
       if (op == kDataEnd) {
         const std::uint32_t want = r.le<std::uint32_t>("data_section_crc");
@@ -108,7 +108,7 @@ class McapFile final : public StorageFile {
       std::vector<std::uint8_t> record;
       const std::uint8_t op = read_record(ref.offset, record);
       const std::string where = path_ + ": chunk at byte " + std::to_string(ref.offset);
-      if (op != kChunk) throw Error(where + ": record 0x" + hex(op) + " (expected a chunk, 0x06)");
+      if (op != kChunk) throw Error(where + ": " + record_name(op) + " (expected a chunk record)");
       ByteReader r({record.data(), record.size()}, where);
       const ChunkHead c = chunk_head(r);
       decompress(c.compression, c.records, c.uncompressed_size, cache_, where);
@@ -122,9 +122,15 @@ class McapFile final : public StorageFile {
   }
 
  private:
-  static std::string hex(std::uint8_t op) {
+  // "chunk record (0x06)", for errors.
+  static std::string record_name(std::uint8_t op) {
+    static const char* names[] = {
+        "",         "header",         "footer",         "schema",     "channel",          "message",
+        "chunk",    "message index",  "chunk index",    "attachment", "attachment index", "statistics",
+        "metadata", "metadata index", "summary offset", "data end"};
     const char* d = "0123456789ABCDEF";
-    return {d[op >> 4], d[op & 15]};
+    const std::string code = {'0', 'x', d[op >> 4], d[op & 15]};
+    return (op < 16 && op > 0 ? std::string(names[op]) + " record (" + code + ")" : "record " + code);
   }
   static std::string hex32(std::uint32_t v) {
     char s[16];
@@ -152,7 +158,7 @@ class McapFile final : public StorageFile {
     std::uint64_t length;
     std::memcpy(&length, head_ + 1, 8);
     if (length > size_ - pos - kRecordHead)
-      throw Error(path_ + ": record 0x" + hex(head_[0]) + " at byte " + std::to_string(pos) + " is " +
+      throw Error(path_ + ": " + record_name(head_[0]) + " at byte " + std::to_string(pos) + " is " +
                   std::to_string(length) + " bytes long, the file ends " +
                   std::to_string(size_ - pos - kRecordHead) + " bytes after its header (truncated)");
     content.resize(length);
@@ -172,7 +178,7 @@ class McapFile final : public StorageFile {
       const std::size_t at = in.pos();
       const std::uint8_t op = in.le<std::uint8_t>("record opcode");
       const Bytes body = in.take(in.le<std::uint64_t>("record length"), "record");
-      ByteReader rec(body, r.where() + ", record 0x" + hex(op) + " at chunk offset " + std::to_string(at));
+      ByteReader rec(body, r.where() + ", " + record_name(op) + " at chunk offset " + std::to_string(at));
       on_record(op, rec, MessageRef{pos, at + kRecordHead + kMessageHead, 0, 0, true}, visit);
     }
   }

@@ -1,5 +1,7 @@
 #include "s3m/rosbag2/topics.hpp"
 
+#include <algorithm>
+
 #include "s3m/core/error.hpp"
 
 namespace s3m::rosbag2 {
@@ -104,8 +106,11 @@ std::vector<TopicSet> recognise_cameras(const TopicTypes& types) {
         continue;
       TopicTypes raw = types;
       raw[topic.substr(0, topic.size() - 11)] = kImage;
-      for (TopicSet s : recognise_cameras(raw))
-        if (s.rgb == topic.substr(0, topic.size() - 11)) s.rgb = topic, out.push_back(s);
+      for (TopicSet s : recognise_cameras(raw)) {
+        const bool seen =
+            std::any_of(out.begin(), out.end(), [&](const TopicSet& o) { return o.rgb == topic; });
+        if (s.rgb == topic.substr(0, topic.size() - 11) && !seen) s.rgb = topic, out.push_back(s);
+      }
     }
   return out;
 }
