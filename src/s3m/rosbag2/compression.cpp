@@ -63,11 +63,11 @@ void decompress(const std::string& compression, Bytes in, std::uint64_t uncompre
   if (compression != "" && uncompressed_size / 1024 > in.size + 1024)
     throw Error(where + ": uncompressed_size " + std::to_string(uncompressed_size) + " for " +
                 std::to_string(in.size) + " compressed bytes (corrupt chunk)");
+  if (compression.empty() && in.size != uncompressed_size)
+    throw Error(where + ": uncompressed chunk of " + std::to_string(in.size) + " bytes (expected " +
+                std::to_string(uncompressed_size) + ", the chunk's uncompressed_size)");
   out.resize(uncompressed_size);
   if (compression.empty()) {
-    if (in.size != uncompressed_size)
-      throw Error(where + ": uncompressed chunk of " + std::to_string(in.size) + " bytes (expected " +
-                  std::to_string(uncompressed_size) + ", the chunk's uncompressed_size)");
     if (in.size > 0) std::memcpy(out.data(), in.data, in.size);
   } else if (compression == "zstd") {
     unzstd(in, out, where);
