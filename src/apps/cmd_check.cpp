@@ -45,7 +45,7 @@ void register_check(CLI::App& app) {
       pipeline::mark_written(config, "dataset.camera");
     }
     if (is_ros2_recording(args->dataset)) {
-      const auto source = ros2_source(args->dataset, args->bag)(config);
+      const auto source = ros2_source(args->dataset, args->bag, config, !args->config.empty())(config);
       std::cout << run::format_dataset_check(
           run::check_frame_source(*source, config, pipeline::simulator_sign("", source->has_labels())),
           args->all_settings);

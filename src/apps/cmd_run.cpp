@@ -113,7 +113,6 @@ void register_run(CLI::App& app) {
       throw Error("run: give either a dataset directory or --rosbag FILE.bag (exactly one)");
     o.dataset_dir = args->dataset;
     if (!args->bag.bag.empty()) o.open_source = rosbag_source(args->bag);
-    if (is_ros2_recording(args->dataset)) o.open_source = ros2_source(args->dataset, args->bag);
     o.out_dir = args->out;
     o.config =
         args->config.empty() ? pipeline::PipelineConfig{} : pipeline::load_pipeline_config(args->config);
@@ -138,6 +137,8 @@ void register_run(CLI::App& app) {
       o.config.slam.loop_closing.vocabulary = args->vocab;
       pipeline::mark_written(o.config, "loop_closing.vocabulary");
     }
+    if (is_ros2_recording(args->dataset))
+      o.open_source = ros2_source(args->dataset, args->bag, o.config, !args->config.empty());
     o.segmenter = args->segmenter;
     o.model_dir = args->model_dir;
     o.poses = args->poses;

@@ -6,6 +6,7 @@
 // using them are skipped, not passed.
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -48,12 +49,17 @@ inline std::string reference_writer_missing() {
 
 // The sequence as `name` (e.g. "zstd.mcap", a folder name with --split) written with `options`.
 inline std::string recording(const std::string& name, const std::string& options) {
-  const fs::path dir = fs::temp_directory_path() / ("s3m_it_ros2_recordings" + render_key());
+  // Keyed by the writer's source, so a changed writer never reuses recordings of the old one.
+  const fs::path src = fs::path(S3M_SOURCE_DIR) / "tests" / "ros2";
+  const std::size_t key = std::hash<std::string>{}(read_bytes((src / "write_rosbag2.js").string()) +
+                                                   read_bytes((src / "msg_definitions.js").string()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("s3m_it_ros2_recordings_" + std::to_string(key) + render_key());
   fs::create_directories(dir);
   const fs::path path = dir / name;
   if (fs::exists(path)) return path.string();
   const fs::path tmp = dir / (name + ".tmp" + std::to_string(::getpid()));
-  const std::string script = (fs::path(S3M_SOURCE_DIR) / "tests" / "ros2" / "write_rosbag2.js").string();
+  const std::string script = (src / "write_rosbag2.js").string();
   const std::string cmd = "node '" + script + "' --tum '" + small_sequence_dir() + "' --out '" +
                           tmp.string() + "' " + options + " > '" + tmp.string() + ".log' 2>&1";
   if (std::system(cmd.c_str()) != 0)

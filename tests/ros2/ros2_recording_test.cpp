@@ -1,10 +1,13 @@
 // s3m reads ROS 2 recordings that independent implementations wrote (ros2_fixtures.hpp) exactly as
 // it reads the TUM folder they were made from: the same frames bit for bit, the same trajectory
-// byte for byte, for every storage (MCAP with zstd, lz4 or no chunks, SQLite, split folders).
+// byte for byte, for every storage (MCAP with zstd, lz4 or no chunks, SQLite, split folders), and
+// the robot's through the recording's /tf_static.
 #include <cstring>
 
 #include "ros2_fixtures.hpp"
 #include "s3m/io/dataset.hpp"
+#include "s3m/io/trajectory.hpp"
+#include "s3m/pipeline/factories.hpp"
 #include "s3m/rosbag2/source.hpp"
 
 namespace s3m::it {
@@ -69,6 +72,31 @@ TEST(Ros2Recording, OdometryGroundTruthIsMovedOntoTheCameraByTfStatic) {
     EXPECT_TRUE(poses_agree(rec->groundtruth()[i].T_w_x, camera[i].T_w_x, 1e-4, 1e-6)) << "pose " << i;
 }
 
+TEST(Ros2Recording, RealsenseRawDepthIsDrawnIntoTheColourCameraWithTfStatic) {
+  S3M_REQUIRE_REFERENCE_WRITER();
+  const auto rec = rosbag2::open_rosbag2_source(recording("realsense_raw.mcap", "--realsense-raw"), {}, {});
+  EXPECT_NE(rec->layout().find("realsense2_camera"), std::string::npos) << rec->layout();
+  EXPECT_NE(rec->depth_registered_by().find("/tf_static"), std::string::npos) << rec->depth_registered_by();
+  EXPECT_FALSE(rec->depth_camera().empty());
+  // The mount sim.yaml says, through base_link -> camera_color_optical_frame.
+  const auto T_c_r = rec->T_c_r();
+  ASSERT_TRUE(T_c_r);
+  EXPECT_EQ(rec->robot_frame(), "base_link");
+  EXPECT_TRUE(poses_agree(*T_c_r, *pipeline::simulator_T_c_r(small_sequence_dir()), 1e-6, 1e-8));
+  // 16UC1 millimetres of a depth camera in the colour camera's place: the TUM depth to the millimetre
+  // wherever the drawing does not change which surface a pixel sees.
+  const io::Dataset tum = io::Dataset::open(small_sequence_dir());
+  for (std::size_t i : {0u, 20u, 39u}) {
+    const cv::Mat a = tum.load(i).depth_m, b = rec->load(i).depth_m;
+    int valid = 0, close = 0;
+    for (int v = 0; v < a.rows; ++v)
+      for (int u = 0; u < a.cols; ++u)
+        if (a.at<float>(v, u) > 0)
+          ++valid, close += std::abs(a.at<float>(v, u) - b.at<float>(v, u)) <= 0.0015f;
+    EXPECT_GT(close, 0.97 * valid) << "frame " << i;
+  }
+}
+
 TEST(Ros2Recording, RunGivesTheTumFoldersTrajectoryByteForByte) {
   S3M_REQUIRE_REFERENCE_WRITER();
   const fs::path dir = scratch_dir() / "ros2_run";
@@ -81,6 +109,7 @@ TEST(Ros2Recording, RunGivesTheTumFoldersTrajectoryByteForByte) {
       << log;
   const std::string expected = read_bytes((dir / "tum" / "trajectory_camera.txt").string());
   ASSERT_GT(expected.size(), 1000u);
+  const io::Trajectory tum_robot = io::read_tum_trajectory((dir / "tum" / "trajectory_robot.txt").string());
   for (const Variant& v : kVariants) {
     SCOPED_TRACE(v.name);
     const fs::path out = dir / v.name;
@@ -89,6 +118,12 @@ TEST(Ros2Recording, RunGivesTheTumFoldersTrajectoryByteForByte) {
               0)
         << log;
     EXPECT_EQ(read_bytes((out / "trajectory_camera.txt").string()), expected);
+    // The robot's: T_c_r from /tf_static, which holds sim.yaml's 9-digit mount inverted (base_link ->
+    // camera), so it agrees to the last printed digit or so, not byte for byte.
+    const io::Trajectory robot = io::read_tum_trajectory((out / "trajectory_robot.txt").string());
+    ASSERT_EQ(robot.size(), tum_robot.size());
+    for (std::size_t i = 0; i < robot.size(); ++i)
+      EXPECT_TRUE(poses_agree(robot[i].T_w_x, tum_robot[i].T_w_x, 1e-6, 1e-8)) << "robot pose " << i;
   }
 }
 

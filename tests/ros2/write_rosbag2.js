@@ -4,7 +4,7 @@
 // reference s3m's own rosbag2 reader is tested against.
 //
 //   node write_rosbag2.js --tum DIR --out PATH [--storage mcap|db3] [--compression zstd|lz4|none]
-//        [--unchunked] [--colour rgb8|bgr8|png] [--split N] [--max-frames N]
+//        [--unchunked] [--colour rgb8|bgr8|png] [--split N] [--max-frames N] [--realsense-raw]
 //
 // Topics are the TUM RGB-D names s3m recognises: /camera/rgb/image_color (or .../compressed with
 // --colour png: the PNG files' own bytes), /camera/depth/image (32FC1 metres: the PNG value times
@@ -12,6 +12,9 @@
 // the sequence has labels), /groundtruth (PoseStamped T_w_c), /odom (Odometry of the robot, from
 // groundtruth_robot.txt) and /tf_static (the robot-to-camera mount from sim.yaml).
 // --split N: a rosbag2 folder PATH with metadata.yaml and N MCAP files.
+// --realsense-raw: realsense2_camera's names instead, with the depth as its raw stream
+// (/camera/camera/depth/image_rect_raw, 16UC1 millimetres, its own CameraInfo and optical frame,
+// placed by /tf_static), which s3m draws into the colour camera itself.
 'use strict';
 const fs = require('fs');
 const path = require('path');
@@ -24,7 +27,8 @@ const zstd = require('@foxglove/wasm-zstd');
 const { definitions } = require('./msg_definitions.js');
 
 function args() {
-  const a = { storage: 'mcap', compression: 'zstd', unchunked: false, colour: 'rgb8', split: 1, maxFrames: Infinity };
+  const a = { storage: 'mcap', compression: 'zstd', unchunked: false, colour: 'rgb8', split: 1, maxFrames: Infinity,
+              realsenseRaw: false };
   const v = process.argv.slice(2);
   for (let i = 0; i < v.length; ++i) {
     const k = v[i];
@@ -36,6 +40,7 @@ function args() {
     else if (k === '--colour') a.colour = v[++i];
     else if (k === '--split') a.split = Number(v[++i]);
     else if (k === '--max-frames') a.maxFrames = Number(v[++i]);
+    else if (k === '--realsense-raw') a.realsenseRaw = true;
     else throw new Error(`unknown option ${k}`);
   }
   if (!a.tum || !a.out) throw new Error('--tum DIR and --out PATH are required');
@@ -108,6 +113,14 @@ function depthMessage(file, header, depthFactor) {
   return { header, height: png.height, width: png.width, encoding: '32FC1', is_bigendian: 0, step: png.width * 4, data };
 }
 
+function depthMillimetres(file, header, depthFactor) {
+  const png = readPng(file);
+  const mm = new Uint16Array(png.width * png.height);
+  for (let i = 0; i < mm.length; ++i) mm[i] = Math.round((png.data[4 * i] * 1000) / depthFactor);
+  return { header, height: png.height, width: png.width, encoding: '16UC1', is_bigendian: 0, step: png.width * 2,
+           data: new Uint8Array(mm.buffer) };
+}
+
 function labelMessage(file, header) {
   const png = readPng(file);
   const ids = new Uint16Array(png.width * png.height);
@@ -118,7 +131,11 @@ function labelMessage(file, header) {
 
 // Every message of the sequence, in time order: {topic, type, time (ns), frame, msg}.
 function* messages(a) {
-  const dir = a.tum, frameId = 'camera_rgb_optical_frame';
+  const dir = a.tum, rs = a.realsenseRaw;
+  const frameId = rs ? 'camera_color_optical_frame' : 'camera_rgb_optical_frame', depthFrame = 'camera_depth_optical_frame';
+  const names = rs ? { rgb: '/camera/camera/color/image_raw', info: '/camera/camera/color/camera_info',
+                       depth: '/camera/camera/depth/image_rect_raw', depthInfo: '/camera/camera/depth/camera_info' }
+                   : { rgb: '/camera/rgb/image_color', info: '/camera/rgb/camera_info', depth: '/camera/depth/image' };
   const cameraText = fs.readFileSync(path.join(dir, 'camera.yaml'), 'utf8');
   const cam = Object.fromEntries(['fx', 'fy', 'cx', 'cy', 'width', 'height', 'depth_factor'].map((k) => [k, yamlNumber(cameraText, k)]));
   const rgb = listFile(dir, 'rgb.txt').slice(0, a.maxFrames), depth = listFile(dir, 'depth.txt').slice(0, a.maxFrames);
@@ -127,7 +144,9 @@ function* messages(a) {
   const mount = mountFromSim(dir);
   if (mount)
     yield { topic: '/tf_static', type: 'tf2_msgs/msg/TFMessage', time: nanos(first), frame: 0, msg: { transforms: [
-      { header: { stamp: first, frame_id: 'base_link' }, child_frame_id: frameId, transform: mount }] } };
+      { header: { stamp: first, frame_id: 'base_link' }, child_frame_id: frameId, transform: mount },
+      ...(rs ? [{ header: { stamp: first, frame_id: frameId }, child_frame_id: depthFrame,
+                  transform: { translation: { x: 0, y: 0, z: 0 }, rotation: { x: 0, y: 0, z: 0, w: 1 } } }] : [])] } };
   const info = { header: { stamp: first, frame_id: frameId }, height: cam.height, width: cam.width, distortion_model: 'plumb_bob',
     d: [0, 0, 0, 0, 0], k: [cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1], r: [1, 0, 0, 0, 1, 0, 0, 0, 1],
     p: [cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0], binning_x: 0, binning_y: 0,
@@ -135,16 +154,21 @@ function* messages(a) {
   const gt = listFile(dir, 'groundtruth.txt'), robot = listFile(dir, 'groundtruth_robot.txt');
   for (let i = 0; i < rgb.length; ++i) {
     const t = stamp(rgb[i][0]), header = { stamp: t, frame_id: frameId };
-    yield { topic: '/camera/rgb/camera_info', type: 'sensor_msgs/msg/CameraInfo', time: nanos(t), frame: i, msg: { ...info, header } };
-    const colourTopic = a.colour === 'png' ? '/camera/rgb/image_color/compressed' : '/camera/rgb/image_color';
+    yield { topic: names.info, type: 'sensor_msgs/msg/CameraInfo', time: nanos(t), frame: i, msg: { ...info, header } };
+    if (rs)
+      yield { topic: names.depthInfo, type: 'sensor_msgs/msg/CameraInfo', time: nanos(t), frame: i,
+              msg: { ...info, header: { stamp: t, frame_id: depthFrame } } };
+    const colourTopic = a.colour === 'png' ? names.rgb + '/compressed' : names.rgb;
     const colourType = a.colour === 'png' ? 'sensor_msgs/msg/CompressedImage' : 'sensor_msgs/msg/Image';
     yield { topic: colourTopic, type: colourType, time: nanos(t), frame: i, msg: colourMessage(path.join(dir, rgb[i][1]), header, a.colour) };
     if (i < depth.length) {
       const td = stamp(depth[i][0]);
-      yield { topic: '/camera/depth/image', type: 'sensor_msgs/msg/Image', time: nanos(td), frame: i,
-              msg: depthMessage(path.join(dir, depth[i][1]), { stamp: td, frame_id: frameId }, cam.depth_factor) };
+      const file = path.join(dir, depth[i][1]);
+      yield { topic: names.depth, type: 'sensor_msgs/msg/Image', time: nanos(td), frame: i,
+              msg: rs ? depthMillimetres(file, { stamp: td, frame_id: depthFrame }, cam.depth_factor)
+                      : depthMessage(file, { stamp: td, frame_id: frameId }, cam.depth_factor) };
     }
-    if (i < labels.length) {
+    if (i < labels.length && !rs) {
       const tl = stamp(labels[i][0]);
       yield { topic: '/camera/labels', type: 'sensor_msgs/msg/Image', time: nanos(tl), frame: i,
               msg: labelMessage(path.join(dir, labels[i][1]), { stamp: tl, frame_id: frameId }) };

@@ -43,7 +43,7 @@ std::string topics_of_type(const RecordingIndex& x, const std::string& type) {
   return list.empty() ? "; the recording has no " + type + " topic" : "; its " + type + " topics: " + list;
 }
 
-class Rosbag2FrameSource final : public pipeline::FrameSource {
+class Rosbag2FrameSource final : public Rosbag2Source {
  public:
   Rosbag2FrameSource(const std::string& path, const Rosbag2Topics& topics,
                      const pipeline::DatasetConfig& dataset)
@@ -62,6 +62,7 @@ class Rosbag2FrameSource final : public pipeline::FrameSource {
     read_camera(x, topics.camera_info, dataset.camera);
     register_depth(x, dataset.camera);
     read_groundtruth(x, topics.groundtruth);
+    find_robot(x);
     pair(dataset.max_dt_s);
     describe(x);
   }
@@ -98,6 +99,8 @@ class Rosbag2FrameSource final : public pipeline::FrameSource {
   std::string camera_source() const override { return camera_source_; }
   std::string depth_registered_by() const override { return registered_by_; }
   std::string depth_camera() const override { return to_colour_ ? to_colour_->describe() : ""; }
+  std::optional<SE3> T_c_r() const override { return T_c_r_; }
+  std::string robot_frame() const override { return robot_frame_; }
 
  private:
   struct Stream {
@@ -216,11 +219,22 @@ class Rosbag2FrameSource final : public pipeline::FrameSource {
     if (topic.empty() || it == x.poses.end()) return;
     for (const PoseStamped& p : it->second) {
       SE3 T_w_c = p.T_frame_body;
+      if (!p.child_frame_id.empty()) body_frame_ = p.child_frame_id;
       if (!p.child_frame_id.empty() && !camera_frame_.empty())
         if (const auto T_body_c = x.tf_static.lookup(p.child_frame_id, camera_frame_))
           T_w_c = T_w_c * *T_body_c;
       groundtruth_.push_back({p.header.stamp_s(), T_w_c});
     }
+  }
+
+  void find_robot(const RecordingIndex& x) {
+    std::vector<std::string> frames = {"base_link", "base_footprint"};
+    if (!body_frame_.empty()) frames.insert(frames.begin(), body_frame_);
+    for (const std::string& f : frames)
+      if (const auto T = camera_frame_.empty() ? std::nullopt : x.tf_static.lookup(camera_frame_, f)) {
+        T_c_r_ = *T, robot_frame_ = f;
+        return;
+      }
   }
 
   void pair(double max_dt_s) {
@@ -271,7 +285,8 @@ class Rosbag2FrameSource final : public pipeline::FrameSource {
                                 m->cols, m->rows, camera_.width, camera_.height));
   }
 
-  std::string path_, layout_, camera_source_, registered_by_, camera_frame_;
+  std::string path_, layout_, camera_source_, registered_by_, camera_frame_, body_frame_, robot_frame_;
+  std::optional<SE3> T_c_r_;
   Recording rec_;
   TopicSet set_;
   Stream rgb_, depth_, labels_;
@@ -285,9 +300,8 @@ class Rosbag2FrameSource final : public pipeline::FrameSource {
 
 }  // namespace
 
-std::unique_ptr<pipeline::FrameSource> open_rosbag2_source(const std::string& path,
-                                                           const Rosbag2Topics& topics,
-                                                           const pipeline::DatasetConfig& dataset) {
+std::unique_ptr<Rosbag2Source> open_rosbag2_source(const std::string& path, const Rosbag2Topics& topics,
+                                                   const pipeline::DatasetConfig& dataset) {
   return std::make_unique<Rosbag2FrameSource>(path, topics, dataset);
 }
 

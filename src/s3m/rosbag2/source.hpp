@@ -9,8 +9,10 @@
 // The camera comes from the colour CameraInfo or dataset.camera, with the ROS 1 reader's precedence.
 // 16-bit depth is millimetres (REP 118); 32FC1 is metres.
 #include <memory>
+#include <optional>
 #include <string>
 
+#include "s3m/core/se3.hpp"
 #include "s3m/pipeline/frame_source.hpp"
 
 namespace s3m::rosbag2 {
@@ -27,11 +29,19 @@ struct Rosbag2Topics {
   void validate() const;
 };
 
+class Rosbag2Source : public pipeline::FrameSource {
+ public:
+  // The robot-to-camera calibration T_c_r (maps robot-frame points into the colour camera's frame)
+  // from /tf_static: the robot is the Odometry ground truth's body frame, else base_link or
+  // base_footprint (REP 105). nullopt when /tf_static does not connect one to the camera's frame.
+  virtual std::optional<SE3> T_c_r() const = 0;
+  virtual std::string robot_frame() const = 0;  // the frame T_c_r is of ("" without T_c_r)
+};
+
 // Scans the recording once (memory: its index, not its images). Throws s3m::Error naming the file
 // and the record or message on a corrupt or truncated file, an unknown type on a topic it reads, a
 // missing topic (listing the recording's topics of that type) or a camera that does not fit.
-std::unique_ptr<pipeline::FrameSource> open_rosbag2_source(const std::string& path,
-                                                           const Rosbag2Topics& topics,
-                                                           const pipeline::DatasetConfig& dataset);
+std::unique_ptr<Rosbag2Source> open_rosbag2_source(const std::string& path, const Rosbag2Topics& topics,
+                                                   const pipeline::DatasetConfig& dataset);
 
 }  // namespace s3m::rosbag2
