@@ -13,6 +13,7 @@ const POSE = dep('geometry_msgs/Pose', 'geometry_msgs/Point position\ngeometry_m
 const join = (main, deps) => [main, ...deps].join(SEP);
 
 const definitions = {
+  'realsense2_camera_msgs/msg/Extrinsics': 'float64[9] rotation\nfloat64[3] translation',
   'sensor_msgs/msg/Image': join(
     'std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\nuint32 step\nuint8[] data',
     [HEADER, TIME]),

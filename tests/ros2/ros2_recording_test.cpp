@@ -3,6 +3,7 @@
 // byte for byte, for every storage (MCAP with zstd, lz4 or no chunks, SQLite, split folders), and
 // the robot's through the recording's /tf_static.
 #include <cstring>
+#include <tuple>
 
 #include "ros2_fixtures.hpp"
 #include "s3m/io/dataset.hpp"
@@ -72,28 +73,35 @@ TEST(Ros2Recording, OdometryGroundTruthIsMovedOntoTheCameraByTfStatic) {
     EXPECT_TRUE(poses_agree(rec->groundtruth()[i].T_w_x, camera[i].T_w_x, 1e-4, 1e-6)) << "pose " << i;
 }
 
-TEST(Ros2Recording, RealsenseRawDepthIsDrawnIntoTheColourCameraWithTfStatic) {
+TEST(Ros2Recording, RealsenseRawDepthIsDrawnIntoTheColourCamera) {
   S3M_REQUIRE_REFERENCE_WRITER();
-  const auto rec = rosbag2::open_rosbag2_source(recording("realsense_raw.mcap", "--realsense-raw"), {}, {});
-  EXPECT_NE(rec->layout().find("realsense2_camera"), std::string::npos) << rec->layout();
-  EXPECT_NE(rec->depth_registered_by().find("/tf_static"), std::string::npos) << rec->depth_registered_by();
-  EXPECT_FALSE(rec->depth_camera().empty());
-  // The mount sim.yaml says, through base_link -> camera_color_optical_frame.
-  const auto T_c_r = rec->T_c_r();
-  ASSERT_TRUE(T_c_r);
-  EXPECT_EQ(rec->robot_frame(), "base_link");
-  EXPECT_TRUE(poses_agree(*T_c_r, *pipeline::simulator_T_c_r(small_sequence_dir()), 1e-6, 1e-8));
-  // 16UC1 millimetres of a depth camera in the colour camera's place: the TUM depth to the millimetre
-  // wherever the drawing does not change which surface a pixel sees.
   const io::Dataset tum = io::Dataset::open(small_sequence_dir());
-  for (std::size_t i : {0u, 20u, 39u}) {
-    const cv::Mat a = tum.load(i).depth_m, b = rec->load(i).depth_m;
-    int valid = 0, close = 0;
-    for (int v = 0; v < a.rows; ++v)
-      for (int u = 0; u < a.cols; ++u)
-        if (a.at<float>(v, u) > 0)
-          ++valid, close += std::abs(a.at<float>(v, u) - b.at<float>(v, u)) <= 0.0015f;
-    EXPECT_GT(close, 0.97 * valid) << "frame " << i;
+  // The depth camera placed by /tf_static, or (not connected there) by the driver's extrinsics topic.
+  for (const auto& [name, options, placed_by] :
+       {std::tuple{"realsense_raw.mcap", "--realsense-raw", "/tf_static"},
+        std::tuple{"realsense_extrinsics.mcap", "--realsense-raw --extrinsics",
+                   "/camera/camera/extrinsics/depth_to_color"}}) {
+    SCOPED_TRACE(name);
+    const auto rec = rosbag2::open_rosbag2_source(recording(name, options), {}, {});
+    EXPECT_NE(rec->layout().find("realsense2_camera"), std::string::npos) << rec->layout();
+    EXPECT_NE(rec->depth_registered_by().find(placed_by), std::string::npos) << rec->depth_registered_by();
+    EXPECT_FALSE(rec->depth_camera().empty());
+    // The mount sim.yaml says, through base_link -> camera_color_optical_frame.
+    const auto T_c_r = rec->T_c_r();
+    ASSERT_TRUE(T_c_r);
+    EXPECT_EQ(rec->robot_frame(), "base_link");
+    EXPECT_TRUE(poses_agree(*T_c_r, *pipeline::simulator_T_c_r(small_sequence_dir()), 1e-6, 1e-8));
+    // 16UC1 millimetres of a depth camera in the colour camera's place: the TUM depth to the
+    // millimetre wherever the drawing does not change which surface a pixel sees.
+    for (std::size_t i : {0u, 20u, 39u}) {
+      const cv::Mat a = tum.load(i).depth_m, b = rec->load(i).depth_m;
+      int valid = 0, close = 0;
+      for (int v = 0; v < a.rows; ++v)
+        for (int u = 0; u < a.cols; ++u)
+          if (a.at<float>(v, u) > 0)
+            ++valid, close += std::abs(a.at<float>(v, u) - b.at<float>(v, u)) <= 0.0015f;
+      EXPECT_GT(close, 0.97 * valid) << "frame " << i;
+    }
   }
 }
 

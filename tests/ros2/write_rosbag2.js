@@ -4,7 +4,7 @@
 // reference s3m's own rosbag2 reader is tested against.
 //
 //   node write_rosbag2.js --tum DIR --out PATH [--storage mcap|db3] [--compression zstd|lz4|none]
-//        [--unchunked] [--colour rgb8|bgr8|png] [--split N] [--max-frames N] [--realsense-raw]
+//        [--unchunked] [--colour rgb8|bgr8|png] [--split N] [--max-frames N] [--realsense-raw [--extrinsics]]
 //
 // Topics are the TUM RGB-D names s3m recognises: /camera/rgb/image_color (or .../compressed with
 // --colour png: the PNG files' own bytes), /camera/depth/image (32FC1 metres: the PNG value times
@@ -14,7 +14,8 @@
 // --split N: a rosbag2 folder PATH with metadata.yaml and N MCAP files.
 // --realsense-raw: realsense2_camera's names instead, with the depth as its raw stream
 // (/camera/camera/depth/image_rect_raw, 16UC1 millimetres, its own CameraInfo and optical frame,
-// placed by /tf_static), which s3m draws into the colour camera itself.
+// placed by /tf_static), which s3m draws into the colour camera itself. With --extrinsics the depth
+// camera is placed by the driver's /camera/camera/extrinsics/depth_to_color instead of /tf_static.
 'use strict';
 const fs = require('fs');
 const path = require('path');
@@ -28,7 +29,7 @@ const { definitions } = require('./msg_definitions.js');
 
 function args() {
   const a = { storage: 'mcap', compression: 'zstd', unchunked: false, colour: 'rgb8', split: 1, maxFrames: Infinity,
-              realsenseRaw: false };
+              realsenseRaw: false, extrinsics: false };
   const v = process.argv.slice(2);
   for (let i = 0; i < v.length; ++i) {
     const k = v[i];
@@ -41,6 +42,7 @@ function args() {
     else if (k === '--split') a.split = Number(v[++i]);
     else if (k === '--max-frames') a.maxFrames = Number(v[++i]);
     else if (k === '--realsense-raw') a.realsenseRaw = true;
+    else if (k === '--extrinsics') a.extrinsics = true;
     else throw new Error(`unknown option ${k}`);
   }
   if (!a.tum || !a.out) throw new Error('--tum DIR and --out PATH are required');
@@ -145,12 +147,15 @@ function* messages(a) {
   if (mount)
     yield { topic: '/tf_static', type: 'tf2_msgs/msg/TFMessage', time: nanos(first), frame: 0, msg: { transforms: [
       { header: { stamp: first, frame_id: 'base_link' }, child_frame_id: frameId, transform: mount },
-      ...(rs ? [{ header: { stamp: first, frame_id: frameId }, child_frame_id: depthFrame,
+      ...(rs && !a.extrinsics ? [{ header: { stamp: first, frame_id: frameId }, child_frame_id: depthFrame,
                   transform: { translation: { x: 0, y: 0, z: 0 }, rotation: { x: 0, y: 0, z: 0, w: 1 } } }] : [])] } };
   const info = { header: { stamp: first, frame_id: frameId }, height: cam.height, width: cam.width, distortion_model: 'plumb_bob',
     d: [0, 0, 0, 0, 0], k: [cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1], r: [1, 0, 0, 0, 1, 0, 0, 0, 1],
     p: [cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0], binning_x: 0, binning_y: 0,
     roi: { x_offset: 0, y_offset: 0, height: 0, width: 0, do_rectify: false } };
+  if (rs && a.extrinsics)
+    yield { topic: '/camera/camera/extrinsics/depth_to_color', type: 'realsense2_camera_msgs/msg/Extrinsics', time: nanos(first),
+            frame: 0, msg: { rotation: [1, 0, 0, 0, 1, 0, 0, 0, 1], translation: [0, 0, 0] } };
   const gt = listFile(dir, 'groundtruth.txt'), robot = listFile(dir, 'groundtruth_robot.txt');
   for (let i = 0; i < rgb.length; ++i) {
     const t = stamp(rgb[i][0]), header = { stamp: t, frame_id: frameId };

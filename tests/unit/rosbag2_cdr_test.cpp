@@ -123,6 +123,18 @@ TEST(Rosbag2Cdr, TfMessageAndOdometryPoses) {
   EXPECT_EQ(o.T_frame_body.translation(), Vec3(1, 2, 3));
 }
 
+TEST(Rosbag2Cdr, RealsenseExtrinsicsAreColumnMajor) {
+  Buf b = {0x00, 0x01, 0x00, 0x00};
+  for (double v : {0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0}) f64(b, v);  // columns: 90 deg about z
+  for (double v : {0.015, 0.0, 0.0}) f64(b, v);
+  const SE3 T = decode_extrinsics(view(b), "ext");
+  const Vec3 p = T * Vec3(1, 0, 0);  // x -> y, then the translation
+  EXPECT_NEAR(p.x(), 0.015, 1e-15);
+  EXPECT_NEAR(p.y(), 1.0, 1e-15);
+  b.resize(b.size() - 8);
+  expect_error([&] { decode_extrinsics(view(b), "ext"); }, {"ext", "translation", "truncated"});
+}
+
 TEST(Rosbag2Cdr, TruncatedOrForeignBytesAreErrorsNamingTheField) {
   Buf b = header(1, 0, "cam");
   u32(b, 480);

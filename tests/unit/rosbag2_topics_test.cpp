@@ -27,7 +27,9 @@ TEST(Rosbag2Topics, RealsenseAlignedRawAndCompressed) {
   EXPECT_EQ(s.rgb_info, "/camera/camera/color/camera_info");
 
   t.erase("/camera/camera/aligned_depth_to_color/image_raw");
+  t["/camera/camera/extrinsics/depth_to_color"] = "realsense2_camera_msgs/msg/Extrinsics";
   s = choose_topics(t, "", "", "");
+  EXPECT_EQ(s.extrinsics, "/camera/camera/extrinsics/depth_to_color");
   EXPECT_EQ(s.depth, "/camera/camera/depth/image_rect_raw");
   EXPECT_EQ(s.depth_info, "/camera/camera/depth/camera_info");
   EXPECT_FALSE(s.registered());

@@ -1,5 +1,6 @@
 #include "s3m/rosbag2/cdr.hpp"
 
+#include <cmath>
 #include <cstdlib>
 
 #include <fmt/format.h>
@@ -141,6 +142,19 @@ PoseStamped decode_odometry(Bytes b, const std::string& where) {
     m.T_frame_body = read_pose(r, "pose.pose.position", "pose.pose.orientation");
     return m;
   });
+}
+
+SE3 decode_extrinsics(Bytes b, const std::string& where) {
+  CdrReader r(b, where);
+  Mat3 R;
+  for (int c = 0; c < 3; ++c)
+    for (int row = 0; row < 3; ++row) R(row, c) = r.f64("rotation");
+  Vec3 t;
+  for (int i = 0; i < 3; ++i) t(i) = r.f64("translation");
+  if (!R.allFinite() || !t.allFinite() || std::abs(R.determinant() - 1.0) > 1e-3)
+    throw Error(where +
+                ": rotation is not a rotation matrix (expected realsense2_camera's column-major 3x3)");
+  return make_se3(R, t);
 }
 
 }  // namespace s3m::rosbag2

@@ -88,6 +88,9 @@ CompressedImage decode_compressed_image(Bytes b, const std::string& where);
 CameraInfo decode_camera_info(Bytes b, const std::string& where);
 std::vector<TransformStamped> decode_tf_message(Bytes b, const std::string& where);  // tf2_msgs/msg/TFMessage
 PoseStamped decode_pose_stamped(Bytes b, const std::string& where);
+// realsense2_camera_msgs/msg/Extrinsics (float64[9] rotation, column-major as librealsense's
+// rs2_extrinsics; float64[3] translation [m]): T_to_from, e.g. T_colour_depth for depth_to_color.
+SE3 decode_extrinsics(Bytes b, const std::string& where);
 PoseStamped decode_odometry(Bytes b, const std::string& where);  // its pose (the twist is left)
 
 }  // namespace s3m::rosbag2

@@ -104,24 +104,37 @@ class McapFile final : public StorageFile {
       read_at(ref.offset, out.data(), out.size(), "message data");
       return out;
     }
-    if (cached_chunk_ != ref.offset || cache_.empty()) {
-      std::vector<std::uint8_t> record;
-      const std::uint8_t op = read_record(ref.offset, record);
-      const std::string where = path_ + ": chunk at byte " + std::to_string(ref.offset);
-      if (op != kChunk) throw Error(where + ": " + record_name(op) + " (expected a chunk record)");
-      ByteReader r({record.data(), record.size()}, where);
-      const ChunkHead c = chunk_head(r);
-      decompress(c.compression, c.records, c.uncompressed_size, cache_, where);
-      cached_chunk_ = ref.offset;
-    }
-    if (ref.inner + ref.size > cache_.size())
+    const std::vector<std::uint8_t>& chunk = decompressed(ref.offset);
+    if (ref.inner + ref.size > chunk.size())
       throw Error(path_ + ": chunk at byte " + std::to_string(ref.offset) +
                   " is shorter than when it was scanned");
-    std::memcpy(out.data(), cache_.data() + ref.inner, ref.size);
+    std::memcpy(out.data(), chunk.data() + ref.inner, ref.size);
     return out;
   }
 
  private:
+  // The chunk at `offset`, decompressed. Two are kept: a frame's colour and depth images may sit in
+  // neighbouring chunks, and a frame source reads them in turn.
+  const std::vector<std::uint8_t>& decompressed(std::uint64_t offset) const {
+    for (int i : {1, 0})
+      if (cache_[i].offset == offset && !cache_[i].records.empty()) {
+        if (i == 0) std::swap(cache_[0], cache_[1]);
+        return cache_[1].records;
+      }
+    std::swap(cache_[0], cache_[1]);  // now cache_[1] is the least recently used: refilled
+    Cached& c = cache_[1];
+    std::vector<std::uint8_t> record;
+    const std::uint8_t op = read_record(offset, record);
+    const std::string where = path_ + ": chunk at byte " + std::to_string(offset);
+    if (op != kChunk) throw Error(where + ": " + record_name(op) + " (expected a chunk record)");
+    ByteReader r({record.data(), record.size()}, where);
+    const ChunkHead head = chunk_head(r);
+    c.records.clear();
+    decompress(head.compression, head.records, head.uncompressed_size, c.records, where);
+    c.offset = offset;
+    return c.records;
+  }
+
   // "chunk record (0x06)", for errors.
   static std::string record_name(std::uint8_t op) {
     static const char* names[] = {
@@ -241,8 +254,11 @@ class McapFile final : public StorageFile {
   mutable std::uint8_t head_[kRecordHead] = {};
   std::map<std::uint16_t, std::string> schemas_;
   std::map<std::uint16_t, Channel> channels_;
-  mutable std::vector<std::uint8_t> cache_;  // the last chunk read() decompressed
-  mutable std::uint64_t cached_chunk_ = 0;
+  struct Cached {
+    std::uint64_t offset = 0;
+    std::vector<std::uint8_t> records;  // empty: nothing cached
+  };
+  mutable Cached cache_[2];  // the chunks read() used last; [1] the most recent
 };
 
 }  // namespace

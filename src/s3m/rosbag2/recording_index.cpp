@@ -32,6 +32,8 @@ void add(RecordingIndex& x, const MessageView& m, const std::string& where) {
     x.images[topic].push_back({read_header(r).stamp_s(), m.ref});
   } else if (type == "sensor_msgs/msg/CameraInfo") {
     if (!x.first_info.count(topic)) x.first_info[topic] = decode_camera_info(m.data, where);
+  } else if (type == "realsense2_camera_msgs/msg/Extrinsics") {
+    if (!x.first_extrinsics.count(topic)) x.first_extrinsics[topic] = decode_extrinsics(m.data, where);
   } else if (type == "tf2_msgs/msg/TFMessage" && topic == "/tf_static") {
     for (const TransformStamped& t : decode_tf_message(m.data, where)) x.tf_static.add(t);
   } else if (type == "geometry_msgs/msg/PoseStamped") {
@@ -44,7 +46,8 @@ void add(RecordingIndex& x, const MessageView& m, const std::string& where) {
 bool decoded_here(const std::string& type) {
   return type == "sensor_msgs/msg/Image" || type == "sensor_msgs/msg/CompressedImage" ||
          type == "sensor_msgs/msg/CameraInfo" || type == "tf2_msgs/msg/TFMessage" ||
-         type == "geometry_msgs/msg/PoseStamped" || type == "nav_msgs/msg/Odometry";
+         type == "geometry_msgs/msg/PoseStamped" || type == "nav_msgs/msg/Odometry" ||
+         type == "realsense2_camera_msgs/msg/Extrinsics";
 }
 
 }  // namespace

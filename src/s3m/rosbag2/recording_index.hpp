@@ -33,6 +33,7 @@ struct RecordingIndex {
   std::map<std::string, TopicStats> topics;
   std::map<std::string, std::vector<StampedRef>> images;  // Image and CompressedImage topics, by stamp
   std::map<std::string, CameraInfo> first_info;           // CameraInfo topics
+  std::map<std::string, SE3> first_extrinsics;            // realsense2_camera's Extrinsics topics
   StaticTf tf_static;
   std::map<std::string, std::vector<PoseStamped>> poses;  // PoseStamped and Odometry topics, by stamp
   TopicTypes types() const;

@@ -200,15 +200,18 @@ class Rosbag2FrameSource final : public Rosbag2Source {
       return;
     }
     const std::string colour_frame = rgb == x.first_info.end() ? "" : rgb->second.header.frame_id;
-    const auto T_c_d = x.tf_static.lookup(colour_frame, info.header.frame_id);
+    auto T_c_d = x.tf_static.lookup(colour_frame, info.header.frame_id);
+    std::string by = "/tf_static";
+    if (const auto e = x.first_extrinsics.find(set_.extrinsics); !T_c_d && e != x.first_extrinsics.end())
+      T_c_d = e->second, by = set_.extrinsics;
     if (!T_c_d)
       throw Error(path_ + ": the depth (" + info.header.frame_id + ") is not registered to colour (" +
                   colour_frame +
-                  ") and /tf_static does not connect them; record /tf_static, or the driver's depth aligned "
-                  "to colour");
+                  ") and neither /tf_static nor an extrinsics topic connects them; record /tf_static, or the "
+                  "driver's depth aligned to colour");
     to_colour_ = std::make_shared<io::DepthToColour>(
         camera_from_info(info, PinholeCamera{}.bf, path_ + ": " + set_.depth_info), camera_, *T_c_d);
-    registered_by_ = "s3m, with the recording's depth camera and /tf_static";
+    registered_by_ = "s3m, with the recording's depth camera and " + by;
     spdlog::info("{}: {}", path_, to_colour_->describe());
   }
 

@@ -8,7 +8,7 @@ namespace s3m::rosbag2 {
 namespace {
 
 const std::string kImage = "sensor_msgs/msg/Image", kCompressed = "sensor_msgs/msg/CompressedImage",
-                  kInfo = "sensor_msgs/msg/CameraInfo";
+                  kInfo = "sensor_msgs/msg/CameraInfo", kExtrinsics = "realsense2_camera_msgs/msg/Extrinsics";
 
 struct Driver {
   const char* name;
@@ -89,6 +89,8 @@ std::vector<TopicSet> recognise_cameras(const TopicTypes& types) {
         s.depth_info = info_at(types, ns + d.raw_info);
         s.registered_if_same_info = d.same_info_registers;
         if (s.depth_info.empty()) continue;  // raw depth without its camera: not this driver's set
+        if (has(types, ns + "extrinsics/depth_to_color", kExtrinsics))
+          s.extrinsics = ns + "extrinsics/depth_to_color";
       }
       if (s.depth.empty()) continue;
       s.rgb_info = info_at(types, ns + d.colour_info);

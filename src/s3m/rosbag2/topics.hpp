@@ -4,7 +4,8 @@
 // driver's namespace (realsense2_camera's default is /camera/camera); colour and depth may also be
 // image_transport's compressed topics (IMAGE/compressed, DEPTH/compressedDepth):
 //  - realsense2_camera: NS/color/image_raw with NS/aligned_depth_to_color/image_raw (registered)
-//    or else NS/depth/image_rect_raw (raw: its NS/depth/camera_info and /tf_static place it);
+//    or else NS/depth/image_rect_raw (raw: its NS/depth/camera_info and /tf_static, or else
+//    NS/extrinsics/depth_to_color, place it);
 //  - azure_kinect_ros_driver: NS/rgb/image_raw with NS/depth_to_rgb/image_raw (registered);
 //  - orbbec_camera: NS/color/image_raw with NS/depth/image_raw (registered when the driver's
 //    depth_registration made its CameraInfo the colour camera's, else raw);
@@ -24,6 +25,9 @@ struct TopicSet {
   std::string labels;      // optional class-id images
   // The depth is registered exactly when the depth CameraInfo is the colour camera's (orbbec).
   bool registered_if_same_info = false;
+  // realsense2_camera's realsense2_camera_msgs/msg/Extrinsics from depth to colour ("" = none): used
+  // when /tf_static does not connect the two cameras' frames.
+  std::string extrinsics;
   std::string registered_by;        // the driver that registered depth ("" = not known)
   bool device_calibration = false;  // the colour CameraInfo is the device's factory calibration
   bool registered() const { return depth_info.empty(); }
