@@ -1,0 +1,90 @@
+// `s3m tum2bag --format mcap|db3` read back by independent implementations (read_recording.js:
+// @mcap/core through the summary and as a checked stream, @foxglove/rosmsg2-serialization with the
+// schema text the file carries, sql.js): every image's pixels are the folder's, the CameraInfo is
+// its camera, the ground truth its poses; and `s3m run` on the recording gives the folder's
+// trajectory byte for byte.
+#include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "ros2_fixtures.hpp"
+#include "s3m/io/dataset.hpp"
+#include "s3m/rosbag2/compression.hpp"
+
+namespace s3m::it {
+namespace {
+
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+
+nlohmann::json read_back(const std::string& path, const fs::path& log) {
+  const std::string script = (fs::path(S3M_SOURCE_DIR) / "tests" / "ros2" / "read_recording.js").string();
+  const std::string cmd =
+      "node '" + script + "' '" + path + "' > '" + log.string() + "' 2> '" + log.string() + ".err'";
+  if (std::system(cmd.c_str()) != 0)
+    throw std::runtime_error("read_recording.js: " + read_bytes(log.string() + ".err"));
+  return nlohmann::json::parse(read_bytes(log.string()));
+}
+
+std::uint32_t crc_of(const cv::Mat& m) {
+  const cv::Mat c = m.isContinuous() ? m : m.clone();
+  return rosbag2::crc32({c.data, c.total() * c.elemSize()});
+}
+
+TEST(Ros2Writer, Tum2bagRecordingsReadBackByTheReferenceAndRunIdentically) {
+  S3M_REQUIRE_REFERENCE_WRITER();
+  const fs::path dir = scratch_dir() / "ros2_writer";
+  fs::create_directories(dir);
+  const io::Dataset tum = io::Dataset::open(small_sequence_dir());
+  std::string log;
+  ASSERT_EQ(run_s3m("run '" + small_sequence_dir() + "' --out '" + (dir / "tum").string() +
+                        "' --deterministic --no-report",
+                    dir / "tum.log", &log),
+            0)
+      << log;
+  for (const std::string format : {"mcap", "db3"}) {
+    SCOPED_TRACE(format);
+    const std::string rec = (dir / ("seq." + format)).string();
+    ASSERT_EQ(run_s3m("tum2bag '" + small_sequence_dir() + "' --format " + format + " --out '" + rec + "'",
+                      dir / "tum2bag.log", &log),
+              0)
+        << log;
+    const nlohmann::json r = read_back(rec, dir / (format + ".json"));
+    const auto& topics = r["topics"];
+    for (const char* t :
+         {"/camera/rgb/image_color", "/camera/depth/image", "/camera/labels", "/camera/rgb/camera_info"})
+      EXPECT_EQ(topics[t]["count"], tum.size()) << t;
+    if (format == "mcap") {  // the summary's statistics and the stream agree with the indexed read
+      EXPECT_EQ(r["streamed_messages"], r["statistics_messages"]);
+      EXPECT_EQ(r["streamed_messages"].get<int>(), 4 * 40 + 40 + 1);
+      EXPECT_GT(r["chunk_indexes"].get<int>(), 1);
+    }
+    const auto& k = topics["/camera/rgb/camera_info"]["messages"][0]["k"];
+    EXPECT_EQ(k[0].get<double>(), tum.camera().fx);
+    EXPECT_EQ(k[5].get<double>(), tum.camera().cy);
+    for (std::size_t i = 0; i < tum.size(); ++i) {
+      const RgbdFrame f = tum.load(i);
+      cv::Mat rgb;
+      cv::cvtColor(f.rgb, rgb, cv::COLOR_BGR2RGB);
+      EXPECT_EQ(topics["/camera/rgb/image_color"]["messages"][i]["crc"].get<std::uint32_t>(), crc_of(rgb))
+          << i;
+      EXPECT_EQ(topics["/camera/depth/image"]["messages"][i]["crc"].get<std::uint32_t>(), crc_of(f.depth_m))
+          << i;
+      EXPECT_EQ(topics["/camera/labels"]["messages"][i]["crc"].get<std::uint32_t>(), crc_of(f.labels)) << i;
+    }
+    const auto& gt = topics["/groundtruth"]["messages"];
+    ASSERT_EQ(gt.size(), tum.groundtruth().size());
+    EXPECT_NEAR(gt[5]["pose"]["position"]["x"].get<double>(), tum.groundtruth()[5].T_w_x.translation().x(),
+                1e-15);
+    EXPECT_EQ(topics["/tf_static"]["messages"][0]["transforms"][0]["child_frame_id"],
+              "camera_rgb_optical_frame");
+
+    ASSERT_EQ(run_s3m("run '" + rec + "' --out '" + (dir / format).string() + "' --deterministic --no-report",
+                      dir / (format + ".log"), &log),
+              0)
+        << log;
+    EXPECT_EQ(read_bytes((dir / format / "trajectory_camera.txt").string()),
+              read_bytes((dir / "tum" / "trajectory_camera.txt").string()));
+  }
+}
+
+}  // namespace
+}  // namespace s3m::it
