@@ -57,6 +57,15 @@ TEST(Ros2BadInput, DamagedMcapFilesAreNamedWithTheRecord) {
                  {"no messages on the colour topic /nothing", "/camera/rgb/image_color (40 messages)"});
 }
 
+TEST(Ros2BadInput, TruncatedSqliteRecording) {
+  S3M_REQUIRE_REFERENCE_WRITER();
+  const fs::path dir = scratch_dir() / "ros2_cut_db3";
+  fs::create_directories(dir);
+  const std::string cut = copy_with(recording("rec.db3", "--storage db3"), dir / "cut.db3",
+                                    [](std::string& b) { b.resize(b.size() / 3); });
+  expect_refused("check '" + cut + "'", dir / "cut.log", {"cut.db3", "malformed"});
+}
+
 TEST(Ros2BadInput, SqliteFilesThatAreNotRosbag2) {
   const fs::path dir = scratch_dir() / "ros2_bad_db3";
   fs::create_directories(dir);
