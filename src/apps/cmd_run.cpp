@@ -1,5 +1,6 @@
 // `s3m run`: the full pipeline on a TUM-layout dataset (real or simulated), a ROS 2 recording or, in
 // ROS builds, a ROS1 bag.
+#include <filesystem>
 #include <iostream>
 
 #include <spdlog/spdlog.h>
@@ -10,6 +11,7 @@
 #include "s3m/core/error.hpp"
 #include "s3m/core/frame_state.hpp"
 #include "s3m/pipeline/factories.hpp"
+#include "s3m/rosbag2/session_writer.hpp"
 #include "s3m/run/progress.hpp"
 #include "s3m/run/run.hpp"
 
@@ -20,7 +22,7 @@ namespace {
 struct RunArgs {
   std::string dataset, config, out, segmenter, model_dir, poses = "slam", vocab, map;
   bool localize_only = false, slam_only = false, deterministic = false, no_report = false,
-       no_loop_closing = false, force = false;
+       no_loop_closing = false, force = false, no_session_mcap = false;
   long max_frames = -1;
   RosbagArgs bag;
 };
@@ -103,6 +105,9 @@ void register_run(CLI::App& app) {
       "with --map: localise only, the SLAM map stays as loaded (the semantic map still fuses this run)");
   cmd->add_option("--max-frames", args->max_frames, "process at most N frames")->check(count_option());
   cmd->add_flag("--no-report", args->no_report, "skip the plots and report.html");
+  cmd->add_flag("--no-session-mcap", args->no_session_mcap,
+                "skip OUT/session.mcap (trajectories as /tf and nav_msgs/Path, the map as PointCloud2 and "
+                "MarkerArray, for Foxglove and ros2 bag play)");
   cmd->add_flag("--force", args->force,
                 "run even when the map's cost estimate (voxel updates per frame, checked before the first "
                 "frame) is over its limit");
@@ -151,6 +156,10 @@ void register_run(CLI::App& app) {
     o.progress = run::stderr_is_tty();
     o.stop = &install_interrupt_handler();
     const run::RunResult r = run::run_dataset(o);
+    if (!args->no_session_mcap && r.frames_done > 0)
+      rosbag2::write_session_mcap(args->out);
+    else  // an earlier run's would not match this run's outputs
+      std::filesystem::remove(std::filesystem::path(args->out) / "session.mcap");
     print_summary(r, args->out);
     if (r.interrupted)
       throw Interrupted("run: stopped after " + std::to_string(r.frames_done) + " of " +

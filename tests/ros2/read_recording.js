@@ -21,6 +21,23 @@ const decompressHandlers = {
   lz4: (buf) => new Uint8Array(lz4.decompress(buf)),
 };
 
+// A PointCloud2 read through its own field table: point count, field names, points per class id and
+// the CRC-32 of the x y z class_id confidence values in point order.
+function cloudSummary(msg) {
+  const view = new DataView(msg.data.buffer, msg.data.byteOffset, msg.data.byteLength);
+  const field = Object.fromEntries(msg.fields.map((f) => [f.name, f]));
+  const perClass = {}, values = [];
+  for (let i = 0; i < msg.width * msg.height; ++i) {
+    const at = i * msg.point_step;
+    const id = view.getUint16(at + field.class_id.offset, true);
+    perClass[id] = (perClass[id] ?? 0) + 1;
+    values.push([view.getFloat32(at + field.x.offset, true), view.getFloat32(at + field.y.offset, true),
+                 view.getFloat32(at + field.z.offset, true), id, view.getFloat32(at + field.confidence.offset, true)]);
+  }
+  return { points: msg.width * msg.height, point_step: msg.point_step, fields: msg.fields.map((f) => f.name),
+           per_class: perClass, first: values[0], last: values[values.length - 1] };
+}
+
 function summarise(out, topic, type, msg) {
   const t = (out[topic] ??= { type, count: 0, messages: [] });
   t.count += 1;
@@ -31,6 +48,11 @@ function summarise(out, topic, type, msg) {
   else if (type === 'sensor_msgs/msg/CameraInfo') Object.assign(m, { k: Array.from(msg.k), d: Array.from(msg.d), width: msg.width });
   else if (type === 'geometry_msgs/msg/PoseStamped') m.pose = msg.pose;
   else if (type === 'tf2_msgs/msg/TFMessage') m.transforms = msg.transforms;
+  else if (type === 'nav_msgs/msg/Path') m.poses = msg.poses.map((p) => [p.header.stamp.sec, p.header.stamp.nanosec, p.pose]);
+  else if (type === 'sensor_msgs/msg/PointCloud2') m.cloud = cloudSummary(msg);
+  else if (type === 'visualization_msgs/msg/MarkerArray')
+    m.markers = msg.markers.map((k) => ({ id: k.id, type: k.type, text: k.text, points: k.points.length, scale: k.scale.x,
+                                          color: [k.color.r, k.color.g, k.color.b] }));
   t.messages.push(m);
 }
 

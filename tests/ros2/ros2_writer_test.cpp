@@ -1,13 +1,17 @@
-// `s3m tum2bag --format mcap|db3` read back by independent implementations (read_recording.js:
+// What s3m writes as ROS 2 recordings, read back by independent implementations (read_recording.js:
 // @mcap/core through the summary and as a checked stream, @foxglove/rosmsg2-serialization with the
-// schema text the file carries, sql.js): every image's pixels are the folder's, the CameraInfo is
-// its camera, the ground truth its poses; and `s3m run` on the recording gives the folder's
-// trajectory byte for byte.
+// schema text the file carries, sql.js). `s3m tum2bag --format mcap|db3`: every image's pixels are
+// the folder's, the CameraInfo is its camera, the ground truth its poses, and `s3m run` on the
+// recording gives the folder's trajectory byte for byte. `s3m run`'s OUT/session.mcap: below.
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "ros2_fixtures.hpp"
 #include "s3m/io/dataset.hpp"
+#include "s3m/io/trajectory.hpp"
+#include "s3m/mapping/export.hpp"
+#include "s3m/mapping/map_io.hpp"
+#include "s3m/rosbag2/cdr_writer.hpp"
 #include "s3m/rosbag2/compression.hpp"
 
 namespace s3m::it {
@@ -84,6 +88,67 @@ TEST(Ros2Writer, Tum2bagRecordingsReadBackByTheReferenceAndRunIdentically) {
     EXPECT_EQ(read_bytes((dir / format / "trajectory_camera.txt").string()),
               read_bytes((dir / "tum" / "trajectory_camera.txt").string()));
   }
+}
+
+// OUT/session.mcap of a run, read back by the reference: /tf and the Path hold trajectory_camera.txt
+// pose for pose with the recording's stamps, the PointCloud2 exactly the map's occupied voxels with
+// their classes, the markers one cube per voxel; every schema in the file parses (it decodes).
+TEST(Ros2Writer, SessionMcapHoldsTheRunsTrajectoryAndMap) {
+  S3M_REQUIRE_REFERENCE_WRITER();
+  const fs::path out = scratch_dir() / "ros2_session";
+  std::string log;
+  ASSERT_EQ(
+      run_s3m("run '" + small_sequence_dir() + "' --out '" + out.string() + "' --deterministic --no-report",
+              scratch_dir() / "session.log", &log),
+      0)
+      << log;
+  const nlohmann::json r = read_back((out / "session.mcap").string(), scratch_dir() / "session.json");
+  const auto& topics = r["topics"];
+  EXPECT_EQ(r["streamed_messages"], r["statistics_messages"]);
+  const io::Trajectory camera = io::read_tum_trajectory((out / "trajectory_camera.txt").string());
+  ASSERT_EQ(topics["/tf"]["count"].get<std::size_t>(), camera.size());
+  const auto& path = topics["/s3m/camera_path"]["messages"][0]["poses"];
+  ASSERT_EQ(path.size(), camera.size());
+  for (std::size_t i = 0; i < camera.size(); ++i) {
+    const auto& tf = topics["/tf"]["messages"][i];
+    const rosbag2::Stamp t = rosbag2::stamp_of(camera[i].t_s);
+    const auto& c = tf["transforms"][0];
+    EXPECT_EQ(c["child_frame_id"], "camera");
+    EXPECT_EQ(c["header"]["stamp"]["sec"].get<std::int32_t>(), t.sec) << i;
+    EXPECT_EQ(c["header"]["stamp"]["nanosec"].get<std::uint32_t>(), t.nanosec) << i;
+    const Vec3 p(c["transform"]["translation"]["x"].get<double>(),
+                 c["transform"]["translation"]["y"].get<double>(),
+                 c["transform"]["translation"]["z"].get<double>());
+    EXPECT_EQ(p, camera[i].T_w_x.translation()) << i;
+    EXPECT_EQ(path[i][2]["position"]["z"].get<double>(), camera[i].T_w_x.translation().z()) << i;
+    EXPECT_EQ(tf["transforms"][1]["child_frame_id"], "base_link");
+  }
+  const auto tree = mapping::load_semantic_map((out / "map.ot").string());
+  const std::vector<mapping::OccupiedVoxel> voxels = mapping::occupied_voxels(*tree);
+  const auto& cloud = topics["/s3m/map/cloud"]["messages"][0]["cloud"];
+  ASSERT_EQ(cloud["points"].get<std::size_t>(), voxels.size());
+  ASSERT_GT(voxels.size(), 1000u);
+  std::map<std::string, std::size_t> per_class;
+  for (const auto& v : voxels) ++per_class[std::to_string(v.label)];
+  for (const auto& [id, n] : per_class)
+    EXPECT_EQ(cloud["per_class"][id].get<std::size_t>(), n) << "class " << id;
+  EXPECT_EQ(cloud["first"][0].get<float>(), voxels.front().centre_w.x());
+  EXPECT_EQ(cloud["last"][3].get<int>(), voxels.back().label);
+  EXPECT_EQ(cloud["last"][4].get<float>(), voxels.back().confidence);
+  std::size_t cubes = 0;
+  for (const auto& m : topics["/s3m/map/markers"]["messages"][0]["markers"]) {
+    cubes += m["points"].get<std::size_t>();
+    EXPECT_EQ(m["type"], 6);
+    EXPECT_FALSE(m["text"].get<std::string>().empty());
+  }
+  EXPECT_EQ(cubes, voxels.size());
+
+  ASSERT_EQ(run_s3m("run '" + small_sequence_dir() + "' --out '" + (out.string() + "_off") +
+                        "' --deterministic --no-report --slam-only --no-session-mcap",
+                    scratch_dir() / "session_off.log", &log),
+            0)
+      << log;
+  EXPECT_FALSE(fs::exists(out.string() + "_off/session.mcap"));
 }
 
 }  // namespace

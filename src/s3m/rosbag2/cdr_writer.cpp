@@ -29,21 +29,17 @@ Stamp stamp_of(double t_s) {
           static_cast<std::uint32_t>(std::stoul(text.substr(dot + 1)))};
 }
 
-namespace {
-
-void header(CdrWriter& w, Stamp t, const std::string& frame_id) {
+void write_header(CdrWriter& w, Stamp t, const std::string& frame_id) {
   w.i32(t.sec);
   w.u32(t.nanosec);
   w.str(frame_id);
 }
 
-void pose(CdrWriter& w, const SE3& T) {
+void write_pose(CdrWriter& w, const SE3& T) {
   const Quat q(T.rotation());
   for (double v : {T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w()})
     w.f64(v);
 }
-
-}  // namespace
 
 std::vector<std::uint8_t> encode_image(Stamp t, const std::string& frame_id, const cv::Mat& image) {
   cv::Mat px;
@@ -65,7 +61,7 @@ std::vector<std::uint8_t> encode_image(Stamp t, const std::string& frame_id, con
                 " (expected CV_8UC3, CV_32FC1, CV_16UC1)");
   }
   CdrWriter w;
-  header(w, t, frame_id);
+  write_header(w, t, frame_id);
   w.u32(static_cast<std::uint32_t>(px.rows));
   w.u32(static_cast<std::uint32_t>(px.cols));
   w.str(encoding);
@@ -77,7 +73,7 @@ std::vector<std::uint8_t> encode_image(Stamp t, const std::string& frame_id, con
 
 std::vector<std::uint8_t> encode_camera_info(Stamp t, const std::string& frame_id, const PinholeCamera& c) {
   CdrWriter w;
-  header(w, t, frame_id);
+  write_header(w, t, frame_id);
   w.u32(static_cast<std::uint32_t>(c.height));
   w.u32(static_cast<std::uint32_t>(c.width));
   w.str("plumb_bob");
@@ -93,8 +89,8 @@ std::vector<std::uint8_t> encode_camera_info(Stamp t, const std::string& frame_i
 
 std::vector<std::uint8_t> encode_pose_stamped(Stamp t, const std::string& frame_id, const SE3& T) {
   CdrWriter w;
-  header(w, t, frame_id);
-  pose(w, T);
+  write_header(w, t, frame_id);
+  write_pose(w, T);
   return w.take();
 }
 
@@ -102,9 +98,9 @@ std::vector<std::uint8_t> encode_tf_message(Stamp t, const std::string& parent, 
                                             const SE3& T) {
   CdrWriter w;
   w.u32(1);
-  header(w, t, parent);
+  write_header(w, t, parent);
   w.str(child);
-  pose(w, T);
+  write_pose(w, T);
   return w.take();
 }
 

@@ -2,6 +2,7 @@
 // ROS 2 messages written in CDR (XCDR1 little endian), the inverse of cdr.hpp, for recordings s3m
 // writes (`s3m tum2bag --format mcap|db3`).
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@ class CdrWriter {
   void u32(std::uint32_t v) { put(v); }
   void i32(std::int32_t v) { put(v); }
   void f64(double v) { put(v); }
+  void f32(float v) { put(v); }
   void str(const std::string& s);
   void bytes(const std::uint8_t* data, std::size_t n);  // uint8[]
   std::vector<std::uint8_t> take() { return std::move(b_); }
@@ -27,8 +29,9 @@ class CdrWriter {
   template <typename T>
   void put(T v) {
     while ((b_.size() - 4) % sizeof(T)) b_.push_back(0);
-    const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
-    b_.insert(b_.end(), p, p + sizeof(T));
+    const std::size_t at = b_.size();
+    b_.resize(at + sizeof(T));
+    std::memcpy(b_.data() + at, &v, sizeof(T));
   }
   std::vector<std::uint8_t> b_;
 };
@@ -51,5 +54,9 @@ std::vector<std::uint8_t> encode_pose_stamped(Stamp t, const std::string& frame_
 // tf2_msgs/msg/TFMessage with one transform T_parent_child.
 std::vector<std::uint8_t> encode_tf_message(Stamp t, const std::string& parent, const std::string& child,
                                             const SE3& T_parent_child);
+
+// Parts other encoders share: a std_msgs/Header, a geometry_msgs/Pose (T as position and orientation).
+void write_header(CdrWriter& w, Stamp t, const std::string& frame_id);
+void write_pose(CdrWriter& w, const SE3& T);
 
 }  // namespace s3m::rosbag2

@@ -1,0 +1,155 @@
+#include "s3m/rosbag2/session_writer.hpp"
+
+#include <cstring>
+#include <filesystem>
+#include <map>
+
+#include "s3m/core/classes.hpp"
+#include "s3m/core/error.hpp"
+#include "s3m/io/trajectory.hpp"
+#include "s3m/mapping/export.hpp"
+#include "s3m/mapping/map_io.hpp"
+#include "s3m/rosbag2/cdr_writer.hpp"
+#include "s3m/rosbag2/writer.hpp"
+
+namespace s3m::rosbag2 {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::int64_t nanoseconds(Stamp t) { return static_cast<std::int64_t>(t.sec) * 1000000000 + t.nanosec; }
+
+std::vector<std::uint8_t> encode_path(Stamp t, const io::Trajectory& poses) {
+  CdrWriter w;
+  write_header(w, t, "map");
+  w.u32(static_cast<std::uint32_t>(poses.size()));
+  for (const StampedPose& p : poses) {
+    write_header(w, stamp_of(p.t_s), "map");
+    write_pose(w, p.T_w_x);
+  }
+  return w.take();
+}
+
+std::vector<std::uint8_t> encode_tf(Stamp t, const SE3& T_map_camera, const SE3* T_map_robot) {
+  CdrWriter w;
+  w.u32(T_map_robot ? 2 : 1);
+  write_header(w, t, "map");
+  w.str("camera");
+  write_pose(w, T_map_camera);
+  if (T_map_robot) {
+    write_header(w, t, "map");
+    w.str("base_link");
+    write_pose(w, *T_map_robot);
+  }
+  return w.take();
+}
+
+std::vector<std::uint8_t> encode_cloud(Stamp t, const std::vector<mapping::OccupiedVoxel>& voxels) {
+  struct Field {
+    const char* name;
+    std::uint32_t offset;
+    std::uint8_t type;  // sensor_msgs/PointField: FLOAT32 = 7, UINT16 = 4
+  };
+  const Field fields[] = {{"x", 0, 7},    {"y", 4, 7},         {"z", 8, 7},
+                          {"rgb", 12, 7}, {"class_id", 16, 4}, {"confidence", 20, 7}};
+  constexpr std::uint32_t kStep = 24;
+  std::vector<std::uint8_t> data(voxels.size() * kStep, 0);
+  for (std::size_t i = 0; i < voxels.size(); ++i) {
+    const mapping::OccupiedVoxel& v = voxels[i];
+    std::uint8_t* p = data.data() + i * kStep;
+    const std::uint32_t rgb = (std::uint32_t{v.color.r} << 16) | (std::uint32_t{v.color.g} << 8) | v.color.b;
+    std::memcpy(p, v.centre_w.data(), 12);
+    std::memcpy(p + 12, &rgb, 4);
+    std::memcpy(p + 16, &v.label, 2);
+    std::memcpy(p + 20, &v.confidence, 4);
+  }
+  CdrWriter w;
+  write_header(w, t, "map");
+  w.u32(1);
+  w.u32(static_cast<std::uint32_t>(voxels.size()));
+  w.u32(6);
+  for (const Field& f : fields) w.str(f.name), w.u32(f.offset), w.u8(f.type), w.u32(1);
+  w.u8(0);  // little endian
+  w.u32(kStep);
+  w.u32(static_cast<std::uint32_t>(data.size()));
+  w.bytes(data.data(), data.size());
+  w.u8(1);  // dense: no invalid points
+  return w.take();
+}
+
+std::string class_name(ClassId id) {
+  for (const ClassInfo& c : indoor_classes().all())
+    if (c.id == id) return c.name;
+  return "class " + std::to_string(id);
+}
+
+std::vector<std::uint8_t> encode_markers(Stamp t, const std::vector<mapping::OccupiedVoxel>& voxels,
+                                         double size_m) {
+  std::map<ClassId, std::vector<const mapping::OccupiedVoxel*>> by_class;
+  for (const mapping::OccupiedVoxel& v : voxels) by_class[v.label].push_back(&v);
+  CdrWriter w;
+  w.u32(static_cast<std::uint32_t>(by_class.size()));
+  for (const auto& [label, members] : by_class) {
+    write_header(w, t, "map");
+    w.str("s3m_map");
+    w.i32(label);
+    w.i32(6);  // CUBE_LIST
+    w.i32(0);  // ADD
+    write_pose(w, SE3::Identity());
+    for (int i = 0; i < 3; ++i) w.f64(size_m);
+    const mapping::Rgb c = members.front()->color;  // the class palette colour (PlyColor::kClass)
+    for (float x : {c.r / 255.0f, c.g / 255.0f, c.b / 255.0f, 1.0f}) w.f32(x);
+    w.i32(0), w.u32(0);  // lifetime 0: forever
+    w.u8(0);             // frame_locked
+    w.u32(static_cast<std::uint32_t>(members.size()));
+    for (const mapping::OccupiedVoxel* v : members)
+      for (int i = 0; i < 3; ++i) w.f64(v->centre_w[i]);
+    w.u32(0);  // colors: the marker's colour
+    w.str("");
+    write_header(w, {}, ""), w.str(""), w.u32(0);  // texture: none
+    w.u32(0);                                      // uv_coordinates
+    w.str(class_name(label));
+    w.str("");
+    w.str(""), w.u32(0);  // mesh_file: none
+    w.u8(0);
+  }
+  return w.take();
+}
+
+}  // namespace
+
+std::string write_session_mcap(const std::string& out_dir) {
+  const fs::path out(out_dir);
+  const io::Trajectory camera = io::read_tum_trajectory((out / "trajectory_camera.txt").string());
+  io::Trajectory robot;
+  if (fs::exists(out / "trajectory_robot.txt"))
+    robot = io::read_tum_trajectory((out / "trajectory_robot.txt").string());
+  if (camera.empty())
+    throw Error((out / "trajectory_camera.txt").string() + ": no poses to write into session.mcap");
+  const std::string path = (out / "session.mcap").string();
+  auto w = create_mcap(path);
+  const int tf = w->add_topic("/tf", "tf2_msgs/msg/TFMessage");
+  for (std::size_t i = 0; i < camera.size(); ++i) {
+    const Stamp t = stamp_of(camera[i].t_s);
+    const bool with_robot = robot.size() == camera.size();
+    w->write(tf, nanoseconds(t), encode_tf(t, camera[i].T_w_x, with_robot ? &robot[i].T_w_x : nullptr));
+  }
+  const Stamp last = stamp_of(camera.back().t_s);
+  w->write(w->add_topic("/s3m/camera_path", "nav_msgs/msg/Path"), nanoseconds(last),
+           encode_path(last, camera));
+  if (!robot.empty())
+    w->write(w->add_topic("/s3m/robot_path", "nav_msgs/msg/Path"), nanoseconds(last),
+             encode_path(last, robot));
+  if (fs::exists(out / "map.ot")) {
+    const auto tree = mapping::load_semantic_map((out / "map.ot").string());
+    w->write(w->add_topic("/s3m/map/cloud", "sensor_msgs/msg/PointCloud2"), nanoseconds(last),
+             encode_cloud(last, mapping::occupied_voxels(*tree, mapping::PlyColor::kObserved)));
+    w->write(w->add_topic("/s3m/map/markers", "visualization_msgs/msg/MarkerArray"), nanoseconds(last),
+             encode_markers(last, mapping::occupied_voxels(*tree, mapping::PlyColor::kClass),
+                            tree->getResolution()));
+  }
+  w->close();
+  return path;
+}
+
+}  // namespace s3m::rosbag2
