@@ -11,6 +11,7 @@
 #include "s3m/io/trajectory.hpp"
 #include "s3m/mapping/export.hpp"
 #include "s3m/mapping/map_io.hpp"
+#include "s3m/mapping/queries.hpp"
 #include "s3m/rosbag2/cdr_writer.hpp"
 #include "s3m/rosbag2/compression.hpp"
 
@@ -92,7 +93,8 @@ TEST(Ros2Writer, Tum2bagRecordingsReadBackByTheReferenceAndRunIdentically) {
 
 // OUT/session.mcap of a run, read back by the reference: /tf and the Path hold trajectory_camera.txt
 // pose for pose with the recording's stamps, the PointCloud2 exactly the map's occupied voxels with
-// their classes, the markers one cube per voxel; every schema in the file parses (it decodes).
+// their classes, the markers one cube per voxel and one box and label per object instance; every
+// schema in the file parses (it decodes).
 TEST(Ros2Writer, SessionMcapHoldsTheRunsTrajectoryAndMap) {
   S3M_REQUIRE_REFERENCE_WRITER();
   const fs::path out = scratch_dir() / "ros2_session";
@@ -142,6 +144,23 @@ TEST(Ros2Writer, SessionMcapHoldsTheRunsTrajectoryAndMap) {
     EXPECT_FALSE(m["text"].get<std::string>().empty());
   }
   EXPECT_EQ(cubes, voxels.size());
+  // One box and one label per object instance of 10 voxels or more, as `s3m query` finds them.
+  std::size_t instances = 0;
+  for (const auto& [id, n] : per_class)
+    if (std::stoi(id) != cls::kUnknown)
+      instances += mapping::object_instances(*tree, std::stoi(id), 10).size();
+  std::size_t boxes = 0, labels = 0;
+  for (const auto& m : topics["/s3m/map/objects"]["messages"][0]["markers"]) {
+    if (m["type"] == 1) {
+      ++boxes;
+    } else {
+      ++labels;
+      EXPECT_NE(m["text"].get<std::string>().find(" m3)"), std::string::npos) << m["text"];
+    }
+  }
+  EXPECT_GT(instances, 0u);
+  EXPECT_EQ(boxes, instances);
+  EXPECT_EQ(labels, instances);
 
   ASSERT_EQ(run_s3m("run '" + small_sequence_dir() + "' --out '" + (out.string() + "_off") +
                         "' --deterministic --no-report --slam-only --no-session-mcap",

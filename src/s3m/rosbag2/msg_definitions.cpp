@@ -48,7 +48,8 @@ const std::string& message_definition(const std::string& type) {
            "datatype\nuint32 count"},
       {"visualization_msgs/msg/MarkerArray",
        "visualization_msgs/Marker[] markers" + kSep +
-           "visualization_msgs/Marker\nint32 CUBE_LIST=6\nint32 TEXT_VIEW_FACING=9\nint32 ADD=0\n"
+           "visualization_msgs/Marker\nint32 CUBE=1\nint32 CUBE_LIST=6\nint32 TEXT_VIEW_FACING=9\nint32 "
+           "ADD=0\n"
            "std_msgs/Header header\nstring ns\nint32 id\nint32 type\nint32 action\ngeometry_msgs/Pose pose\n"
            "geometry_msgs/Vector3 scale\nstd_msgs/ColorRGBA color\nbuiltin_interfaces/Duration lifetime\n"
            "bool frame_locked\ngeometry_msgs/Point[] points\nstd_msgs/ColorRGBA[] colors\nstring "

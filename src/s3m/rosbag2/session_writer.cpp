@@ -1,5 +1,6 @@
 #include "s3m/rosbag2/session_writer.hpp"
 
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -9,6 +10,7 @@
 #include "s3m/io/trajectory.hpp"
 #include "s3m/mapping/export.hpp"
 #include "s3m/mapping/map_io.hpp"
+#include "s3m/mapping/queries.hpp"
 #include "s3m/rosbag2/cdr_writer.hpp"
 #include "s3m/rosbag2/writer.hpp"
 
@@ -77,42 +79,96 @@ std::vector<std::uint8_t> encode_cloud(Stamp t, const std::vector<mapping::Occup
   return w.take();
 }
 
-std::string class_name(ClassId id) {
-  for (const ClassInfo& c : indoor_classes().all())
+std::string class_name(const ClassList& classes, ClassId id) {
+  for (const ClassInfo& c : classes.all())
     if (c.id == id) return c.name;
   return "class " + std::to_string(id);
 }
 
+struct Marker {
+  std::string ns, text;
+  int id = 0, type = 0;  // visualization_msgs/Marker: CUBE = 1, CUBE_LIST = 6, TEXT_VIEW_FACING = 9
+  Vec3 position = Vec3::Zero(), scale = Vec3::Ones();
+  float rgba[4] = {1, 1, 1, 1};
+  std::vector<Vec3> points;
+};
+
+void write_marker(CdrWriter& w, Stamp t, const Marker& m) {
+  write_header(w, t, "map");
+  w.str(m.ns);
+  w.i32(m.id);
+  w.i32(m.type);
+  w.i32(0);  // ADD
+  SE3 pose = SE3::Identity();
+  pose.translation() = m.position;
+  write_pose(w, pose);
+  for (int i = 0; i < 3; ++i) w.f64(m.scale[i]);
+  for (float x : m.rgba) w.f32(x);
+  w.i32(0), w.u32(0);  // lifetime 0: forever
+  w.u8(0);             // frame_locked
+  w.u32(static_cast<std::uint32_t>(m.points.size()));
+  for (const Vec3& p : m.points)
+    for (int i = 0; i < 3; ++i) w.f64(p[i]);
+  w.u32(0);  // colors: the marker's colour
+  w.str("");
+  write_header(w, {}, ""), w.str(""), w.u32(0);  // texture: none
+  w.u32(0);                                      // uv_coordinates
+  w.str(m.text);
+  w.str("");
+  w.str(""), w.u32(0);  // mesh_file: none
+  w.u8(0);
+}
+
+void set_colour(Marker& m, const mapping::Rgb& c, float alpha) {
+  m.rgba[0] = c.r / 255.0f, m.rgba[1] = c.g / 255.0f, m.rgba[2] = c.b / 255.0f, m.rgba[3] = alpha;
+}
+
 std::vector<std::uint8_t> encode_markers(Stamp t, const std::vector<mapping::OccupiedVoxel>& voxels,
-                                         double size_m) {
+                                         const mapping::SemanticOcTree& tree) {
   std::map<ClassId, std::vector<const mapping::OccupiedVoxel*>> by_class;
   for (const mapping::OccupiedVoxel& v : voxels) by_class[v.label].push_back(&v);
   CdrWriter w;
   w.u32(static_cast<std::uint32_t>(by_class.size()));
   for (const auto& [label, members] : by_class) {
-    write_header(w, t, "map");
-    w.str("s3m_map");
-    w.i32(label);
-    w.i32(6);  // CUBE_LIST
-    w.i32(0);  // ADD
-    write_pose(w, SE3::Identity());
-    for (int i = 0; i < 3; ++i) w.f64(size_m);
-    const mapping::Rgb c = members.front()->color;  // the class palette colour (PlyColor::kClass)
-    for (float x : {c.r / 255.0f, c.g / 255.0f, c.b / 255.0f, 1.0f}) w.f32(x);
-    w.i32(0), w.u32(0);  // lifetime 0: forever
-    w.u8(0);             // frame_locked
-    w.u32(static_cast<std::uint32_t>(members.size()));
-    for (const mapping::OccupiedVoxel* v : members)
-      for (int i = 0; i < 3; ++i) w.f64(v->centre_w[i]);
-    w.u32(0);  // colors: the marker's colour
-    w.str("");
-    write_header(w, {}, ""), w.str(""), w.u32(0);  // texture: none
-    w.u32(0);                                      // uv_coordinates
-    w.str(class_name(label));
-    w.str("");
-    w.str(""), w.u32(0);  // mesh_file: none
-    w.u8(0);
+    Marker m;
+    m.ns = "s3m_map", m.id = label, m.type = 6, m.text = class_name(tree.classes(), label);
+    m.scale = Vec3::Constant(tree.getResolution());
+    set_colour(m, members.front()->color, 1.0f);  // the class palette colour (PlyColor::kClass)
+    for (const mapping::OccupiedVoxel* v : members) m.points.push_back(v->centre_w.cast<double>());
+    write_marker(w, t, m);
   }
+  return w.take();
+}
+
+// Each object instance (a connected part of one class, kObjectMinVoxels or more) as a translucent
+// box in its class colour and a label "chair 2 (0.120 m3)" above it.
+std::vector<std::uint8_t> encode_objects(Stamp t, const mapping::SemanticOcTree& tree,
+                                         const std::vector<mapping::OccupiedVoxel>& class_coloured) {
+  constexpr std::size_t kObjectMinVoxels = 10;  // the viewer's and `s3m query`'s: specks are not objects
+  std::map<ClassId, mapping::Rgb> colour;
+  for (const auto& v : class_coloured) colour[v.label] = v.color;
+  std::vector<Marker> markers;
+  for (const auto& [label, rgb] : colour) {
+    if (label == cls::kUnknown) continue;
+    int n = 0;
+    for (const mapping::ObjectInstance& o : mapping::object_instances(tree, label, kObjectMinVoxels)) {
+      Marker box, text;
+      box.ns = text.ns = class_name(tree.classes(), label);
+      box.id = 2 * n, text.id = 2 * n + 1, box.type = 1, text.type = 9;
+      box.position = 0.5 * (o.bbox_min_w + o.bbox_max_w);
+      box.scale = (o.bbox_max_w - o.bbox_min_w).cwiseMax(tree.getResolution());
+      set_colour(box, rgb, 0.35f), set_colour(text, rgb, 1.0f);
+      text.position = Vec3(o.centroid_w.x(), o.centroid_w.y(), o.bbox_max_w.z() + 0.1);
+      text.scale = Vec3::Constant(0.1);
+      char volume[32];
+      std::snprintf(volume, sizeof(volume), "%.3f", o.volume_m3);
+      text.text = box.ns + " " + std::to_string(++n) + " (" + volume + " m3)";
+      markers.push_back(box), markers.push_back(text);
+    }
+  }
+  CdrWriter w;
+  w.u32(static_cast<std::uint32_t>(markers.size()));
+  for (const Marker& m : markers) write_marker(w, t, m);
   return w.take();
 }
 
@@ -144,9 +200,12 @@ std::string write_session_mcap(const std::string& out_dir) {
     const auto tree = mapping::load_semantic_map((out / "map.ot").string());
     w->write(w->add_topic("/s3m/map/cloud", "sensor_msgs/msg/PointCloud2"), nanoseconds(last),
              encode_cloud(last, mapping::occupied_voxels(*tree, mapping::PlyColor::kObserved)));
+    const std::vector<mapping::OccupiedVoxel> coloured =
+        mapping::occupied_voxels(*tree, mapping::PlyColor::kClass);
     w->write(w->add_topic("/s3m/map/markers", "visualization_msgs/msg/MarkerArray"), nanoseconds(last),
-             encode_markers(last, mapping::occupied_voxels(*tree, mapping::PlyColor::kClass),
-                            tree->getResolution()));
+             encode_markers(last, coloured, *tree));
+    w->write(w->add_topic("/s3m/map/objects", "visualization_msgs/msg/MarkerArray"), nanoseconds(last),
+             encode_objects(last, *tree, coloured));
   }
   w->close();
   return path;

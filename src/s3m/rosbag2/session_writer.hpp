@@ -8,7 +8,9 @@
 //    x, y, z (float32, voxel centre [m]), rgb (float32-packed 0x00RRGGBB, observed colour),
 //    class_id (uint16), confidence (float32, probability of class_id);
 //  - /s3m/map/markers: visualization_msgs/msg/MarkerArray, one CUBE_LIST per class in its palette
-//    colour (text: the class name).
+//    colour (text: the class name);
+//  - /s3m/map/objects: MarkerArray, the object instances (mapping::object_instances, 10 voxels or
+//    more) as boxes (namespace: the class name) and labels "chair 2 (0.120 m3)".
 #include <string>
 
 namespace s3m::rosbag2 {
