@@ -2,6 +2,7 @@
 // ROS builds, a ROS1 bag.
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include <spdlog/spdlog.h>
 
@@ -142,8 +143,10 @@ void register_run(CLI::App& app) {
       o.config.slam.loop_closing.vocabulary = args->vocab;
       pipeline::mark_written(o.config, "loop_closing.vocabulary");
     }
+    std::optional<PinholeCamera> camera;  // for session.mcap
     if (is_ros2_recording(args->dataset))
-      o.open_source = ros2_source(args->dataset, args->bag, o.config, !args->config.empty());
+      o.open_source =
+          ros2_source(args->dataset, args->bag, o.config, !args->config.empty(), &camera.emplace());
     o.segmenter = args->segmenter;
     o.model_dir = args->model_dir;
     o.poses = args->poses;
@@ -156,10 +159,13 @@ void register_run(CLI::App& app) {
     o.progress = run::stderr_is_tty();
     o.stop = &install_interrupt_handler();
     const run::RunResult r = run::run_dataset(o);
-    if (!args->no_session_mcap && r.frames_done > 0)
-      rosbag2::write_session_mcap(args->out);
-    else  // an earlier run's would not match this run's outputs
+    if (!args->no_session_mcap && r.frames_done > 0) {
+      if (!camera && args->bag.bag.empty())  // a dataset folder: its camera, read again (cheap)
+        camera = pipeline::open_tum_source(args->dataset, o.config.dataset)->camera();
+      rosbag2::write_session_mcap(args->out, camera ? &*camera : nullptr);
+    } else {  // an earlier run's would not match this run's outputs
       std::filesystem::remove(std::filesystem::path(args->out) / "session.mcap");
+    }
     print_summary(r, args->out);
     if (r.interrupted)
       throw Interrupted("run: stopped after " + std::to_string(r.frames_done) + " of " +

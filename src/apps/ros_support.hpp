@@ -27,10 +27,11 @@ std::function<std::unique_ptr<pipeline::FrameSource>(const pipeline::PipelineCon
 // A ROS 2 recording (a .mcap or .db3 file, or a rosbag2 folder; rosbag2::is_recording) with the
 // topic options of `args` (its bag is not used); every build reads them (ros2_support.cpp). Opened
 // here, with config's dataset section, so that without a preset (config_given false) the
-// recording's /tf_static sets slam.T_c_r, as a simulator folder's sim.yaml does.
+// recording's /tf_static sets slam.T_c_r, as a simulator folder's sim.yaml does. camera: when set,
+// receives the recording's colour camera.
 std::function<std::unique_ptr<pipeline::FrameSource>(const pipeline::PipelineConfig&)> ros2_source(
-    const std::string& recording, const RosbagArgs& args, pipeline::PipelineConfig& config,
-    bool config_given);
+    const std::string& recording, const RosbagArgs& args, pipeline::PipelineConfig& config, bool config_given,
+    PinholeCamera* camera = nullptr);
 bool is_ros2_recording(const std::string& path);
 
 }  // namespace s3m::apps

@@ -108,6 +108,9 @@ TEST(Ros2Writer, SessionMcapHoldsTheRunsTrajectoryAndMap) {
   const auto& topics = r["topics"];
   EXPECT_EQ(r["streamed_messages"], r["statistics_messages"]);
   const io::Trajectory camera = io::read_tum_trajectory((out / "trajectory_camera.txt").string());
+  const auto& info = topics["/s3m/camera_info"]["messages"][0];
+  EXPECT_EQ(info["k"][0].get<double>(), io::Dataset::open(small_sequence_dir()).camera().fx);
+  EXPECT_EQ(info["frame_id"], "camera");
   ASSERT_EQ(topics["/tf"]["count"].get<std::size_t>(), camera.size());
   const auto& path = topics["/s3m/camera_path"]["messages"][0]["poses"];
   ASSERT_EQ(path.size(), camera.size());

@@ -174,7 +174,7 @@ std::vector<std::uint8_t> encode_objects(Stamp t, const mapping::SemanticOcTree&
 
 }  // namespace
 
-std::string write_session_mcap(const std::string& out_dir) {
+std::string write_session_mcap(const std::string& out_dir, const PinholeCamera* camera_model) {
   const fs::path out(out_dir);
   const io::Trajectory camera = io::read_tum_trajectory((out / "trajectory_camera.txt").string());
   io::Trajectory robot;
@@ -189,6 +189,11 @@ std::string write_session_mcap(const std::string& out_dir) {
     const Stamp t = stamp_of(camera[i].t_s);
     const bool with_robot = robot.size() == camera.size();
     w->write(tf, nanoseconds(t), encode_tf(t, camera[i].T_w_x, with_robot ? &robot[i].T_w_x : nullptr));
+  }
+  if (camera_model) {
+    const Stamp first = stamp_of(camera.front().t_s);
+    w->write(w->add_topic("/s3m/camera_info", "sensor_msgs/msg/CameraInfo"), nanoseconds(first),
+             encode_camera_info(first, "camera", *camera_model));
   }
   const Stamp last = stamp_of(camera.back().t_s);
   w->write(w->add_topic("/s3m/camera_path", "nav_msgs/msg/Path"), nanoseconds(last),

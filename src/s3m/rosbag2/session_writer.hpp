@@ -13,10 +13,13 @@
 //    more) as boxes (namespace: the class name) and labels "chair 2 (0.120 m3)".
 #include <string>
 
+#include "s3m/core/camera.hpp"
+
 namespace s3m::rosbag2 {
 
-// Returns the path written (OUT/session.mcap). Throws s3m::Error naming the file it cannot read or
-// write; an earlier session.mcap stays until the new one is complete.
-std::string write_session_mcap(const std::string& out_dir);
+// camera: the colour camera, written once as /s3m/camera_info (frame "camera") at the first frame's
+// time; nullptr: none. Returns the path written (OUT/session.mcap). Throws s3m::Error naming the
+// file it cannot read or write; an earlier session.mcap stays until the new one is complete.
+std::string write_session_mcap(const std::string& out_dir, const PinholeCamera* camera = nullptr);
 
 }  // namespace s3m::rosbag2
