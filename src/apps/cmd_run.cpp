@@ -143,7 +143,13 @@ void register_run(CLI::App& app) {
       o.config.slam.loop_closing.vocabulary = args->vocab;
       pipeline::mark_written(o.config, "loop_closing.vocabulary");
     }
-    std::optional<PinholeCamera> camera;  // for session.mcap
+    std::optional<PinholeCamera> camera;  // for session.mcap, with the keyframes' segmentations
+    auto keyframes = std::make_shared<std::vector<rosbag2::KeyframeLabels>>();
+    if (!args->no_session_mcap)
+      o.on_frame = [keyframes](const pipeline::FrameOutcome& f, const RgbdFrame&,
+                               const semantics::LabelMap& l) {
+        if (f.keyframe && !l.empty()) keyframes->push_back({f.t_s, rosbag2::keyframe_png(l.argmax)});
+      };
     if (is_ros2_recording(args->dataset))
       o.open_source =
           ros2_source(args->dataset, args->bag, o.config, !args->config.empty(), &camera.emplace());
@@ -162,7 +168,7 @@ void register_run(CLI::App& app) {
     if (!args->no_session_mcap && r.frames_done > 0) {
       if (!camera && args->bag.bag.empty())  // a dataset folder: its camera, read again (cheap)
         camera = pipeline::open_tum_source(args->dataset, o.config.dataset)->camera();
-      rosbag2::write_session_mcap(args->out, camera ? &*camera : nullptr);
+      rosbag2::write_session_mcap(args->out, camera ? &*camera : nullptr, *keyframes);
     } else {  // an earlier run's would not match this run's outputs
       std::filesystem::remove(std::filesystem::path(args->out) / "session.mcap");
     }

@@ -45,6 +45,7 @@ function summarise(out, topic, type, msg) {
   if (msg.header) m.stamp = [msg.header.stamp.sec, msg.header.stamp.nanosec], m.frame_id = msg.header.frame_id;
   if (type === 'sensor_msgs/msg/Image')
     Object.assign(m, { width: msg.width, height: msg.height, encoding: msg.encoding, step: msg.step, crc: crc32(msg.data) });
+  else if (type === 'sensor_msgs/msg/CompressedImage') Object.assign(m, { format: msg.format, bytes: msg.data.length });
   else if (type === 'sensor_msgs/msg/CameraInfo') Object.assign(m, { k: Array.from(msg.k), d: Array.from(msg.d), width: msg.width });
   else if (type === 'geometry_msgs/msg/PoseStamped') m.pose = msg.pose;
   else if (type === 'tf2_msgs/msg/TFMessage') m.transforms = msg.transforms;

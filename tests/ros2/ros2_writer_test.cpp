@@ -3,6 +3,8 @@
 // schema text the file carries, sql.js). `s3m tum2bag --format mcap|db3`: every image's pixels are
 // the folder's, the CameraInfo is its camera, the ground truth its poses, and `s3m run` on the
 // recording gives the folder's trajectory byte for byte. `s3m run`'s OUT/session.mcap: below.
+#include <sstream>
+
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -93,8 +95,8 @@ TEST(Ros2Writer, Tum2bagRecordingsReadBackByTheReferenceAndRunIdentically) {
 
 // OUT/session.mcap of a run, read back by the reference: /tf and the Path hold trajectory_camera.txt
 // pose for pose with the recording's stamps, the PointCloud2 exactly the map's occupied voxels with
-// their classes, the markers one cube per voxel and one box and label per object instance; every
-// schema in the file parses (it decodes).
+// their classes, the markers one cube per voxel and one box and label per object instance, one
+// segmentation per keyframe; every schema in the file parses (it decodes).
 TEST(Ros2Writer, SessionMcapHoldsTheRunsTrajectoryAndMap) {
   S3M_REQUIRE_REFERENCE_WRITER();
   const fs::path out = scratch_dir() / "ros2_session";
@@ -108,6 +110,18 @@ TEST(Ros2Writer, SessionMcapHoldsTheRunsTrajectoryAndMap) {
   const auto& topics = r["topics"];
   EXPECT_EQ(r["streamed_messages"], r["statistics_messages"]);
   const io::Trajectory camera = io::read_tum_trajectory((out / "trajectory_camera.txt").string());
+  // One segmentation (palette colours) and one class-id image per keyframe (frames.txt column 5).
+  std::size_t keyframes = 0;
+  std::istringstream frames(read_bytes((out / "frames.txt").string()));
+  for (std::string line; std::getline(frames, line);) {
+    std::istringstream row(line);
+    std::string index, t, state, tracked, keyframe;
+    if (line[0] != '#' && row >> index >> t >> state >> tracked >> keyframe && keyframe == "1") ++keyframes;
+  }
+  ASSERT_GT(keyframes, 0u);
+  EXPECT_EQ(topics["/s3m/keyframe/segmentation"]["count"].get<std::size_t>(), keyframes);
+  EXPECT_EQ(topics["/s3m/keyframe/labels"]["count"].get<std::size_t>(), keyframes);
+  EXPECT_EQ(topics["/s3m/keyframe/labels"]["messages"][0]["format"], "16UC1; png");
   const auto& info = topics["/s3m/camera_info"]["messages"][0];
   EXPECT_EQ(info["k"][0].get<double>(), io::Dataset::open(small_sequence_dir()).camera().fx);
   EXPECT_EQ(info["frame_id"], "camera");

@@ -26,6 +26,7 @@ const std::string& message_definition(const std::string& type) {
        "step\n"
        "uint8[] data" +
            kHeader},
+      {"sensor_msgs/msg/CompressedImage", "std_msgs/Header header\nstring format\nuint8[] data" + kHeader},
       {"sensor_msgs/msg/CameraInfo",
        "std_msgs/Header header\nuint32 height\nuint32 width\nstring distortion_model\nfloat64[] "
        "d\nfloat64[9] k\n"

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <map>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "s3m/core/classes.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/io/trajectory.hpp"
@@ -172,9 +174,37 @@ std::vector<std::uint8_t> encode_objects(Stamp t, const mapping::SemanticOcTree&
   return w.take();
 }
 
+// Class ids as their palette colours (BGR), unknown ids black.
+cv::Mat palette_image(const cv::Mat& classes) {
+  std::map<ClassId, cv::Vec3b> bgr;
+  for (const ClassInfo& c : indoor_classes().all()) bgr[c.id] = cv::Vec3b(c.b, c.g, c.r);
+  cv::Mat out(classes.size(), CV_8UC3, cv::Scalar::all(0));
+  for (int v = 0; v < classes.rows; ++v)
+    for (int u = 0; u < classes.cols; ++u)
+      if (const auto it = bgr.find(classes.at<ClassId>(v, u)); it != bgr.end())
+        out.at<cv::Vec3b>(v, u) = it->second;
+  return out;
+}
+
+std::vector<std::uint8_t> encode_png(Stamp t, const std::string& format,
+                                     const std::vector<std::uint8_t>& png) {
+  CdrWriter w;
+  write_header(w, t, "camera");
+  w.str(format);
+  w.bytes(png.data(), png.size());
+  return w.take();
+}
+
 }  // namespace
 
-std::string write_session_mcap(const std::string& out_dir, const PinholeCamera* camera_model) {
+std::vector<std::uint8_t> keyframe_png(const cv::Mat& image) {
+  std::vector<std::uint8_t> png;
+  if (!cv::imencode(".png", image, png)) throw Error("session.mcap: cannot encode a keyframe image as PNG");
+  return png;
+}
+
+std::string write_session_mcap(const std::string& out_dir, const PinholeCamera* camera_model,
+                               const std::vector<KeyframeLabels>& keyframes) {
   const fs::path out(out_dir);
   const io::Trajectory camera = io::read_tum_trajectory((out / "trajectory_camera.txt").string());
   io::Trajectory robot;
@@ -194,6 +224,16 @@ std::string write_session_mcap(const std::string& out_dir, const PinholeCamera* 
     const Stamp first = stamp_of(camera.front().t_s);
     w->write(w->add_topic("/s3m/camera_info", "sensor_msgs/msg/CameraInfo"), nanoseconds(first),
              encode_camera_info(first, "camera", *camera_model));
+  }
+  if (!keyframes.empty()) {
+    const int colour = w->add_topic("/s3m/keyframe/segmentation", "sensor_msgs/msg/CompressedImage"),
+              ids = w->add_topic("/s3m/keyframe/labels", "sensor_msgs/msg/CompressedImage");
+    for (const KeyframeLabels& k : keyframes) {
+      const Stamp t = stamp_of(k.t_s);
+      const cv::Mat classes = cv::imdecode(k.ids_png, cv::IMREAD_UNCHANGED);
+      w->write(colour, nanoseconds(t), encode_png(t, "png", keyframe_png(palette_image(classes))));
+      w->write(ids, nanoseconds(t), encode_png(t, "16UC1; png", k.ids_png));
+    }
   }
   const Stamp last = stamp_of(camera.back().t_s);
   w->write(w->add_topic("/s3m/camera_path", "nav_msgs/msg/Path"), nanoseconds(last),
