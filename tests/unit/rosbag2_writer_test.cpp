@@ -8,6 +8,7 @@
 #include "s3m/rosbag2/cdr_writer.hpp"
 #include "s3m/rosbag2/images.hpp"
 #include "s3m/rosbag2/recording.hpp"
+#include "s3m/rosbag2/session_writer.hpp"
 #include "s3m/rosbag2/writer.hpp"
 
 namespace s3m::rosbag2 {
@@ -65,6 +66,19 @@ TEST(Rosbag2Writer, McapAndDb3ReadBackAndNothingIsLeftWithoutClose) {
     EXPECT_FALSE(std::filesystem::exists(abandoned));
     EXPECT_FALSE(std::filesystem::exists(abandoned + ".part"));
   }
+}
+
+TEST(Rosbag2Writer, SessionOfARunWithoutPosesIsNotWritten) {
+  const auto out = s3m::testing::fresh_temp_dir();
+  s3m::testing::write_file(out / "trajectory_camera.txt", "# timestamp tx ty tz qx qy qz qw\n");
+  s3m::testing::write_file(out / "session.mcap", "an earlier run's");
+  EXPECT_EQ(write_session_mcap(out.string()), "");
+  EXPECT_FALSE(std::filesystem::exists(out / "session.mcap"));
+  s3m::testing::write_file(out / "trajectory_camera.txt", "1.0 0 0 0 0 0 0 1\n2.0 1 0 0 0 0 0 1\n");
+  const std::string path = write_session_mcap(out.string());
+  int tf = 0;
+  Recording(path).scan([&](const MessageView& m) { tf += m.channel->topic == "/tf"; });
+  EXPECT_EQ(tf, 2);
 }
 
 }  // namespace

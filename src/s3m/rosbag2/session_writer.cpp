@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 #include <opencv2/imgcodecs.hpp>
@@ -195,6 +196,16 @@ std::vector<std::uint8_t> encode_png(Stamp t, const std::string& format,
   return w.take();
 }
 
+// The poses of a trajectory file; none when it is missing or holds only comments (a run that
+// never tracked a frame writes it so).
+io::Trajectory poses_in(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line))
+    if (!line.empty() && line[0] != '#') return io::read_tum_trajectory(path);
+  return {};
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> keyframe_png(const cv::Mat& image) {
@@ -206,13 +217,13 @@ std::vector<std::uint8_t> keyframe_png(const cv::Mat& image) {
 std::string write_session_mcap(const std::string& out_dir, const PinholeCamera* camera_model,
                                const std::vector<KeyframeLabels>& keyframes) {
   const fs::path out(out_dir);
-  const io::Trajectory camera = io::read_tum_trajectory((out / "trajectory_camera.txt").string());
-  io::Trajectory robot;
-  if (fs::exists(out / "trajectory_robot.txt"))
-    robot = io::read_tum_trajectory((out / "trajectory_robot.txt").string());
-  if (camera.empty())
-    throw Error((out / "trajectory_camera.txt").string() + ": no poses to write into session.mcap");
+  const io::Trajectory camera = poses_in((out / "trajectory_camera.txt").string()),
+                       robot = poses_in((out / "trajectory_robot.txt").string());
   const std::string path = (out / "session.mcap").string();
+  if (camera.empty()) {  // no tracked frame: nothing to show, and an earlier run's would mislead
+    fs::remove(path);
+    return "";
+  }
   auto w = create_mcap(path);
   const int tf = w->add_topic("/tf", "tf2_msgs/msg/TFMessage");
   for (std::size_t i = 0; i < camera.size(); ++i) {

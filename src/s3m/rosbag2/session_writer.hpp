@@ -14,25 +14,29 @@
 //  - /s3m/keyframe/segmentation (sensor_msgs/msg/CompressedImage, png in the class palette colours)
 //    and /s3m/keyframe/labels (CompressedImage, "16UC1; png": the class ids) per keyframe at its
 //    time; /s3m/camera_info once.
+#include <cstdint>
 #include <string>
 #include <vector>
 
-#include <cstdint>
 #include <opencv2/core.hpp>
 
 #include "s3m/core/camera.hpp"
 
 namespace s3m::rosbag2 {
 
-// camera: the colour camera, written once as /s3m/camera_info (frame "camera") at the first frame's
-// time; nullptr: none. Returns the path written (OUT/session.mcap). Throws s3m::Error naming the
-// file it cannot read or write; an earlier session.mcap stays until the new one is complete.
+// A keyframe's segmentation, kept while the run goes.
 struct KeyframeLabels {
   double t_s = 0;                     // the keyframe's recording time [s]
   std::vector<std::uint8_t> ids_png;  // 16-bit PNG of the class id per pixel (the segmenter's top label)
 };
 // The PNG a KeyframeLabels holds (kept compressed: a long run has hundreds of keyframes).
 std::vector<std::uint8_t> keyframe_png(const cv::Mat& class_ids);
+
+// camera: the colour camera, written once as /s3m/camera_info (frame "camera") at the first
+// frame's time; nullptr: none. keyframes: in time order. Returns the path written
+// (OUT/session.mcap), or "" when the run has no camera pose (no tracked frame: nothing written, an
+// earlier session.mcap removed). Throws s3m::Error naming the file it cannot read or write; an
+// earlier session.mcap stays until the new one is complete.
 std::string write_session_mcap(const std::string& out_dir, const PinholeCamera* camera = nullptr,
                                const std::vector<KeyframeLabels>& keyframes = {});
 
