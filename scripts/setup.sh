@@ -28,6 +28,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib
   libjs-three chromium  # the map viewer (three.js r111, copied into reports) and its browser test
+  libzstd-dev liblz4-dev libsqlite3-dev zlib1g-dev  # ROS 2 recordings: MCAP chunks, CRC-32, .db3
+  nodejs npm  # the ROS 2 tests' independent reference writer (tests/ros2, npm ci below)
 )
 [ "$with_training" = 1 ] && packages+=(python3-torch python3-onnx)
 if [ "$with_ros" = 1 ]; then
@@ -51,6 +53,13 @@ if [ "${#missing[@]}" -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 else
   echo "setup.sh: all Debian packages present"
+fi
+
+# The ROS 2 tests' reference writer (tests/ros2): npm packages pinned by its package-lock.json.
+# Without them those tests report themselves skipped.
+if command -v npm >/dev/null; then
+  (cd tests/ros2 && npm ci --no-audit --no-fund --loglevel=error) ||
+    echo "setup.sh: npm ci in tests/ros2 failed: the ROS 2 reference tests will be skipped"
 fi
 
 if [ "$build" = 1 ]; then

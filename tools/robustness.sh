@@ -193,6 +193,17 @@ if "$S3M" tum2bag seq --out unknown.bag --rgb-topic /cam/left --depth-topic /cam
   row "rosbag whose topics no known recorder wrote (ROS builds)" "${RUN[@]}" --rosbag unknown.bag --out out
   row "rosbag of 640x480 images, config camera 320x240 (ROS builds)" "$S3M" run --config bag_cam320.yaml --deterministic --no-report --rosbag tum.bag --out out
 fi
+# ROS 2 recordings (every build): the sequence written by tum2bag --format mcap|db3, then damaged.
+"$S3M" tum2bag seq --format mcap --out seq.mcap >/dev/null 2>&1
+head -c "$(( $(stat -c %s seq.mcap) / 2 ))" seq.mcap > cut.mcap
+cp seq.mcap flip.mcap
+printf '\377\377\377\377' | dd of=flip.mcap bs=1 seek="$(( $(stat -c %s seq.mcap) / 3 ))" conv=notrunc 2>/dev/null
+printf 'not a database' > text.db3
+"$S3M" tum2bag seq --format mcap --out unknown.mcap --rgb-topic /cam/left --depth-topic /cam/depth --camera-info-topic /cam/info >/dev/null 2>&1
+row "ROS 2 MCAP recording cut in half" "${RUN[@]}" cut.mcap --out out
+row "ROS 2 MCAP recording with 4 bytes overwritten inside a chunk" "${RUN[@]}" flip.mcap --out out
+row "a .db3 file that is not a database" "${RUN[@]}" text.db3 --out out
+row "ROS 2 recording whose topics no known driver wrote" "${RUN[@]}" unknown.mcap --out out
 # Out of disk: a good run first, then the same run into the same folder on a full file system.
 if mkdir -p tmpfs && mount -t tmpfs -o size=768k tmpfs tmpfs 2>/dev/null; then
   how="768 KiB tmpfs"; trap 'umount "$W/tmpfs" 2>/dev/null; rm -rf "$W"' EXIT

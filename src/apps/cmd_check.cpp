@@ -1,4 +1,4 @@
-// `s3m check DATASET|--rosbag FILE [--config PRESET] [--camera FILE|PRESET] [--all-settings]`: what
+// `s3m check DATASET|REC|--rosbag FILE [--config PRESET] [--camera FILE|PRESET] [--all-settings]`: what
 // s3m makes of a dataset folder or a bag before a run (layout or recorder, camera, timing, ground
 // truth, depth registration and scale, segmenter, the settings a run would use).
 #include <iostream>
@@ -22,7 +22,10 @@ void register_check(CLI::App& app) {
                                  "Say what s3m makes of a dataset folder or a rosbag before a run: layout "
                                  "or recorder, camera, timing, ground truth, depth registration and scale, "
                                  "segmenter, settings");
-  cmd->add_option("dataset", args->dataset, "dataset folder (TUM layout, ETH3D, 7-Scenes, ScanNet, Replica)");
+  cmd->add_option(
+      "dataset", args->dataset,
+      "dataset folder (TUM layout, ETH3D, 7-Scenes, ScanNet, Replica) or ROS 2 recording (.mcap, .db3, "
+      "rosbag2 folder)");
   cmd->add_option("--config", args->config,
                   "pipeline preset the run would use (its dataset and segmenter sections)");
   cmd->add_option("--camera", args->camera,
@@ -40,6 +43,13 @@ void register_check(CLI::App& app) {
     if (!args->camera.empty()) {
       config.dataset.camera = args->camera;
       pipeline::mark_written(config, "dataset.camera");
+    }
+    if (is_ros2_recording(args->dataset)) {
+      const auto source = ros2_source(args->dataset, args->bag, config, !args->config.empty())(config);
+      std::cout << run::format_dataset_check(
+          run::check_frame_source(*source, config, pipeline::simulator_sign("", source->has_labels())),
+          args->all_settings);
+      return;
     }
     if (!args->dataset.empty()) {
       std::cout << run::format_dataset_check(run::check_dataset(args->dataset, config), args->all_settings);

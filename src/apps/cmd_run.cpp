@@ -1,5 +1,8 @@
-// `s3m run`: the full pipeline on a TUM-layout dataset (real or simulated) or, in ROS builds, a rosbag.
+// `s3m run`: the full pipeline on a TUM-layout dataset (real or simulated), a ROS 2 recording or, in
+// ROS builds, a ROS1 bag.
+#include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include <spdlog/spdlog.h>
 
@@ -9,6 +12,7 @@
 #include "s3m/core/error.hpp"
 #include "s3m/core/frame_state.hpp"
 #include "s3m/pipeline/factories.hpp"
+#include "s3m/rosbag2/session_writer.hpp"
 #include "s3m/run/progress.hpp"
 #include "s3m/run/run.hpp"
 
@@ -19,7 +23,7 @@ namespace {
 struct RunArgs {
   std::string dataset, config, out, segmenter, model_dir, poses = "slam", vocab, map;
   bool localize_only = false, slam_only = false, deterministic = false, no_report = false,
-       no_loop_closing = false, force = false;
+       no_loop_closing = false, force = false, no_session_mcap = false;
   long max_frames = -1;
   RosbagArgs bag;
 };
@@ -75,8 +79,9 @@ void register_run(CLI::App& app) {
   cmd->add_option(
       "dataset", args->dataset,
       "TUM-layout directory (rgb.txt, depth.txt, ...; ETH3D too), a 7-Scenes folder as downloaded "
-      "(frame-NNNNNN.color.png, ...), a ScanNet export (color/, depth/, ...) or a Replica scene "
-      "(results/, traj.txt); omit with --rosbag");
+      "(frame-NNNNNN.color.png, ...), a ScanNet export (color/, depth/, ...), a Replica scene "
+      "(results/, traj.txt) or a ROS 2 recording (.mcap, .db3, or a rosbag2 folder with metadata.yaml); "
+      "omit with --rosbag");
   cmd->add_option("--config", args->config,
                   "pipeline preset, e.g. config/tum_fr1.yaml (default: built-in defaults)");
   cmd->add_option("--out", args->out, "output directory")->required();
@@ -102,6 +107,9 @@ void register_run(CLI::App& app) {
       "with --map: localise only, the SLAM map stays as loaded (the semantic map still fuses this run)");
   cmd->add_option("--max-frames", args->max_frames, "process at most N frames")->check(count_option());
   cmd->add_flag("--no-report", args->no_report, "skip the plots and report.html");
+  cmd->add_flag("--no-session-mcap", args->no_session_mcap,
+                "skip OUT/session.mcap (trajectories as /tf and nav_msgs/Path, the map as PointCloud2 and "
+                "MarkerArray, for Foxglove and ros2 bag play)");
   cmd->add_flag("--force", args->force,
                 "run even when the map's cost estimate (voxel updates per frame, checked before the first "
                 "frame) is over its limit");
@@ -136,6 +144,16 @@ void register_run(CLI::App& app) {
       o.config.slam.loop_closing.vocabulary = args->vocab;
       pipeline::mark_written(o.config, "loop_closing.vocabulary");
     }
+    std::optional<PinholeCamera> camera;  // for session.mcap, with the keyframes' segmentations
+    auto keyframes = std::make_shared<std::vector<rosbag2::KeyframeLabels>>();
+    if (!args->no_session_mcap)
+      o.on_frame = [keyframes](const pipeline::FrameOutcome& f, const RgbdFrame&,
+                               const semantics::LabelMap& l) {
+        if (f.keyframe && !l.empty()) keyframes->push_back({f.t_s, rosbag2::keyframe_png(l.argmax)});
+      };
+    if (is_ros2_recording(args->dataset))
+      o.open_source =
+          ros2_source(args->dataset, args->bag, o.config, !args->config.empty(), &camera.emplace());
     o.segmenter = args->segmenter;
     o.model_dir = args->model_dir;
     o.poses = args->poses;
@@ -148,6 +166,15 @@ void register_run(CLI::App& app) {
     o.progress = run::stderr_is_tty();
     o.stop = &install_interrupt_handler();
     const run::RunResult r = run::run_dataset(o);
+    if (!r.written) {
+      // nothing was processed: the folder stays as it was, an earlier run's session.mcap included
+    } else if (!args->no_session_mcap) {
+      if (!camera && args->bag.bag.empty())  // a dataset folder: its camera, read again (cheap)
+        camera = pipeline::open_tum_source(args->dataset, o.config.dataset)->camera();
+      rosbag2::write_session_mcap(args->out, camera ? &*camera : nullptr, *keyframes);
+    } else {  // an earlier run's would not match this run's outputs
+      std::filesystem::remove(std::filesystem::path(args->out) / "session.mcap");
+    }
     print_summary(r, args->out);
     if (r.interrupted)
       throw Interrupted("run: stopped after " + std::to_string(r.frames_done) + " of " +

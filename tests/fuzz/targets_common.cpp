@@ -16,7 +16,8 @@ struct ScratchDir {
   std::string path;
   ScratchDir() {
     std::string tmpl = (std::filesystem::temp_directory_path() / "s3m_fuzz_XXXXXX").string();
-    if (::mkdtemp(tmpl.data()) == nullptr) throw std::runtime_error("s3m fuzz: cannot create a scratch directory");
+    if (::mkdtemp(tmpl.data()) == nullptr)
+      throw std::runtime_error("s3m fuzz: cannot create a scratch directory");
     path = tmpl;
   }
   ~ScratchDir() {
@@ -75,6 +76,9 @@ const std::vector<Target>& all_targets() {
 #endif
 #ifdef S3M_FUZZ_HAVE_PIPELINE
     append_pipeline_targets(t);
+#endif
+#ifdef S3M_FUZZ_HAVE_ROSBAG2
+    append_rosbag2_targets(t);
 #endif
     return t;
   }();

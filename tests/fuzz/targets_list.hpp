@@ -10,4 +10,5 @@ void append_features_targets(std::vector<Target>& out);
 void append_mapping_targets(std::vector<Target>& out);
 void append_semantics_targets(std::vector<Target>& out);
 void append_pipeline_targets(std::vector<Target>& out);
+void append_rosbag2_targets(std::vector<Target>& out);
 }  // namespace s3m::fuzz

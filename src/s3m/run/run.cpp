@@ -211,11 +211,14 @@ RunResult run_dataset(const RunOptions& o) {
 
   // The report's camera views: segmentations of a few integrated frames, kept as the run goes.
   CameraViewSampler camera_views;
-  if (o.report && c.config.eval.plots)
-    c.pipeline->set_frame_listener(
-        [&camera_views](const pipeline::FrameOutcome& f, const RgbdFrame&, const semantics::LabelMap& l) {
-          camera_views.offer(f, l);
-        });
+  const bool views = o.report && c.config.eval.plots;
+  if (views || o.on_frame)
+    c.pipeline->set_frame_listener([&camera_views, views, &o](const pipeline::FrameOutcome& f,
+                                                              const RgbdFrame& frame,
+                                                              const semantics::LabelMap& l) {
+      if (views) camera_views.offer(f, l);
+      if (o.on_frame) o.on_frame(f, frame, l);
+    });
   ProgressLine progress(r.frames_total, o.progress);
   Stopwatch wall;
   const std::size_t submitted = process_frames(o, c, r, progress);

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "s3m/pipeline/frame_source.hpp"
+#include "s3m/pipeline/pipeline.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 
 namespace s3m::run {
@@ -40,6 +41,9 @@ struct RunOptions {
   bool localize_only = false;
   // Stop after this many frames as if `stop` had been set (tests of the interrupted path); < 0: off.
   long stop_after_frames = -1;
+  // Called after every frame with its outcome and labels (pipeline::FrameListener: from the thread
+  // that ran the frame; keep it short), besides the report's own use; unset: not called.
+  pipeline::FrameListener on_frame;
 };
 
 struct RunResult {

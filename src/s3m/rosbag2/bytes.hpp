@@ -1,0 +1,64 @@
+#pragma once
+// Little-endian fields of a byte buffer, read with bounds checks: MCAP records and XCDR1 messages
+// are both little endian, and a truncated or corrupt field must become an error naming where it
+// is, never a read past the buffer.
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+#include "s3m/core/error.hpp"
+
+namespace s3m::rosbag2 {
+
+// A view of bytes owned elsewhere.
+struct Bytes {
+  const std::uint8_t* data = nullptr;
+  std::size_t size = 0;
+};
+
+class ByteReader {
+ public:
+  // where: names the buffer in errors ("file.mcap: chunk at byte 1234").
+  ByteReader(Bytes b, std::string where) : b_(b), where_(std::move(where)) {}
+
+  std::size_t pos() const { return pos_; }
+  std::size_t left() const { return b_.size - pos_; }
+  const std::string& where() const { return where_; }
+
+  // Throws s3m::Error when fewer than n bytes are left for `field`.
+  void need(std::size_t n, const char* field) const {
+    if (n > left())
+      throw Error(where_ + ": " + field + " needs " + std::to_string(n) + " bytes at offset " +
+                  std::to_string(pos_) + ", " + std::to_string(left()) + " left (truncated or corrupt)");
+  }
+  template <typename T>
+  T le(const char* field) {  // host is little endian (x86-64, aarch64): a memcpy is the decode
+    need(sizeof(T), field);
+    T v;
+    std::memcpy(&v, b_.data + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  Bytes take(std::size_t n, const char* field) {
+    need(n, field);
+    Bytes out{b_.data + pos_, n};
+    pos_ += n;
+    return out;
+  }
+  std::string text(std::size_t n, const char* field) {
+    const Bytes s = take(n, field);
+    return std::string(reinterpret_cast<const char*>(s.data), s.size);
+  }
+  void skip(std::size_t n, const char* field) { take(n, field); }
+  void seek(std::size_t pos) { pos_ = pos; }
+
+ private:
+  Bytes b_;
+  std::string where_;
+  std::size_t pos_ = 0;
+};
+
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "ByteReader assumes a little-endian host");
+
+}  // namespace s3m::rosbag2
