@@ -29,9 +29,13 @@ packages=(
   python3 python3-numpy python3-matplotlib
   libjs-three chromium  # the map viewer (three.js r111, copied into reports) and its browser test
   libzstd-dev liblz4-dev libsqlite3-dev zlib1g-dev  # ROS 2 recordings: MCAP chunks, CRC-32, .db3
-  nodejs npm  # the ROS 2 tests' independent reference writer (tests/ros2, npm ci below)
 )
 [ "$with_training" = 1 ] && packages+=(python3-torch python3-onnx)
+# Node.js and npm: the ROS 2 tests' independent reference writer (tests/ros2, npm ci below). Only
+# when missing: a machine's own Node.js (e.g. NodeSource's, which bundles npm) conflicts with
+# Debian's npm package.
+command -v node >/dev/null 2>&1 || packages+=(nodejs)
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 if [ "$with_ros" = 1 ]; then
   # ROS1 as packaged by Debian 12: the node's libraries and messages, rosbag (C++ API), and
   # rosmaster/roslaunch for roscore, the launch file and the node test. octomap_msgs is not packaged.
