@@ -47,7 +47,12 @@ class Db3File final : public StorageFile {
       sqlite3_close(db_);
       throw Error(path + ": cannot open as SQLite: " + why);
     }
-    read_topics();
+    try {
+      read_topics();
+    } catch (...) {  // a constructor that throws runs no destructor: close the database here
+      sqlite3_close(db_);
+      throw;
+    }
   }
   ~Db3File() override { sqlite3_close(db_); }
 
