@@ -24,6 +24,7 @@ bad=0
 row() {
   local name="$1"; shift
   local err code
+  rm -rf out  # each case writes into a folder of its own (an earlier case's run would be refused)
   (ulimit -v 4000000; exec timeout 120 "$@") >/dev/null 2>stderr.txt
   code=$?
   err="$(grep -v '^\s*$' stderr.txt | head -n 3 | tr '\n' ' ' | sed 's/ *$//; s/|/\\|/g')"
@@ -38,6 +39,7 @@ row() {
 skipped() {
   local name="$1"; shift
   local err code
+  rm -rf out
   (ulimit -v 4000000; exec timeout 120 "$@") >stderr.txt 2>&1  # the warning goes where the log goes
   code=$?
   err="$(grep -o 'run: frame [0-9]* skipped: .*' stderr.txt | head -n 1 | sed 's/|/\\|/g')"
@@ -120,6 +122,9 @@ d=$(mk fx0); sed -i 's/^fx: .*/fx: 0/' $d/camera.yaml
 d=$(mk fy_neg); sed -i 's/^fy: .*/fy: -525/' $d/camera.yaml
 d=$(mk width_huge); sed -i 's/^width: .*/width: 1e300/' $d/camera.yaml
 d=$(mk depth_factor0); sed -i 's/^depth_factor: .*/depth_factor: 0/' $d/camera.yaml
+d=$(mk cx_far); sed -i 's/^cx: .*/cx: 5000/' $d/camera.yaml
+d=$(mk fx_normalised); sed -i 's/^fx: .*/fx: 0.9/; s/^fy: .*/fy: 0.9/; s/^cx: .*/cx: 0.5/; s/^cy: .*/cy: 0.5/' $d/camera.yaml
+"${RUN[@]}" small --out run_of_small >/dev/null 2>&1  # a complete run of another recording
 DEPTH_CAMERA='depth_camera:\n  width: 848\n  height: 480\n  fx: 425\n  fy: 425\n  cx: 423.5\n  cy: 239.5\n  T_c_d:\n'
 d=$(mk depth_camera_mm); printf "$DEPTH_CAMERA    translation: [-15, 0.3, 0.2]\n    quaternion: [0, 0, 0, 1]\n" >> $d/camera.yaml
 d=$(mk depth_camera_aligned); printf "$DEPTH_CAMERA    translation: [-0.015, 0, 0]\n    quaternion: [0, 0, 0, 1]\n" >> $d/camera.yaml
@@ -172,6 +177,11 @@ row "fx = 0 in camera.yaml" "${RUN[@]}" fx0 --out out
 row "fy < 0 in camera.yaml" "${RUN[@]}" fy_neg --out out
 row "width = 1e300 in camera.yaml" "${RUN[@]}" width_huge --out out
 row "depth_factor = 0 in camera.yaml" "${RUN[@]}" depth_factor0 --out out
+row "principal point cx = 5000 px in a 640 px image" "${RUN[@]}" cx_far --out out
+row "normalised intrinsics (fx 0.9, cx 0.5)" "${RUN[@]}" fx_normalised --out out
+row "--out is the recording being read" "${RUN[@]}" seq --out seq
+row "--out holds a run of another recording" "${RUN[@]}" seq --out run_of_small
+row "s3m sim --frames 2000000000" "$S3M" sim --frames 2000000000 --out huge_sim
 row "camera.yaml depth_camera 15 mm away, written as 15 m" "${RUN[@]}" depth_camera_mm --out out
 row "camera.yaml depth_camera 848x480, depth images 640x480 (already aligned)" "${RUN[@]}" depth_camera_aligned --out out
 row "model card with 3 classes, model with 4 outputs" "${RUN[@]}" seq --out out --segmenter onnx:card/tiny_rgb.yaml
@@ -214,12 +224,11 @@ else
   how="ulimit -f 64"; "${RUN[@]}" seq --out tmpfs/run >/dev/null 2>&1; cp -r tmpfs/run run_before
   row "disk full during the map write ($how)" bash -c "trap '' XFSZ; ulimit -f 64; exec \"\$0\" \"\$@\"" "${RUN[@]}" seq --out tmpfs/run
 fi
-# The failed run may replace small files whole (frames.txt now says integrated = 1); metrics.json
-# (written last) and the trajectory must be the earlier run's, and nothing half-written may remain.
-if cmp -s run_before/metrics.json tmpfs/run/metrics.json && cmp -s run_before/trajectory_camera.txt tmpfs/run/trajectory_camera.txt \
-   && ! ls -a tmpfs/run | grep -q '\.tmp' && { [ ! -e tmpfs/run/map.ot ] || cmp -s run_before/map.ot tmpfs/run/map.ot; }; then
-  echo "<!-- run disk-full case ($how): the earlier run's metrics.json and trajectory are unchanged, no map.ot or temporary file was left half-written -->"
+# Outputs are staged and moved in at the end: the failed run must leave the earlier run exactly as it
+# was, with no staging folder or temporary file left.
+if diff -r run_before tmpfs/run >/dev/null && ! ls -a tmpfs/run | grep -q '\.tmp\|\.s3m-staging'; then
+  echo "<!-- run disk-full case ($how): the earlier run is byte-identical, no staging folder or temporary file was left -->"
 else
-  echo "<!-- run disk-full case ($how): earlier outputs changed or a temporary file was left -->"; bad=1
+  echo "<!-- run disk-full case ($how): earlier outputs changed or a staging/temporary file was left -->"; bad=1
 fi
 exit $bad

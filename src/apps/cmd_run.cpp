@@ -58,6 +58,8 @@ void print_summary(const run::RunResult& r, const std::string& out) {
   }
   if (m.contains("trajectory") && m["trajectory"].contains("ate_rmse_m"))
     std::cout << "ATE RMSE: " << m["trajectory"]["ate_rmse_m"].get<double>() << " m\n";
+  else if (m.contains("trajectory") && m["trajectory"].contains("error"))  // ground truth there, unusable
+    std::cout << "ATE: not computed: " << m["trajectory"]["error"].get<std::string>() << "\n";
   if (m.contains("segmentation") && m["segmentation"].contains("miou"))
     std::cout << "segmentation mIoU (single frame): " << m["segmentation"]["miou"].get<double>() << "\n";
   if (m.contains("map") && m["map"].contains("miou"))
@@ -112,7 +114,8 @@ void register_run(CLI::App& app) {
                 "MarkerArray, for Foxglove and ros2 bag play)");
   cmd->add_flag("--force", args->force,
                 "run even when the map's cost estimate (voxel updates per frame, checked before the first "
-                "frame) is over its limit");
+                "frame) is over its limit, and write into an --out folder that holds a recording or a run of "
+                "another recording (its outputs are replaced)");
   add_rosbag_options(*cmd, args->bag);
   cmd->callback([args] {
     run::RunOptions o;
@@ -165,16 +168,14 @@ void register_run(CLI::App& app) {
     o.force = args->force;
     o.progress = run::stderr_is_tty();
     o.stop = &install_interrupt_handler();
+    o.more_names = {"session.mcap"};  // an earlier run's would not match this run's outputs
+    if (!args->no_session_mcap)
+      o.write_more = [&camera, &o, args, keyframes](const std::string& dir) {
+        if (!camera && args->bag.bag.empty())  // a dataset folder: its camera, read again (cheap)
+          camera = pipeline::open_tum_source(args->dataset, o.config.dataset)->camera();
+        rosbag2::write_session_mcap(dir, camera ? &*camera : nullptr, *keyframes);
+      };
     const run::RunResult r = run::run_dataset(o);
-    if (!r.written) {
-      // nothing was processed: the folder stays as it was, an earlier run's session.mcap included
-    } else if (!args->no_session_mcap) {
-      if (!camera && args->bag.bag.empty())  // a dataset folder: its camera, read again (cheap)
-        camera = pipeline::open_tum_source(args->dataset, o.config.dataset)->camera();
-      rosbag2::write_session_mcap(args->out, camera ? &*camera : nullptr, *keyframes);
-    } else {  // an earlier run's would not match this run's outputs
-      std::filesystem::remove(std::filesystem::path(args->out) / "session.mcap");
-    }
     print_summary(r, args->out);
     if (r.interrupted)
       throw Interrupted("run: stopped after " + std::to_string(r.frames_done) + " of " +

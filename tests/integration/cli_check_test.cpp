@@ -1,6 +1,8 @@
 // `s3m check` (the built binary, as a user runs it) on the fixture's simulated sequence: every line
 // says what the folder holds, and a camera file with the wrong depth factor is warned about, by
 // `s3m check` and in `s3m run`'s closing summary; `s3m run` writes the settings it used.
+#include <sstream>
+
 #include "pipeline_fixture.hpp"
 
 namespace s3m::it {
@@ -71,6 +73,37 @@ TEST(CliRun, SummaryRepeatsTheDepthScaleWarning) {
   ASSERT_NE(summary, std::string::npos) << log;
   EXPECT_NE(log.find("warning: depth scale check: median depth", summary), std::string::npos) << log;
   EXPECT_NE(log.find("with depth factor 5000 it would be", summary), std::string::npos) << log;
+}
+
+TEST(CliRun, SummarySaysWhyThereIsNoAte) {
+  // Ground truth whose clock is 1000 s off the frames': no ATE, and the summary says why.
+  const fs::path seq =
+      linked_copy("cli_run_gt_offset", [](const fs::path& rel) { return rel == "groundtruth.txt"; });
+  std::ifstream in(sequence_dir() + "/groundtruth.txt");
+  std::ofstream gt(seq / "groundtruth.txt");
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    double t = 0;
+    std::string rest;
+    fields >> t;
+    std::getline(fields, rest);
+    gt << std::fixed << t + 1000 << rest << "\n";
+  }
+  gt.close();
+  std::string log;
+  const fs::path out = scratch_dir() / "cli_run_gt_offset_out";
+  fs::remove_all(out);
+  ASSERT_EQ(
+      run_s3m("run '" + seq.string() + "' --slam-only --deterministic --no-report --max-frames 5 --out '" +
+                  out.string() + "'",
+              scratch_dir() / "cli_run_gt_offset.log", &log),
+      0)
+      << log;
+  EXPECT_EQ(log.find("ATE RMSE"), std::string::npos) << log;
+  EXPECT_NE(log.find("ATE: not computed: eval 's3m camera': only 0 of 5 estimated poses"), std::string::npos)
+      << log;
+  EXPECT_NE(log.find("ground truth 1001.000000.."), std::string::npos) << log;
 }
 
 TEST(CliRun, WritesTheEffectiveConfigWhichRerunsTheSame) {

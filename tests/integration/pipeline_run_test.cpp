@@ -153,6 +153,81 @@ TEST(PipelineRun, ARunStoppedBeforeItsFirstFrameLeavesTheFolderAsItWas) {
   EXPECT_FALSE(fs::exists(o.out_dir));
 }
 
+// f() throws s3m::Error whose message holds every part.
+template <typename F>
+void expect_error_containing(F f, const std::vector<std::string>& parts) {
+  try {
+    f();
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    for (const std::string& part : parts)
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
+          << "'" << part << "' not in: " << e.what();
+  }
+}
+
+// No staging folder of a command is left in a run's folder.
+bool no_staging_left(const std::string& dir) {
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string().rfind(".s3m-staging", 0) == 0) return false;
+  return true;
+}
+
+TEST(PipelineRun, StoppedAtSeveralPointsOverAnEarlierRunLeavesALoadableRunOfWhatWasProcessed) {
+  run::RunOptions o = options("stopped_later", /*deterministic=*/true);
+  o.max_frames = 40;
+  run::run_dataset(o);
+  for (const long stop : {12L, 25L}) {
+    o.stop_after_frames = stop;
+    const run::RunResult r = run::run_dataset(o);
+    EXPECT_TRUE(r.interrupted && r.written);
+    expect_loadable_outputs(o.out_dir, static_cast<std::size_t>(stop));
+    EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(), std::size_t(stop));
+    EXPECT_TRUE(no_staging_left(o.out_dir));
+  }
+}
+
+TEST(PipelineRun, AFailureWhileWritingLeavesTheEarlierRunAsItWas) {
+  // What a full disk does halfway through the outputs: the earlier run stays whole, not half replaced.
+  run::RunOptions o = options("failed_write", /*deterministic=*/true);
+  o.max_frames = 10;
+  run::run_dataset(o);
+  const auto before = folder_bytes(o.out_dir);
+  o.max_frames = 15;
+  o.write_more = [](const std::string& dir) {
+    std::ofstream(dir + "/session.mcap") << "half";
+    throw Error("session.mcap: No space left on device");
+  };
+  o.more_names = {"session.mcap"};
+  EXPECT_THROW(run::run_dataset(o), Error);
+  EXPECT_TRUE(folder_bytes(o.out_dir) == before) << "the earlier run was changed by a run that failed";
+  EXPECT_TRUE(no_staging_left(o.out_dir));
+}
+
+TEST(PipelineRun, AFolderHoldingARecordingOrAnotherRecordingsRunNeedsForce) {
+  run::RunOptions o = options("foreign", /*deterministic=*/true);
+  o.max_frames = 8;
+  // 1. The recording itself.
+  run::RunOptions into_recording = o;
+  into_recording.out_dir = o.dataset_dir;
+  expect_error_containing([&] { run::run_dataset(into_recording); },
+                          {"holds the recording this run reads", "--force"});
+  // 2. Another recording's run: refused, naming it and what would be replaced; nothing changes.
+  fs::create_directories(o.out_dir);
+  std::ofstream(o.out_dir + "/metrics.json") << R"({"inputs": {"dataset": "/data/another_flight"}})";
+  std::ofstream(o.out_dir + "/map.ot") << "another flight's map";
+  const auto before = folder_bytes(o.out_dir);
+  expect_error_containing([&] { run::run_dataset(o); },
+                          {"a run of /data/another_flight", "replacing metrics.json, map.ot", "--force"});
+  EXPECT_TRUE(folder_bytes(o.out_dir) == before);
+  // 3. With --force it is replaced; this recording's own run may then be run again without it.
+  o.force = true;
+  EXPECT_TRUE(run::run_dataset(o).written);
+  EXPECT_NE(read_bytes(o.out_dir + "/map.ot"), "another flight's map");
+  o.force = false;
+  EXPECT_TRUE(run::run_dataset(o).written);
+}
+
 TEST(PipelineRun, ARunIntoAnEarlierRunsFolderLeavesNoneOfItsProductsBehind) {
   run::RunOptions full = options("stale", true);
   full.max_frames = 20;

@@ -295,20 +295,25 @@ TEST(RunBadInput, DiskFullWhileWritingOutputsKeepsThePreviousRunLoadable) {
   run::run_dataset(o);
   const std::string map_before = read_bytes(o.out_dir + "/map.ot");
   const std::string traj_before = read_bytes(o.out_dir + "/trajectory_camera.txt");
+  const std::string metrics_before = read_bytes(o.out_dir + "/metrics.json");
   ASSERT_GT(map_before.size(), 64u * 1024u);  // so the limit below stops the map, not the small files
   {
     const FileSizeLimit limit(64 * 1024);
     ASSERT_TRUE(limit.ok());
     run_error(o, {o.out_dir + "/map.ot", "disk full?"});
   }
-  // The earlier run's files are whole and load; no temporary file is left behind.
+  // The earlier run's files are whole, unchanged and load; no temporary file or staging folder is left.
   EXPECT_TRUE(read_bytes(o.out_dir + "/map.ot") == map_before);
   EXPECT_NE(mapping::load_semantic_map(o.out_dir + "/map.ot"), nullptr);
   EXPECT_EQ(read_bytes(o.out_dir + "/trajectory_camera.txt"), traj_before);
+  EXPECT_EQ(read_bytes(o.out_dir + "/metrics.json"),
+            metrics_before);  // not a new trajectory beside old metrics
   EXPECT_EQ(io::read_tum_trajectory(o.out_dir + "/trajectory_camera.txt").size(),
             static_cast<std::size_t>(kShort));
   for (const auto& e : fs::directory_iterator(o.out_dir))
-    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+    EXPECT_TRUE(e.path().filename().string().find(".tmp") == std::string::npos &&
+                e.path().filename().string().find(".s3m-staging") == std::string::npos)
+        << e.path();
 }
 
 // A FIFO where a list or an image belongs: refused with its path instead of blocking the run

@@ -54,6 +54,69 @@ TEST(IoOutputFolder, AFileIsRefusedAndAFolderIsMadeWithItsParents) {
   create_output_folder(nested.string(), "--out");  // already there: fine
 }
 
+namespace {
+std::string file_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+std::size_t entries(const fs::path& dir) {
+  return std::distance(fs::directory_iterator(dir), fs::directory_iterator{});
+}
+}  // namespace
+
+TEST(IoStagedFolder, CommitReplacesFilesAndFoldersAndRemovesOwnedLeftovers) {
+  const auto dir = fresh_temp_dir();
+  const fs::path dest = dir / "out";
+  fs::create_directories(dest / "report");
+  write_file(dest / "a.txt", "old a");
+  write_file(dest / "map.ot", "old map");
+  write_file(dest / "report" / "old.html", "old report");
+  write_file(dest / "notes.txt", "the user's");
+  fs::create_directories(dest / ".s3m-staging-1");  // a killed command's
+  {
+    StagedFolder out(dest.string(), "--out");
+    EXPECT_FALSE(out.created_dest());
+    EXPECT_FALSE(fs::exists(dest / ".s3m-staging-1"));
+    write_file(fs::path(out.path()) / "a.txt", "new a");
+    fs::create_directories(fs::path(out.path()) / "report");
+    write_file(fs::path(out.path()) / "report" / "new.html", "new report");
+    EXPECT_EQ(file_text(dest / "a.txt"), "old a");  // nothing moves before commit
+    const auto removed = out.commit({"a.txt", "map.ot", "report", "never_made.bin"});
+    ASSERT_EQ(removed.size(), 1u);
+    EXPECT_EQ(removed[0], (dest / "map.ot").string());
+  }
+  EXPECT_EQ(file_text(dest / "a.txt"), "new a");
+  EXPECT_EQ(file_text(dest / "report" / "new.html"), "new report");
+  EXPECT_FALSE(fs::exists(dest / "report" / "old.html"));  // a folder is replaced whole
+  EXPECT_FALSE(fs::exists(dest / "map.ot"));
+  EXPECT_EQ(file_text(dest / "notes.txt"), "the user's");
+  EXPECT_EQ(entries(dest), 3u);  // a.txt, report, notes.txt: no staging folder left
+}
+
+TEST(IoStagedFolder, WithoutCommitTheDestinationIsLeftAsItWas) {
+  const auto dir = fresh_temp_dir();
+  const fs::path dest = dir / "out";
+  fs::create_directories(dest);
+  write_file(dest / "a.txt", "old a");
+  {
+    StagedFolder out(dest.string(), "--out");
+    write_file(fs::path(out.path()) / "a.txt", "new a");
+  }  // e.g. an exception while writing
+  EXPECT_EQ(file_text(dest / "a.txt"), "old a");
+  EXPECT_EQ(entries(dest), 1u);
+  const fs::path fresh = dir / "x" / "fresh";
+  {
+    StagedFolder out(fresh.string(), "--out");
+    EXPECT_TRUE(out.created_dest());
+    EXPECT_TRUE(fs::is_directory(out.path()));
+  }
+  EXPECT_FALSE(fs::exists(fresh));  // the folder it made, still empty, goes
+  const std::string file = write_file(dir / "a_file", "x");
+  expect_error([&] { StagedFolder bad(file, "--out"); }, {"--out '" + file + "' is a file, not a folder"});
+}
+
 TEST(IoGtVoxels, RoundTripAndErrors) {
   const auto dir = fresh_temp_dir();
   GtVoxelMap map;

@@ -242,15 +242,7 @@ json compute_metrics(const pipeline::Pipeline& p, const pipeline::FrameSource& s
   m["map"] = map_json(p, paths, source.eval_dir(), T_map_gt);
   if (json r = reprojection_json(p, source, config); !r.empty()) m["map"]["reprojected"] = r;
   m["classes"] = classes_json();
-  m["outputs"] = {{"trajectory_camera", paths.trajectory_camera},
-                  {"trajectory_robot", paths.trajectory_robot},
-                  {"keyframes", paths.keyframes},
-                  {"frames", paths.frames},
-                  {"map_ot", paths.map_ot},
-                  {"map_ply", paths.map_ply},
-                  {"slam_map", paths.slam_map},
-                  {"kept_clouds", paths.kept_clouds},
-                  {"config_effective", paths.config_effective}};
+  m["outputs"] = outputs_json(paths);
   if (!info.depth_registration.empty()) m["inputs"]["depth_registration"] = info.depth_registration;
   if (!info.overlays.empty()) m["inputs"]["overlays"] = info.overlays;
   if (info.depth_median_m > 0) m["inputs"]["depth_median_m"] = info.depth_median_m;
@@ -258,6 +250,18 @@ json compute_metrics(const pipeline::Pipeline& p, const pipeline::FrameSource& s
   if (!info.loaded_map.empty())
     m["inputs"]["map"] = {{"folder", info.loaded_map}, {"localize_only", info.localize_only}};
   return m;
+}
+
+json outputs_json(const pipeline::OutputPaths& paths) {
+  return {{"trajectory_camera", paths.trajectory_camera},
+          {"trajectory_robot", paths.trajectory_robot},
+          {"keyframes", paths.keyframes},
+          {"frames", paths.frames},
+          {"map_ot", paths.map_ot},
+          {"map_ply", paths.map_ply},
+          {"slam_map", paths.slam_map},
+          {"kept_clouds", paths.kept_clouds},
+          {"config_effective", paths.config_effective}};
 }
 
 void write_metrics(const json& metrics, const pipeline::OutputPaths& paths) {

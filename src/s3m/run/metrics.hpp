@@ -44,6 +44,8 @@ nlohmann::json compute_metrics(const pipeline::Pipeline& pipeline, const pipelin
 // Side effect: with ground truth, evaluate_trajectory() writes the plot script's inputs
 // (report/trajectory_aligned.txt, report/groundtruth.txt, report/rpe_series.txt).
 // Writes metrics.json atomically.
+// metrics.json's "outputs": where each output file is.
+nlohmann::json outputs_json(const pipeline::OutputPaths& paths);
 void write_metrics(const nlohmann::json& metrics, const pipeline::OutputPaths& paths);
 
 }  // namespace s3m::run

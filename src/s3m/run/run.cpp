@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 
 #include <fmt/format.h>
@@ -50,6 +51,70 @@ bool same_folder(const std::string& a, const std::string& b) {
   std::error_code ec;
   const fs::path da = fs::is_regular_file(a) ? fs::path(a).parent_path() : fs::path(a);
   return !a.empty() && fs::equivalent(da, b, ec);
+}
+
+// Everything run_dataset writes into out_dir, by name: an earlier run's copy of one this run does not
+// make would be read as this run's. The session a stopped run continued in stays (keep_loaded).
+std::vector<std::string> owned_names(const RunOptions& o, bool keep_loaded) {
+  std::vector<std::string> n = {"trajectory_camera.txt",
+                                "trajectory_robot.txt",
+                                "keyframes.txt",
+                                "frames.txt",
+                                "metrics.json",
+                                "config_effective.yaml",
+                                "map.ot",
+                                "map.ply",
+                                "report"};
+  if (!keep_loaded) n.insert(n.end(), {pipeline::kSlamMapFile, pipeline::kKeptCloudsFile});
+  n.insert(n.end(), o.more_names.begin(), o.more_names.end());
+  return n;
+}
+
+bool same_recording(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  return a == b || fs::equivalent(a, b, ec);
+}
+
+// What out_dir holds that is not this recording's earlier run: "" when nothing.
+std::string foreign_contents(const RunOptions& o) {
+  std::error_code ec;
+  const fs::path out(o.out_dir);
+  if (!fs::is_directory(out, ec)) return "";
+  if (!o.dataset_dir.empty() && fs::equivalent(out, o.dataset_dir, ec)) return "the recording this run reads";
+  for (const char* f : {"rgb.txt", "depth.txt", "associations.txt", "metadata.yaml"})
+    if (fs::exists(out / f, ec)) return std::string("a recording (") + f + ")";
+  if (!fs::exists(out / "metrics.json", ec)) return "";
+  std::ifstream in(out / "metrics.json");
+  const nlohmann::json m = nlohmann::json::parse(in, nullptr, false);
+  const std::string earlier =
+      m.is_object() && m.contains("inputs") ? m["inputs"].value("dataset", std::string()) : std::string();
+  if (earlier.empty()) return "a metrics.json s3m cannot read as a run's";
+  return same_recording(earlier, o.dataset_dir) ? "" : "the outputs of a run of " + earlier;
+}
+
+// An --out folder holding a recording, or another recording's run, is the user's data: writing into
+// it needs --force, and the message says what would be replaced. Continuing a session (--map in
+// the same folder) is what the user asked for.
+void refuse_foreign_out(const RunOptions& o) {
+  if (o.force || same_folder(o.map_dir, o.out_dir)) return;
+  const std::string holds = foreign_contents(o);
+  if (holds.empty()) return;
+  std::string replaced;
+  std::error_code ec;
+  for (const std::string& name : owned_names(o, false))
+    if (fs::exists(fs::path(o.out_dir) / name, ec)) replaced += (replaced.empty() ? "" : ", ") + name;
+  throw Error(
+      fmt::format("run: --out '{}' holds {}; this run would write its outputs there{}. Give another "
+                  "folder, or --force to write into it",
+                  o.out_dir, holds, replaced.empty() ? "" : " (replacing " + replaced + ")"));
+}
+
+// Output paths as they will be once the staging folder is moved in (metrics.json lists them).
+pipeline::OutputPaths moved(pipeline::OutputPaths p, const std::string& from, const std::string& to) {
+  for (std::string* s : {&p.out_dir, &p.trajectory_camera, &p.trajectory_robot, &p.keyframes, &p.frames,
+                         &p.map_ot, &p.map_ply, &p.slam_map, &p.kept_clouds, &p.metrics, &p.config_effective})
+    if (s->rfind(from, 0) == 0) *s = to + s->substr(from.size());
+  return p;
 }
 
 // Components the run is made of, built from the options (each factory names what is wrong).
@@ -191,15 +256,49 @@ std::size_t process_frames(const RunOptions& o, Components& c, RunResult& r, Pro
   return i;
 }
 
+// Outputs first (trajectory and map are what a user keeps), then the evaluation of them, all into
+// the staging folder; moved into out_dir only once everything was written. Returns the names the run
+// owns in out_dir (StagedFolder::commit).
+std::vector<std::string> write_staged(const RunOptions& o, Components& c, io::StagedFolder& out,
+                                      const CameraViewSampler& camera_views, RunResult& r) {
+  const bool keep_loaded = r.interrupted && same_folder(o.map_dir, o.out_dir);
+  if (keep_loaded) spdlog::warn("run: interrupted: the session loaded from {} is not overwritten", o.out_dir);
+  pipeline::OutputPaths paths = pipeline::write_outputs(*c.pipeline, c.config, out.path(), !keep_loaded);
+  paths.config_effective = write_effective_config(
+      out.path(), c.config,
+      {"depth: " + c.info.depth_registration,
+       "segmenter: " + c.info.segmenter +
+           (c.info.segmenter_reason.empty() ? "" : " (" + c.info.segmenter_reason + ")")});
+  r.metrics = compute_metrics(*c.pipeline, *c.source, c.config, c.info, paths);
+  r.metrics["outputs"] = outputs_json(moved(paths, out.path(), o.out_dir));
+  write_metrics(r.metrics, paths);
+  if (o.report && c.config.eval.plots) {
+    const std::string views =
+        write_report_views(*c.pipeline, *c.source, c.config, paths, camera_views.chosen());
+    if (!views.empty()) spdlog::warn("run: report pictures missing: {}", views);
+    const ReportResult rep = make_report(out.path());
+    if (!rep.html.empty())
+      r.report_html = (fs::path(o.out_dir) / "report" / fs::path(rep.html).filename()).string();
+    r.report_error = rep.error;
+    if (!rep.error.empty()) spdlog::warn("run: report not made: {}", rep.error);
+  } else {  // the evaluation's plot data alone is no report (and an earlier one would describe that run)
+    std::error_code ec;
+    fs::remove_all(fs::path(out.path()) / "report", ec);
+  }
+  if (o.write_more) o.write_more(out.path());
+  return owned_names(o, keep_loaded);
+}
+
 }  // namespace
 
 RunResult run_dataset(const RunOptions& o) {
   require(!o.out_dir.empty(), "run: an output directory is required (--out)");
   o.config.validate();
+  io::require_folder_path(o.out_dir, "--out");  // before any work: a bad --out costs nothing
+  refuse_foreign_out(o);
   Components c = build(o);
   if (!o.slam_only) pipeline::check_cost(c.config, c.source->camera(), o.force);  // before the first frame
-  const bool out_existed = fs::exists(o.out_dir);
-  io::create_output_folder(o.out_dir, "--out");  // before any frame: a bad --out costs nothing
+  io::StagedFolder out(o.out_dir, "--out");
 
   RunResult r;
   r.frames_total = c.source->size();
@@ -236,9 +335,7 @@ RunResult run_dataset(const RunOptions& o) {
     spdlog::warn("run: stopped after {} of {} frames; writing what was processed", r.frames_done,
                  r.frames_total);
 
-  if (r.frames_done == 0) {
-    std::error_code ec;
-    if (!out_existed) fs::remove(o.out_dir, ec);  // the folder this run made, still empty
+  if (r.frames_done == 0) {  // `out` removes its staging folder, and out_dir if it made it
     spdlog::warn("run: no frame was processed; {} is left as it was", o.out_dir);
     if (!c.info.stopped_by.empty())
       throw Error(
@@ -246,31 +343,18 @@ RunResult run_dataset(const RunOptions& o) {
                       submitted, r.frames_total, c.info.stopped_by, o.out_dir));
     return r;
   }
-  r.written = true;
-  // Outputs first (trajectory and map are what a user keeps), then the evaluation of them.
-  const bool keep_loaded = r.interrupted && same_folder(o.map_dir, o.out_dir);
-  if (keep_loaded) spdlog::warn("run: interrupted: the session loaded from {} is not overwritten", o.out_dir);
-  pipeline::OutputPaths paths = pipeline::write_outputs(*c.pipeline, c.config, o.out_dir, !keep_loaded);
-  paths.config_effective = write_effective_config(
-      o.out_dir, c.config,
-      {"depth: " + c.info.depth_registration,
-       "segmenter: " + c.info.segmenter +
-           (c.info.segmenter_reason.empty() ? "" : " (" + c.info.segmenter_reason + ")")});
-  r.metrics = compute_metrics(*c.pipeline, *c.source, c.config, c.info, paths);
-  write_metrics(r.metrics, paths);
-  if (o.report && c.config.eval.plots) {
-    const std::string views =
-        write_report_views(*c.pipeline, *c.source, c.config, paths, camera_views.chosen());
-    if (!views.empty()) spdlog::warn("run: report pictures missing: {}", views);
-    const ReportResult rep = make_report(o.out_dir);
-    r.report_html = rep.html;
-    r.report_error = rep.error;
-    if (!rep.error.empty()) spdlog::warn("run: report not made: {}", rep.error);
-  } else {
-    std::error_code ec;  // an earlier run's report would describe that run
-    if (fs::remove_all(fs::path(o.out_dir) / "report", ec) > 0)
-      spdlog::info("run: removed the report of an earlier run from {} (--no-report)", o.out_dir);
+  std::vector<std::string> owned;
+  try {
+    owned = write_staged(o, c, out, camera_views, r);
+  } catch (const Error& e) {  // name the files where the user will look for them
+    std::string what = e.what();
+    for (std::size_t k; (k = what.find(out.path())) != std::string::npos;)
+      what.replace(k, out.path().size(), o.out_dir);
+    throw Error(what + "; nothing was changed in " + o.out_dir);
   }
+  for (const std::string& gone : out.commit(owned))
+    spdlog::info("run: removed {} of an earlier run (not made by this one)", gone);
+  r.written = true;
   if (!c.info.stopped_by.empty())
     throw Error(
         fmt::format("run: stopped at frame {} of {}: {}; the outputs of the {} frames before it are in {}",

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -33,7 +34,9 @@ struct RunOptions {
   const std::atomic<bool>* stop = nullptr;
   bool progress = false;  // live progress line on stderr
   bool report = true;     // plots + report.html via tools/plot_report.py
-  bool force = false;     // run even when the cost estimate is over its limit (cost_estimate.hpp)
+  // Run even when the cost estimate is over its limit (cost_estimate.hpp), and write into an out_dir
+  // that holds a recording or a run of another recording (its outputs are replaced).
+  bool force = false;
   // A map that lasts: continue in the session a previous run wrote into this folder
   // (slam_map.bin, and kept_clouds.bin for the semantic map); "" = start from nothing. With
   // localize_only the SLAM map is not changed (the semantic map still fuses this run's frames).
@@ -44,6 +47,10 @@ struct RunOptions {
   // Called after every frame with its outcome and labels (pipeline::FrameListener: from the thread
   // that ran the frame; keep it short), besides the report's own use; unset: not called.
   pipeline::FrameListener on_frame;
+  // More outputs of the caller's (the CLI's session.mcap), written into the staging folder DIR after
+  // run_dataset's own and moved in with them; a throw leaves out_dir as it was. Unset: none.
+  std::function<void(const std::string& dir)> write_more;
+  std::vector<std::string> more_names;  // the names write_more writes (removed when it did not)
 };
 
 struct RunResult {
@@ -59,9 +66,12 @@ struct RunResult {
 
 // Throws s3m::Error / ParseError for bad input (dataset, config, model), with file and line. An
 // unreadable frame is skipped (RunResult::frames_skipped); more than
-// config.dataset.max_unreadable_in_a_row in a row throw, after the outputs so far are written. A run
-// that processed no frame (stopped before the first) writes nothing: an empty run must not replace
-// what the folder held.
+// config.dataset.max_unreadable_in_a_row in a row throw, after the outputs so far are written.
+// Outputs are staged inside out_dir and moved in at the end (io::StagedFolder): a run that
+// processed no frame (stopped before the first) or failed leaves out_dir exactly as it was; one
+// that finished or was stopped replaces an earlier run's outputs whole, the files it did not make
+// this time included. An out_dir holding a recording, or a run of another recording, is refused
+// before any work unless force (or it is the map_dir being continued).
 RunResult run_dataset(const RunOptions& options);
 
 }  // namespace s3m::run
