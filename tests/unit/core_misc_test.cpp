@@ -35,6 +35,22 @@ TEST(Camera, ValidateNamesTheBadField) {
   cam.width = 0;
   EXPECT_THROW(cam.validate(), Error);
   EXPECT_NO_THROW(PinholeCamera{}.validate());
+  // The principal point may leave the 640x480 image by half its size, not more (a wrong unit).
+  cam = PinholeCamera{};
+  cam.cx = -320;
+  cam.cy = 720;
+  EXPECT_NO_THROW(cam.validate());
+  cam.cx = -321;
+  try {
+    cam.validate();
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("principal point cx=-321"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("640x480"), std::string::npos) << e.what();
+  }
+  cam.cx = 319.5;
+  cam.cy = 720.5;
+  EXPECT_THROW(cam.validate(), Error);
 }
 
 TEST(Camera, ScaledKeepsPixelCentres) {

@@ -21,12 +21,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Frame `number` of an 8x6 sequence: grey level = number, depth 1234 mm except a 65535 hole at (0,0).
+// Frame `number` of a 640x480 sequence (the size 7-Scenes' nominal intrinsics are for): grey level =
+// number, depth 1234 mm except a 65535 hole at (0,0).
 void write_frame(const fs::path& dir, int number, const std::string& colour_ext) {
   char stem[32];
   std::snprintf(stem, sizeof stem, "frame-%06d", number);
-  cv::imwrite((dir / (std::string(stem) + ".color." + colour_ext)).string(), cv::Mat(6, 8, CV_8UC3, cv::Scalar::all(number)));
-  cv::Mat depth(6, 8, CV_16UC1, cv::Scalar(1234));
+  cv::imwrite((dir / (std::string(stem) + ".color." + colour_ext)).string(),
+              cv::Mat(480, 640, CV_8UC3, cv::Scalar::all(number)));
+  cv::Mat depth(480, 640, CV_16UC1, cv::Scalar(1234));
   depth.at<std::uint16_t>(0, 0) = 65535;
   depth.at<std::uint16_t>(0, 1) = 0;
   cv::imwrite((dir / (std::string(stem) + ".depth.png")).string(), depth);
@@ -41,8 +43,7 @@ fs::path write_seven_scenes(const fs::path& root) {
   write_file(seq / "frame-000000.pose.txt",
              "1.0\t0.0\t0.0\t0.0\t\n0.0\t1.0\t0.0\t0.0\t\n0.0\t0.0\t1.0\t0.0\t\n0.0\t0.0\t0.0\t1.0\t\n");
   // 90 deg about z, slightly off orthonormal (KinectFusion's poses are, by < 1e-3), at (1, 2, 3).
-  write_file(seq / "frame-000001.pose.txt",
-             "0.0005 -1 0 1\n1 0 0 2\n0 0 1 3\n0 0 0 1\n");
+  write_file(seq / "frame-000001.pose.txt", "0.0005 -1 0 1\n1 0 0 2\n0 0 1 3\n0 0 0 1\n");
   return seq;
 }
 
@@ -64,8 +65,8 @@ TEST(IoSevenScenes, FolderOpensAsDownloaded) {
   EXPECT_EQ(cam.fy, 110);
   EXPECT_EQ(cam.cx, 4);
   EXPECT_EQ(cam.cy, 3);
-  EXPECT_EQ(cam.width, 8);
-  EXPECT_EQ(cam.height, 6);
+  EXPECT_EQ(cam.width, 640);
+  EXPECT_EQ(cam.height, 480);
   EXPECT_EQ(cam.depth_factor, 1000);
 
   const RgbdFrame f = ds.load(2);
@@ -91,7 +92,7 @@ TEST(IoSevenScenes, CameraFromFileOptionOrNominal) {
   EXPECT_EQ(nominal.fx, 585);
   EXPECT_EQ(nominal.cx, 320);
   EXPECT_EQ(nominal.depth_factor, 1000);
-  EXPECT_EQ(nominal.width, 8);
+  EXPECT_EQ(nominal.width, 640);
   // The same values as the preset a user can name.
   const auto preset = camera_preset("7scenes");
   ASSERT_TRUE(preset.has_value());
@@ -118,16 +119,19 @@ TEST(IoSevenScenes, BadFilesAreNamed) {
   write_file(seq / "frame-000001.pose.txt", "2 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
   expect_error([&] { TumDataset::open(d); }, {"frame-000001.pose.txt", "not a rigid transform"});
   // A pose of inf (a lost frame) is no ground truth for that frame, not an error.
-  write_file(seq / "frame-000001.pose.txt", "-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n0 0 0 1\n");
+  write_file(seq / "frame-000001.pose.txt",
+             "-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n0 0 0 1\n");
   EXPECT_EQ(TumDataset::open(d).groundtruth().size(), 1u);
   write_file(seq / "frame-000001.pose.txt", "1 0 0 0\n0 1 0 0\n0 0 1 x\n0 0 0 1\n");
   expect_error([&] { TumDataset::open(d); }, {"frame-000001.pose.txt:3", "'x'"});
   fs::remove(seq / "frame-000001.pose.txt");
   fs::remove(seq / "frame-000003.depth.png");
-  expect_error([&] { TumDataset::open(d); }, {"frame-000003.depth.png", "file not found", "frame-000003.color.png"});
+  expect_error([&] { TumDataset::open(d); },
+               {"frame-000003.depth.png", "file not found", "frame-000003.color.png"});
   // A .jpg beside a .png of the same frame is ambiguous.
   write_frame(seq, 0, "jpg");
-  expect_error([&] { TumDataset::open(d); }, {"frame 0 has two colour images (frame-000000.color.jpg and frame-000000.color.png)"});
+  expect_error([&] { TumDataset::open(d); },
+               {"frame 0 has two colour images (frame-000000.color.jpg and frame-000000.color.png)"});
 }
 
 TEST(IoScanNet, ExportOpensWithColourResizedToDepth) {
@@ -138,10 +142,12 @@ TEST(IoScanNet, ExportOpensWithColourResizedToDepth) {
   colour(cv::Rect(8, 0, 8, 12)).setTo(cv::Scalar::all(200));
   for (int n : {0, 10, 20}) {
     cv::imwrite((scan / "color" / (std::to_string(n) + ".png")).string(), colour);
-    cv::imwrite((scan / "depth" / (std::to_string(n) + ".png")).string(), cv::Mat(6, 8, CV_16UC1, cv::Scalar(2500)));
+    cv::imwrite((scan / "depth" / (std::to_string(n) + ".png")).string(),
+                cv::Mat(6, 8, CV_16UC1, cv::Scalar(2500)));
   }
   write_file(scan / "pose" / "0.txt", "1 0 0 0.5\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
-  write_file(scan / "pose" / "10.txt", "-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n");
+  write_file(scan / "pose" / "10.txt",
+             "-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n");
   write_file(scan / "pose" / "20.txt", "1 0 0 0.7\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
   write_file(scan / "intrinsic" / "intrinsic_color.txt", "20 0 7.5 0\n0 22 5.5 0\n0 0 1 0\n0 0 0 1\n");
   const TumDataset ds = TumDataset::open(scan.string());
@@ -165,7 +171,8 @@ TEST(IoScanNet, ExportOpensWithColourResizedToDepth) {
   EXPECT_DOUBLE_EQ(ds.groundtruth()[1].T_w_x.translation().x(), 0.7);
   // Without the intrinsics the file is named.
   fs::remove(scan / "intrinsic" / "intrinsic_color.txt");
-  expect_error([&] { TumDataset::open(scan.string()); }, {"intrinsic_color.txt", "file not found", "camera.yaml"});
+  expect_error([&] { TumDataset::open(scan.string()); },
+               {"intrinsic_color.txt", "file not found", "camera.yaml"});
   fs::remove(scan / "depth" / "10.png");
   expect_error([&] { TumDataset::open(scan.string()); }, {"depth/10.png", "file not found", "color/10.png"});
 }
@@ -177,8 +184,10 @@ TEST(IoReplica, NiceSlamRenderOpensWithTrajAndCamParams) {
   for (int n = 0; n < 3; ++n) {
     char stem[32];
     std::snprintf(stem, sizeof stem, "%06d", n);
-    cv::imwrite((scene / "results" / ("frame" + std::string(stem) + ".jpg")).string(), cv::Mat(6, 8, CV_8UC3, cv::Scalar::all(100)));
-    cv::imwrite((scene / "results" / ("depth" + std::string(stem) + ".png")).string(), cv::Mat(6, 8, CV_16UC1, cv::Scalar(13107)));
+    cv::imwrite((scene / "results" / ("frame" + std::string(stem) + ".jpg")).string(),
+                cv::Mat(6, 8, CV_8UC3, cv::Scalar::all(100)));
+    cv::imwrite((scene / "results" / ("depth" + std::string(stem) + ".png")).string(),
+                cv::Mat(6, 8, CV_16UC1, cv::Scalar(13107)));
   }
   // One row-major camera-to-world matrix per line; frame 2 has none (a short traj.txt).
   write_file(scene / "traj.txt", "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 0 0 0.25 0 1 0 0 0 0 1 -0.5 0 0 0 1\n");
@@ -201,10 +210,12 @@ TEST(IoReplica, NiceSlamRenderOpensWithTrajAndCamParams) {
   expect_error([&] { TumDataset::open(scene.string()); }, {"traj.txt:2", "found 11 columns", "16 numbers"});
   fs::remove(scene / "traj.txt");
   write_file(scene / "traj.txt", "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n");
-  write_file(root / "cam_params.json", R"({"camera": {"w": 8, "h": 6, "fx": 6.0, "fy": 6.5, "cx": 3.5, "cy": 2.5}})");
+  write_file(root / "cam_params.json",
+             R"({"camera": {"w": 8, "h": 6, "fx": 6.0, "fy": 6.5, "cx": 3.5, "cy": 2.5}})");
   expect_error([&] { TumDataset::open(scene.string()); }, {"cam_params.json", "no number camera.scale"});
   // Without cam_params.json: NICE-SLAM's values (1200x680), which these 8x6 images do not match.
   fs::remove(root / "cam_params.json");
-  expect_error([&] { TumDataset::open(scene.string()); }, {"frame000000.jpg", "image is 8x6", "1200x680 as preset replica"});
+  expect_error([&] { TumDataset::open(scene.string()); },
+               {"frame000000.jpg", "image is 8x6", "1200x680 as preset replica"});
   EXPECT_EQ(camera_preset("replica")->depth_factor, 6553.5);
 }

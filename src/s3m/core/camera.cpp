@@ -23,6 +23,14 @@ void PinholeCamera::validate() const {
               " deg field of view over " + std::to_string(width) +
               " px (expected fx in pixels of this image, e.g. ~525 at 640 px; normalised intrinsics "
               "must be multiplied by the image size)");
+  // A principal point far off the image is a unit or crop mistake, not a lens: the image enlarged by
+  // half its size on every side still allows off-centre crops.
+  require(cx >= -0.5 * width && cx <= 1.5 * width && cy >= -0.5 * height && cy <= 1.5 * height,
+          "camera: principal point cx=" + std::to_string(cx) + ", cy=" + std::to_string(cy) +
+              " px lies far outside the " + std::to_string(width) + "x" + std::to_string(height) +
+              " px image (expected near its centre, cx in " + std::to_string(-0.5 * width) + ".." +
+              std::to_string(1.5 * width) + ", cy in " + std::to_string(-0.5 * height) + ".." +
+              std::to_string(1.5 * height) + "; in pixels of this image)");
   require(finite_positive(depth_factor),
           "camera: depth_factor must be finite and > 0 (got " + std::to_string(depth_factor) + ")");
   for (double d : dist) require(std::isfinite(d), "camera: distortion coefficients must be finite");
