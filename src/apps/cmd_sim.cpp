@@ -6,6 +6,7 @@
 #include <sstream>
 #include <vector>
 
+#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -39,6 +40,37 @@ void refuse_recording(const std::string& out_dir, bool force) {
   throw Error("--out '" + out_dir +
               "' holds a recording (rgb.txt, no sim.yaml): s3m sim would replace its lists and camera.yaml; "
               "give another folder, or --force to write over it");
+}
+
+// A sequence no one means (--frames 2000000000) is refused before the work with its estimate: it would
+// fill the disk after hours, with the trajectory alone outgrowing memory first. The constants are
+// measured: colour, depth and label PNGs of the simulator take ~3.3 bytes a pixel, rendering ~0.3 us
+// a pixel on one core.
+void check_sim_cost(const sim::SimConfig& cfg, const std::string& out_dir, bool force) {
+  namespace fs = std::filesystem;
+  constexpr double kBytesPerPixel = 3.3, kSecondsPerPixel = 0.3e-6, kMaxGb = 20.0, kMaxHours = 2.0;
+  const double pixels = double(cfg.trajectory.frames) * cfg.sensor.camera.width * cfg.sensor.camera.height;
+  const double gb = pixels * kBytesPerPixel / 1e9, hours = pixels * kSecondsPerPixel / 3600.0;
+  std::error_code ec;
+  fs::path existing = fs::absolute(out_dir, ec);
+  while (!existing.empty() && !fs::exists(existing, ec) && existing != existing.parent_path())
+    existing = existing.parent_path();
+  const fs::space_info space = fs::space(existing, ec);
+  const double free_gb = ec ? -1.0 : double(space.available) / 1e9;
+  const std::string what =
+      fmt::format("{} frames of {}x{} px would take ~{:.1f} GB of disk and ~{:.1f} h", cfg.trajectory.frames,
+                  cfg.sensor.camera.width, cfg.sensor.camera.height, gb, hours);
+  if (force) return;
+  if (free_gb >= 0 && gb > free_gb)
+    throw Error(
+        fmt::format("sim: {}; {} has {:.1f} GB free: fewer --frames or a smaller --width/--height, or "
+                    "--force to go on",
+                    what, existing.string(), free_gb));
+  if (gb <= kMaxGb && hours <= kMaxHours) return;
+  throw Error(
+      fmt::format("sim: {} (limits {:.0f} GB, {:.0f} h): fewer --frames or a smaller --width/--height, "
+                  "or --force to go on",
+                  what, kMaxGb, kMaxHours));
 }
 
 // A strip naming the classes present in a label image, with their palette colours.
@@ -116,6 +148,7 @@ void run(const SimArgs& a, const CLI::App& cmd) {
   cfg.validate();
   io::require_folder_path(a.out_dir, "--out");
   refuse_recording(a.out_dir, a.force);
+  if (!a.snapshots_only) check_sim_cost(cfg, a.out_dir, a.force);
   if (!a.snapshots.empty())
     snapshot_frames(a.snapshots, std::size_t(cfg.trajectory.frames));  // before the work
 
@@ -132,12 +165,18 @@ void run(const SimArgs& a, const CLI::App& cmd) {
                static_cast<unsigned long long>(cfg.seed), cfg.trajectory.type.c_str(), cfg.trajectory.frames,
                cfg.sensor.camera.width, cfg.sensor.camera.height, a.out_dir.c_str());
   Stopwatch sw;
-  const sim::SimSummary s = sim::simulate_sequence(cfg, a.out_dir, [&](int done, int total) {
+  // Staged: a simulation that fails halfway (a full disk) leaves the folder as it was, and a longer
+  // earlier sequence's frames do not stay beside a shorter new one.
+  io::StagedFolder out(a.out_dir, "--out");
+  const sim::SimSummary s = sim::simulate_sequence(cfg, out.path(), [&](int done, int total) {
     const double fps = done / std::max(1e-3, sw.elapsed_ms() / 1000.0);
     std::fprintf(stderr, "\r  frame %d/%d  %.1f frames/s  ETA %.0f s   ", done, total, fps,
                  (total - done) / fps);
     std::fflush(stderr);
   });
+  out.commit({"rgb", "depth", "labels", "rgb.txt", "depth.txt", "labels.txt", "associations.txt",
+              "camera.yaml", "classes.txt", "groundtruth.txt", "groundtruth_robot.txt", "gt_voxels.txt",
+              "sim.yaml"});
   std::fprintf(
       stderr,
       "\ndone: %d frames (%d dropped) in %.1f s, %.1f ms/frame rendering; trajectory %.2f m, max speed "
@@ -193,7 +232,8 @@ void register_sim(CLI::App& app) {
                   "Comma-separated frame indices to save as rgb|depth|labels PNGs");
   cmd->add_flag("--snapshots-only", args->snapshots_only, "Only write the --snapshots pictures, no sequence");
   cmd->add_flag("--force", args->force,
-                "Write into an --out folder that holds a recording not made by s3m sim");
+                "Write into an --out folder that holds a recording not made by s3m sim, and render a "
+                "sequence over the size limits (20 GB, 2 h estimated)");
   cmd->callback([args, cmd] { run(*args, *cmd); });
 }
 
