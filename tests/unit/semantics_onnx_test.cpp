@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <unistd.h>
+
 #include "s3m/core/error.hpp"
 #include "s3m/semantics/onnx_inspect.hpp"
 #include "s3m/semantics/onnx_segmenter.hpp"
@@ -128,6 +130,22 @@ TEST(SemanticsOnnx, BadCardsAndModelsFailAtLoadWithClearMessages) {
   expect_error(card_text() + "output: {type: {a: 1}}\n", "bad model card entry");
   expect_error(card_text(kData + "tiny_rgb.onnx", 100000, 16), "input size missing or out of range");
   expect_error("classes: x.txt\ninput: {width: 16, height: 16}\n", "no 'model' given");
+}
+
+TEST(SemanticsOnnx, AnInputTooLargeForTheMachineIsRefusedBeforeTheForwardPass) {
+  // 8192x8192 at ~500 bytes per input pixel: ~33.6 GB for one pass.
+  const double ram_gb = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)) / 1e9;
+  if (ram_gb >= 2 * 33.6)
+    GTEST_SKIP() << "this machine has " << ram_gb << " GB: 8192x8192 fits in half of it";
+  try {
+    OnnxSegmenter seg(load_model_card(write_card("huge", card_text(kData + "tiny_rgb.onnx", 8192, 8192))));
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("input 8192x8192: one forward pass needs ~33.6 GB (~500 bytes per "
+                                         "input pixel), over half of this machine's"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(SemanticsOnnx, NonFiniteCardValuesAreRefusedAtLoad) {

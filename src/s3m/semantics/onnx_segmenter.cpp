@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <new>
 
 #include <opencv2/imgproc.hpp>
 
@@ -10,7 +12,33 @@
 #include "s3m/semantics/onnx_inspect.hpp"
 #include "s3m/semantics/resample.hpp"
 
+#include <unistd.h>
+
 namespace s3m::semantics {
+
+namespace {
+
+// One forward pass needs memory in proportion to the input's pixels: the shipped DeepLabV3+
+// MobileNetV2 took ~500 bytes per input pixel (peak RSS of a kitchen run with and without it, input
+// 321x241). A card whose input would need more than half the machine's memory is refused before
+// the pass instead of failing in an allocation after gigabytes.
+void check_input_cost(const ModelCard& card) {
+  constexpr double kBytesPerPixel = 500;
+  const double need_gb = double(card.input_width) * card.input_height * kBytesPerPixel / 1e9;
+  const double ram_gb = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)) / 1e9;
+  if (ram_gb <= 0 || need_gb <= 0.5 * ram_gb) return;
+  char msg[160];
+  std::snprintf(msg, sizeof msg,
+                "one forward pass needs ~%.1f GB (~500 bytes per input pixel), over half of this "
+                "machine's %.1f GB",
+                need_gb, ram_gb);
+  throw ParseError(
+      card.card_path, 0,
+      "input " + std::to_string(card.input_width) + "x" + std::to_string(card.input_height) + ": " + msg,
+      "an input size the machine can run (the shipped model uses 321x241)");
+}
+
+}  // namespace
 
 OnnxSegmenter::OnnxSegmenter(ModelCard card) : card_(std::move(card)) {
   card_.validate();
@@ -37,6 +65,7 @@ OnnxSegmenter::OnnxSegmenter(ModelCard card) : card_(std::move(card)) {
       }
   require(!active_.empty(), ctx + ": every model class is ignored or mapped to 'unknown'");
 
+  check_input_cost(card_);
   const OnnxInputInfo input = read_onnx_input(card_.model_path);  // clear message for corrupt files
   try {
     net_ = cv::dnn::readNetFromONNX(card_.model_path);
@@ -116,6 +145,10 @@ cv::Mat OnnxSegmenter::forward(const cv::Mat& blob) {
   } catch (const cv::Exception& e) {
     throw Error(card_.model_path + ": forward pass failed for input " + std::to_string(card_.input_height) +
                 "x" + std::to_string(card_.input_width) + " (HxW from " + card_.card_path + "): " + e.err);
+  } catch (const std::bad_alloc&) {
+    throw Error(card_.model_path + ": out of memory in a forward pass for input " +
+                std::to_string(card_.input_height) + "x" + std::to_string(card_.input_width) + " (HxW from " +
+                card_.card_path + "): a smaller input in the card");
   }
   require_finite(out);
   return out;
