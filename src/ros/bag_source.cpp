@@ -24,6 +24,7 @@
 #include "conversions.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/core/input_file.hpp"
+#include "s3m/io/association.hpp"
 #include "s3m/io/camera_yaml.hpp"
 #include "s3m/io/depth_to_colour.hpp"
 
@@ -136,19 +137,6 @@ Stream image_index(const rosbag::Bag& bag, const std::string& path, const std::s
 
 sensor_msgs::ImageConstPtr image_at(const Stream& s, std::size_t i, const std::string& path) {
   return instantiate<sensor_msgs::Image>(s.msgs[s.by_time[i].msg], path);
-}
-
-// Index of the entry of `v` (sorted) nearest to t within max_dt, or -1.
-long nearest(const std::vector<Stamped>& v, double t, double max_dt) {
-  auto it = std::lower_bound(v.begin(), v.end(), t, [](const Stamped& s, double x) { return s.t_s < x; });
-  long best = -1;
-  double best_dt = max_dt;
-  for (auto c : {it, it == v.begin() ? v.end() : std::prev(it)}) {
-    if (c == v.end()) continue;
-    const double dt = std::abs(c->t_s - t);
-    if (dt <= best_dt) best = c - v.begin(), best_dt = dt;
-  }
-  return best;
 }
 
 class BagFrameSource final : public pipeline::FrameSource {
@@ -354,19 +342,14 @@ class BagFrameSource final : public pipeline::FrameSource {
   }
 
   void pair(double max_dt_s) {
-    std::vector<bool> depth_used(depth_.msgs.size(), false);
-    std::size_t skipped = 0;
-    for (std::size_t i = 0; i < rgb_.by_time.size(); ++i) {
-      const double t = rgb_.by_time[i].t_s;
-      const long d = nearest(depth_.by_time, t, max_dt_s);
-      if (d < 0 || depth_used[d]) {
-        ++skipped;
-        continue;
-      }
-      depth_used[d] = true;
-      const long l = labels_.empty() ? -1 : nearest(labels_.by_time, t, max_dt_s);
-      pairs_.push_back({static_cast<long>(i), d, l});
-    }
+    const auto stamps = [](const Stream& s) {
+      std::vector<double> t;
+      for (const Stamped& m : s.by_time) t.push_back(m.t_s);
+      return t;
+    };
+    const io::StampPairs p = io::pair_by_stamp(stamps(rgb_), stamps(depth_), stamps(labels_), max_dt_s);
+    for (const io::StampPair& q : p.pairs) pairs_.push_back({long(q.rgb), long(q.depth), q.labels});
+    const std::size_t skipped = p.skipped;
     if (skipped > 0)
       spdlog::warn("{}: {} colour images without a depth image within {} s were skipped", path_, skipped,
                    max_dt_s);

@@ -67,8 +67,10 @@ TEST(IoTrajectory, HeaderWithWFirstReadsEuRocOrder) {
   // (w x y z) = (0 0 0 1) is 180 deg about z; read in TUM's order it would be the identity.
   const auto dir = fresh_temp_dir();
   const std::string euroc_header =
-      "#timestamp [ns], p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z [], "
-      "v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1], b_w_RS_S_x [rad s^-1], b_w_RS_S_y [rad s^-1], "
+      "#timestamp [ns], p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z "
+      "[], "
+      "v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1], b_w_RS_S_x [rad s^-1], b_w_RS_S_y [rad "
+      "s^-1], "
       "b_w_RS_S_z [rad s^-1], b_a_RS_S_x [m s^-2], b_a_RS_S_y [m s^-2], b_a_RS_S_z [m s^-2]\n";
   const auto path = write_file(dir / "data.csv", euroc_header +
                                                      "1403636579763555584,1,2,3,0,0,0,1,0,0,0,0,0,0,0,0,0\n"
@@ -85,9 +87,11 @@ TEST(IoTrajectory, HeaderWithWFirstReadsEuRocOrder) {
   const auto compact = write_file(dir / "c.txt", "# t x y z qw qx qy qz\n1.0 1 2 3 0 0 0 1\n");
   EXPECT_NEAR(rotation_angle_rad(read_tum_trajectory(compact).front().T_w_x.rotation()), M_PI, 1e-12);
   const auto bad = write_file(dir / "b.txt", "# t x y z qw qx qy qz\n1.0 1 2 3 0 0 0 1\n2.0 1 2 3 2 0 0 0\n");
-  expect_error([&] { read_tum_trajectory(bad); }, {"b.txt:3", "quaternion (qw qx qy qz) = (2 0 0 0)", "as the header says"});
+  expect_error([&] { read_tum_trajectory(bad); },
+               {"b.txt:3", "quaternion (qw qx qy qz) = (2 0 0 0)", "as the header says"});
   // "[ns]" on TUM's order too; without a unit the timestamps stay as written.
-  const auto tum_ns = write_file(dir / "ns.txt", "# timestamp [ns] tx ty tz qx qy qz qw\n2500000000 1 2 3 0 0 0 1\n");
+  const auto tum_ns =
+      write_file(dir / "ns.txt", "# timestamp [ns] tx ty tz qx qy qz qw\n2500000000 1 2 3 0 0 0 1\n");
   EXPECT_DOUBLE_EQ(read_tum_trajectory(tum_ns).front().t_s, 2.5);
   EXPECT_DOUBLE_EQ(read_tum_trajectory(compact).front().t_s, 1.0);
   // TUM's own header, a comment after the first pose, or no header keep TUM's order and 8 columns.
@@ -102,17 +106,22 @@ TEST(IoTrajectory, HeaderWithWFirstReadsEuRocOrder) {
 
 TEST(IoTrajectory, TumReaderErrorsNameFileLineAndExpectation) {
   const auto dir = fresh_temp_dir();
-  expect_error([&] { read_tum_trajectory((dir / "missing.txt").string()); }, {"missing.txt", "file not found"});
+  expect_error([&] { read_tum_trajectory((dir / "missing.txt").string()); },
+               {"missing.txt", "file not found"});
   const auto cols = write_file(dir / "cols.txt", "# c\n1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 1\n");
-  expect_error([&] { read_tum_trajectory(cols); }, {"cols.txt:3", "found 7 columns", "8 columns 't tx ty tz qx qy qz qw'"});
+  expect_error([&] { read_tum_trajectory(cols); },
+               {"cols.txt:3", "found 7 columns", "8 columns 't tx ty tz qx qy qz qw'"});
   const auto garbage = write_file(dir / "garbage.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 abc 0 0 0 0 1\n");
-  expect_error([&] { read_tum_trajectory(garbage); }, {"garbage.txt:2", "cannot parse 'abc' as ty", "column 3"});
+  expect_error([&] { read_tum_trajectory(garbage); },
+               {"garbage.txt:2", "cannot parse 'abc' as ty", "column 3"});
   const auto nan = write_file(dir / "nan.txt", "1.0 nan 0 0 0 0 0 1\n");
   expect_error([&] { read_tum_trajectory(nan); }, {"nan.txt:1", "non-finite value 'nan' as tx"});
   const auto inf = write_file(dir / "inf.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 -inf 0 0 0 1\n");
   expect_error([&] { read_tum_trajectory(inf); }, {"inf.txt:2", "non-finite value '-inf' as tz"});
-  const auto order = write_file(dir / "order.txt", "1.0 0 0 0 0 0 0 1\n3.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n");
-  expect_error([&] { read_tum_trajectory(order); }, {"order.txt:3", "timestamp 2.000000 is not after", "strictly increasing"});
+  const auto order =
+      write_file(dir / "order.txt", "1.0 0 0 0 0 0 0 1\n3.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n");
+  expect_error([&] { read_tum_trajectory(order); },
+               {"order.txt:3", "timestamp 2.000000 is not after", "strictly increasing"});
   const auto dup = write_file(dir / "dup.txt", "1.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n");
   expect_error([&] { read_tum_trajectory(dup); }, {"dup.txt:2", "strictly increasing"});
   const auto quat = write_file(dir / "quat.txt", "1.0 0 0 0 0 0 0 2\n");
@@ -178,4 +187,25 @@ TEST(IoAssociation, ClosestIndex) {
   EXPECT_EQ(closest_index(ts, 0.6), 1u);
   EXPECT_EQ(closest_index(ts, 0.5), 0u);  // tie -> earlier
   EXPECT_EQ(closest_index(ts, 9), 2u);
+}
+
+TEST(IoAssociation, StreamPairingTakesTheClosestDepthOnceAndSkipsTheRest) {
+  // Colour at 0, 0.033, 0.040, 0.100, 0.200; depth at 0.005, 0.030, 0.104; labels at 0.0, 0.1.
+  // 0.040's closest depth (0.030) is 0.033's already: skipped; 0.200 has none within 20 ms.
+  const StampPairs p =
+      pair_by_stamp({0.0, 0.033, 0.040, 0.100, 0.200}, {0.005, 0.030, 0.104}, {0.0, 0.1}, 0.02);
+  ASSERT_EQ(p.pairs.size(), 3u);
+  EXPECT_EQ(p.skipped, 2u);
+  EXPECT_EQ(p.pairs[0].rgb, 0u);
+  EXPECT_EQ(p.pairs[0].depth, 0u);
+  EXPECT_EQ(p.pairs[0].labels, 0);
+  EXPECT_EQ(p.pairs[1].rgb, 1u);
+  EXPECT_EQ(p.pairs[1].depth, 1u);
+  EXPECT_EQ(p.pairs[1].labels, -1);  // 0.033 is 33 ms from either label
+  EXPECT_EQ(p.pairs[2].rgb, 3u);
+  EXPECT_EQ(p.pairs[2].depth, 2u);
+  EXPECT_EQ(p.pairs[2].labels, 1);
+  // A tie goes to the earlier stamp; no depth stream: every colour image skipped.
+  EXPECT_EQ(pair_by_stamp({0.5}, {0.25, 0.75}, {}, 0.3).pairs.at(0).depth, 0u);
+  EXPECT_EQ(pair_by_stamp({0.5, 0.6}, {}, {}, 0.02).skipped, 2u);
 }

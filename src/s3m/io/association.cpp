@@ -46,4 +46,30 @@ std::size_t closest_index(const std::vector<double>& ts, double t) {
   return (t - ts[j - 1] <= ts[j] - t) ? j - 1 : j;
 }
 
+namespace {
+
+long closest_within(const std::vector<double>& ts, double t, double max_dt_s) {
+  if (ts.empty()) return -1;
+  const std::size_t j = closest_index(ts, t);
+  return std::abs(ts[j] - t) <= max_dt_s ? static_cast<long>(j) : -1;
+}
+
+}  // namespace
+
+StampPairs pair_by_stamp(const std::vector<double>& rgb_s, const std::vector<double>& depth_s,
+                         const std::vector<double>& labels_s, double max_dt_s) {
+  StampPairs out;
+  std::vector<bool> used(depth_s.size(), false);
+  for (std::size_t i = 0; i < rgb_s.size(); ++i) {
+    const long d = closest_within(depth_s, rgb_s[i], max_dt_s);
+    if (d < 0 || used[d]) {
+      ++out.skipped;
+      continue;
+    }
+    used[d] = true;
+    out.pairs.push_back({i, static_cast<std::size_t>(d), closest_within(labels_s, rgb_s[i], max_dt_s)});
+  }
+  return out;
+}
+
 }  // namespace s3m::io

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "s3m/io/association.hpp"
 #include "s3m/io/camera_yaml.hpp"
 #include "s3m/io/depth_to_colour.hpp"
 #include "s3m/rosbag2/camera_info.hpp"
@@ -20,19 +21,6 @@ void Rosbag2Topics::validate() const {
 namespace {
 
 const std::string kImage = "sensor_msgs/msg/Image", kCompressed = "sensor_msgs/msg/CompressedImage";
-
-// Index of the entry of v (sorted) nearest to t within max_dt, or -1.
-long nearest(const std::vector<StampedRef>& v, double t, double max_dt) {
-  auto it = std::lower_bound(v.begin(), v.end(), t, [](const StampedRef& s, double x) { return s.t_s < x; });
-  long best = -1;
-  double best_dt = max_dt;
-  for (auto c : {it, it == v.begin() ? v.end() : std::prev(it)}) {
-    if (c == v.end()) continue;
-    const double dt = std::abs(c->t_s - t);
-    if (dt <= best_dt) best = c - v.begin(), best_dt = dt;
-  }
-  return best;
-}
 
 // "/a (12 messages, 30.0 Hz), ..." of every topic of `type`, for an error about a missing topic.
 std::string topics_of_type(const RecordingIndex& x, const std::string& type) {
@@ -241,18 +229,14 @@ class Rosbag2FrameSource final : public Rosbag2Source {
   }
 
   void pair(double max_dt_s) {
-    std::vector<bool> used(depth_.msgs.size(), false);
-    for (std::size_t i = 0; i < rgb_.msgs.size(); ++i) {
-      const double t = rgb_.msgs[i].t_s;
-      const long d = nearest(depth_.msgs, t, max_dt_s);
-      if (d < 0 || used[d]) {
-        ++skipped_;
-        continue;
-      }
-      used[d] = true;
-      pairs_.push_back(
-          {static_cast<long>(i), d, labels_.msgs.empty() ? -1 : nearest(labels_.msgs, t, max_dt_s)});
-    }
+    const auto stamps = [](const Stream& s) {
+      std::vector<double> t;
+      for (const auto& m : s.msgs) t.push_back(m.t_s);
+      return t;
+    };
+    const io::StampPairs p = io::pair_by_stamp(stamps(rgb_), stamps(depth_), stamps(labels_), max_dt_s);
+    for (const io::StampPair& q : p.pairs) pairs_.push_back({long(q.rgb), long(q.depth), q.labels});
+    skipped_ = p.skipped;
     if (skipped_ > 0)
       spdlog::warn("{}: {} colour images without a depth image within {} s were skipped", path_, skipped_,
                    max_dt_s);
