@@ -23,40 +23,30 @@
 #include <string>
 #include <vector>
 
+#include "s3m/rosbag2/bytes.hpp"
 #include "s3m/rosbag2/compression.hpp"
 #include "s3m/rosbag2/source.hpp"
 
 namespace {
 namespace fs = std::filesystem;
-using Buf = std::vector<std::uint8_t>;
+using Buf = s3m::rosbag2::ByteBuffer;
+using s3m::rosbag2::put_le;
+using s3m::rosbag2::put_mcap_record;
+using s3m::rosbag2::put_string;
 
-template <typename T>
-void put(Buf& b, T v) {
-  const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
-  b.insert(b.end(), p, p + sizeof(T));
-}
-void put_str(Buf& b, const std::string& s) {
-  put<std::uint32_t>(b, static_cast<std::uint32_t>(s.size()));
-  b.insert(b.end(), s.begin(), s.end());
-}
-void record(Buf& out, std::uint8_t op, const Buf& content) {
-  out.push_back(op);
-  put<std::uint64_t>(out, content.size());
-  out.insert(out.end(), content.begin(), content.end());
-}
 // CDR: each primitive aligned to its size after the 4-byte encapsulation header.
 void align(Buf& b, std::size_t n) {
   while ((b.size() - 4) % n) b.push_back(0);
 }
 void cdr_str(Buf& b, const std::string& s) {
   align(b, 4);
-  put<std::uint32_t>(b, static_cast<std::uint32_t>(s.size() + 1));
+  put_le<std::uint32_t>(b, static_cast<std::uint32_t>(s.size() + 1));
   b.insert(b.end(), s.begin(), s.end());
   b.push_back(0);
 }
 Buf cdr_header(int sec, unsigned nsec) {
   Buf b = {0, 1, 0, 0};
-  put<std::int32_t>(b, sec), put<std::uint32_t>(b, nsec);
+  put_le<std::int32_t>(b, sec), put_le<std::uint32_t>(b, nsec);
   cdr_str(b, "camera_rgb_optical_frame");
   return b;
 }
@@ -65,12 +55,12 @@ Buf image(int sec, unsigned nsec, const std::string& encoding, int bytes_per_pix
   const int w = 640, h = 480;
   Buf b = cdr_header(sec, nsec);
   align(b, 4);
-  put<std::uint32_t>(b, h), put<std::uint32_t>(b, w);
+  put_le<std::uint32_t>(b, h), put_le<std::uint32_t>(b, w);
   cdr_str(b, encoding);
   b.push_back(0);
   align(b, 4);
-  put<std::uint32_t>(b, w * bytes_per_pixel);
-  put<std::uint32_t>(b, w * h * bytes_per_pixel);
+  put_le<std::uint32_t>(b, w * bytes_per_pixel);
+  put_le<std::uint32_t>(b, w * h * bytes_per_pixel);
   const std::size_t start = b.size();
   b.resize(start + static_cast<std::size_t>(w) * h * bytes_per_pixel);
   // Smooth shading with sensor-like noise: compresses about as a camera's images do.
@@ -93,15 +83,15 @@ Buf image(int sec, unsigned nsec, const std::string& encoding, int bytes_per_pix
 Buf camera_info(int sec, unsigned nsec) {
   Buf b = cdr_header(sec, nsec);
   align(b, 4);
-  put<std::uint32_t>(b, 480), put<std::uint32_t>(b, 640);
+  put_le<std::uint32_t>(b, 480), put_le<std::uint32_t>(b, 640);
   cdr_str(b, "plumb_bob");
   align(b, 4);
-  put<std::uint32_t>(b, 5);
+  put_le<std::uint32_t>(b, 5);
   align(b, 8);
-  for (int i = 0; i < 5; ++i) put<double>(b, 0.0);
-  for (double k : {525.0, 0.0, 319.5, 0.0, 525.0, 239.5, 0.0, 0.0, 1.0}) put<double>(b, k);
-  for (int i = 0; i < 9 + 12; ++i) put<double>(b, 0.0);
-  for (int i = 0; i < 6; ++i) put<std::uint32_t>(b, 0);
+  for (int i = 0; i < 5; ++i) put_le<double>(b, 0.0);
+  for (double k : {525.0, 0.0, 319.5, 0.0, 525.0, 239.5, 0.0, 0.0, 1.0}) put_le<double>(b, k);
+  for (int i = 0; i < 9 + 12; ++i) put_le<double>(b, 0.0);
+  for (int i = 0; i < 6; ++i) put_le<std::uint32_t>(b, 0);
   b.push_back(0);
   return b;
 }
@@ -110,8 +100,8 @@ void write_recording(const std::string& path, double gb, bool zstd) {
   std::ofstream out(path, std::ios::binary);
   const Buf magic = {0x89, 'M', 'C', 'A', 'P', 0x30, '\r', '\n'};
   Buf file = magic, h;
-  put_str(h, "ros2"), put_str(h, "s3m bench");
-  record(file, 0x01, h);
+  put_string(h, "ros2"), put_string(h, "s3m bench");
+  put_mcap_record(file, 0x01, h);
   std::uint32_t data_crc = 0;
   auto flush = [&](Buf& b) {
     data_crc = s3m::rosbag2::crc32({b.data(), b.size()}, data_crc);
@@ -124,10 +114,11 @@ void write_recording(const std::string& path, double gb, bool zstd) {
   const char* types[] = {"sensor_msgs/msg/Image", "sensor_msgs/msg/Image", "sensor_msgs/msg/CameraInfo"};
   for (std::uint16_t i = 0; i < 3; ++i) {
     Buf s, c;
-    put<std::uint16_t>(s, i + 1), put_str(s, types[i]), put_str(s, "ros2msg"), put_str(s, "");
-    put<std::uint16_t>(c, i + 1), put<std::uint16_t>(c, i + 1), put_str(c, topics[i]), put_str(c, "cdr");
-    put<std::uint32_t>(c, 0);
-    record(records, 0x03, s), record(records, 0x04, c);
+    put_le<std::uint16_t>(s, i + 1), put_string(s, types[i]), put_string(s, "ros2msg"), put_string(s, "");
+    put_le<std::uint16_t>(c, i + 1), put_le<std::uint16_t>(c, i + 1), put_string(c, topics[i]),
+        put_string(c, "cdr");
+    put_le<std::uint32_t>(c, 0);
+    put_mcap_record(records, 0x03, s), put_mcap_record(records, 0x04, c);
   }
   auto end_chunk = [&] {
     Buf compressed;
@@ -138,12 +129,12 @@ void write_recording(const std::string& path, double gb, bool zstd) {
     }
     const Buf& payload = zstd ? compressed : records;
     Buf c;
-    put<std::uint64_t>(c, 0), put<std::uint64_t>(c, 0), put<std::uint64_t>(c, records.size());
-    put<std::uint32_t>(c, s3m::rosbag2::crc32({records.data(), records.size()}));
-    put_str(c, zstd ? "zstd" : "");
-    put<std::uint64_t>(c, payload.size());
+    put_le<std::uint64_t>(c, 0), put_le<std::uint64_t>(c, 0), put_le<std::uint64_t>(c, records.size());
+    put_le<std::uint32_t>(c, s3m::rosbag2::crc32({records.data(), records.size()}));
+    put_string(c, zstd ? "zstd" : "");
+    put_le<std::uint64_t>(c, payload.size());
     c.insert(c.end(), payload.begin(), payload.end());
-    record(chunk, 0x06, c);
+    put_mcap_record(chunk, 0x06, c);
     flush(chunk);
     records.clear();
   };
@@ -157,18 +148,18 @@ void write_recording(const std::string& path, double gb, bool zstd) {
                         camera_info(sec, nsec)};
     for (std::uint16_t i = 0; i < 3; ++i) {
       Buf m;
-      put<std::uint16_t>(m, i + 1), put<std::uint32_t>(m, f), put<std::uint64_t>(m, t),
-          put<std::uint64_t>(m, t);
+      put_le<std::uint16_t>(m, i + 1), put_le<std::uint32_t>(m, f), put_le<std::uint64_t>(m, t),
+          put_le<std::uint64_t>(m, t);
       m.insert(m.end(), msgs[i].begin(), msgs[i].end());
-      record(records, 0x05, m);
+      put_mcap_record(records, 0x05, m);
     }
     if (records.size() > 4000000) end_chunk();
   }
   if (!records.empty()) end_chunk();
   Buf tail, end;
-  put<std::uint32_t>(end, data_crc);
-  record(tail, 0x0F, end);
-  record(tail, 0x02, Buf(20, 0));
+  put_le<std::uint32_t>(end, data_crc);
+  put_mcap_record(tail, 0x0F, end);
+  put_mcap_record(tail, 0x02, Buf(20, 0));
   tail.insert(tail.end(), magic.begin(), magic.end());
   out.write(reinterpret_cast<const char*>(tail.data()), static_cast<std::streamsize>(tail.size()));
 }

@@ -6,10 +6,30 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "s3m/core/error.hpp"
 
 namespace s3m::rosbag2 {
+
+// The writers' side: little-endian fields appended to a byte buffer.
+using ByteBuffer = std::vector<std::uint8_t>;
+template <typename T>
+void put_le(ByteBuffer& b, T v) {  // host is little endian, as for ByteReader::le
+  const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+  b.insert(b.end(), p, p + sizeof(T));
+}
+// A uint32 length, then the bytes (MCAP's string and byte-array fields).
+inline void put_string(ByteBuffer& b, const std::string& s) {
+  put_le<std::uint32_t>(b, static_cast<std::uint32_t>(s.size()));
+  b.insert(b.end(), s.begin(), s.end());
+}
+// An MCAP record: opcode, uint64 content length, content.
+inline void put_mcap_record(ByteBuffer& out, std::uint8_t op, const ByteBuffer& content) {
+  out.push_back(op);
+  put_le<std::uint64_t>(out, content.size());
+  out.insert(out.end(), content.begin(), content.end());
+}
 
 // A view of bytes owned elsewhere.
 struct Bytes {

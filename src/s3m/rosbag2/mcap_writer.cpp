@@ -9,6 +9,7 @@
 #include <map>
 
 #include "s3m/core/error.hpp"
+#include "s3m/rosbag2/bytes.hpp"
 #include "s3m/rosbag2/compression.hpp"
 #include "s3m/rosbag2/msg_definitions.hpp"
 #include "s3m/rosbag2/writer.hpp"
@@ -16,24 +17,9 @@
 namespace s3m::rosbag2 {
 namespace {
 
-using Buf = std::vector<std::uint8_t>;
+using Buf = ByteBuffer;
 constexpr std::uint8_t kMagic[8] = {0x89, 'M', 'C', 'A', 'P', 0x30, '\r', '\n'};
 constexpr std::size_t kChunkBytes = 4 << 20;  // rosbag2's MCAP default is of this order
-
-template <typename T>
-void put(Buf& b, T v) {
-  const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
-  b.insert(b.end(), p, p + sizeof(T));
-}
-void put_str(Buf& b, const std::string& s) {
-  put<std::uint32_t>(b, static_cast<std::uint32_t>(s.size()));
-  b.insert(b.end(), s.begin(), s.end());
-}
-void record(Buf& out, std::uint8_t op, const Buf& content) {
-  out.push_back(op);
-  put<std::uint64_t>(out, content.size());
-  out.insert(out.end(), content.begin(), content.end());
-}
 
 struct ChunkIndex {
   std::uint64_t start_ns = 0, end_ns = 0, offset = 0, length = 0, index_length = 0, compressed = 0,
@@ -50,8 +36,8 @@ class McapWriter final : public RecordingWriter {
     out_.open(tmp_, std::ios::binary | std::ios::trunc);
     if (!out_) throw Error(path + ": cannot write (" + tmp_ + ")");
     Buf b(kMagic, kMagic + 8), h;
-    put_str(h, "ros2"), put_str(h, "s3m");
-    record(b, 0x01, h);
+    put_string(h, "ros2"), put_string(h, "s3m");
+    put_mcap_record(b, 0x01, h);
     emit(b);
   }
   ~McapWriter() override {
@@ -65,10 +51,11 @@ class McapWriter final : public RecordingWriter {
   int add_topic(const std::string& topic, const std::string& type) override {
     const std::uint16_t schema = schema_of(type), id = static_cast<std::uint16_t>(channels_.size() + 1);
     Buf c;
-    put<std::uint16_t>(c, id), put<std::uint16_t>(c, schema), put_str(c, topic), put_str(c, "cdr");
-    put<std::uint32_t>(c, 0);  // no metadata
+    put_le<std::uint16_t>(c, id), put_le<std::uint16_t>(c, schema), put_string(c, topic),
+        put_string(c, "cdr");
+    put_le<std::uint32_t>(c, 0);  // no metadata
     channels_.push_back(c);
-    record(chunk_, 0x04, c);
+    put_mcap_record(chunk_, 0x04, c);
     return id;
   }
 
@@ -78,10 +65,10 @@ class McapWriter final : public RecordingWriter {
     index_[ch].emplace_back(t, chunk_.size());
     Buf m;
     m.reserve(22 + cdr.size());
-    put<std::uint16_t>(m, ch), put<std::uint32_t>(m, sequence_++), put<std::uint64_t>(m, t),
-        put<std::uint64_t>(m, t);
+    put_le<std::uint16_t>(m, ch), put_le<std::uint32_t>(m, sequence_++), put_le<std::uint64_t>(m, t),
+        put_le<std::uint64_t>(m, t);
     m.insert(m.end(), cdr.begin(), cdr.end());
-    record(chunk_, 0x05, m);
+    put_mcap_record(chunk_, 0x05, m);
     if (messages_in_chunk_++ == 0 || t < chunk_start_) chunk_start_ = t;
     chunk_end_ = std::max(chunk_end_, t);
     ++counts_[ch];
@@ -91,9 +78,9 @@ class McapWriter final : public RecordingWriter {
   void close() override {
     end_chunk();
     Buf end;
-    put<std::uint32_t>(end, data_crc_);
+    put_le<std::uint32_t>(end, data_crc_);
     Buf b;
-    record(b, 0x0F, end);
+    put_mcap_record(b, 0x0F, end);
     emit(b);
     write_summary();
     out_.close();
@@ -108,9 +95,10 @@ class McapWriter final : public RecordingWriter {
     if (it != schema_ids_.end()) return it->second;
     const std::uint16_t id = static_cast<std::uint16_t>(schemas_.size() + 1);
     Buf s;
-    put<std::uint16_t>(s, id), put_str(s, type), put_str(s, "ros2msg"), put_str(s, message_definition(type));
+    put_le<std::uint16_t>(s, id), put_string(s, type), put_string(s, "ros2msg"),
+        put_string(s, message_definition(type));
     schemas_.push_back(s);
-    record(chunk_, 0x03, s);
+    put_mcap_record(chunk_, 0x03, s);
     schema_ids_[type] = id;
     return id;
   }
@@ -134,23 +122,23 @@ class McapWriter final : public RecordingWriter {
     const Buf& data = compression_ == "zstd" ? payload : chunk_;
     ChunkIndex ci{chunk_start_, chunk_end_, pos_, 0, 0, data.size(), chunk_.size(), {}};
     Buf c, b;
-    put<std::uint64_t>(c, chunk_start_), put<std::uint64_t>(c, chunk_end_),
-        put<std::uint64_t>(c, chunk_.size());
-    put<std::uint32_t>(c, crc32({chunk_.data(), chunk_.size()}));
-    put_str(c, compression_);
-    put<std::uint64_t>(c, data.size());
+    put_le<std::uint64_t>(c, chunk_start_), put_le<std::uint64_t>(c, chunk_end_),
+        put_le<std::uint64_t>(c, chunk_.size());
+    put_le<std::uint32_t>(c, crc32({chunk_.data(), chunk_.size()}));
+    put_string(c, compression_);
+    put_le<std::uint64_t>(c, data.size());
     c.insert(c.end(), data.begin(), data.end());
-    record(b, 0x06, c);
+    put_mcap_record(b, 0x06, c);
     ci.length = b.size();
     emit(b);
     const std::uint64_t indexes_at = pos_;
     for (const auto& [ch, entries] : index_) {
       Buf m, r;
-      put<std::uint16_t>(m, ch);
-      put<std::uint32_t>(m, static_cast<std::uint32_t>(entries.size() * 16));
-      for (const auto& [t, offset] : entries) put<std::uint64_t>(m, t), put<std::uint64_t>(m, offset);
+      put_le<std::uint16_t>(m, ch);
+      put_le<std::uint32_t>(m, static_cast<std::uint32_t>(entries.size() * 16));
+      for (const auto& [t, offset] : entries) put_le<std::uint64_t>(m, t), put_le<std::uint64_t>(m, offset);
       ci.index_offsets[ch] = pos_;
-      record(r, 0x07, m);
+      put_mcap_record(r, 0x07, m);
       emit(r);
     }
     ci.index_length = pos_ - indexes_at;
@@ -161,41 +149,44 @@ class McapWriter final : public RecordingWriter {
   void write_summary() {
     const std::uint64_t summary_start = pos_;
     Buf s;
-    for (const Buf& x : schemas_) record(s, 0x03, x);
-    for (const Buf& x : channels_) record(s, 0x04, x);
+    for (const Buf& x : schemas_) put_mcap_record(s, 0x03, x);
+    for (const Buf& x : channels_) put_mcap_record(s, 0x04, x);
     Buf st;
     std::uint64_t total = 0;
     for (const auto& [ch, n] : counts_) total += n;
-    put<std::uint64_t>(st, total), put<std::uint16_t>(st, static_cast<std::uint16_t>(schemas_.size()));
-    put<std::uint32_t>(st, static_cast<std::uint32_t>(channels_.size()));
-    put<std::uint32_t>(st, 0), put<std::uint32_t>(st, 0),
-        put<std::uint32_t>(st, static_cast<std::uint32_t>(chunks_.size()));
+    put_le<std::uint64_t>(st, total), put_le<std::uint16_t>(st, static_cast<std::uint16_t>(schemas_.size()));
+    put_le<std::uint32_t>(st, static_cast<std::uint32_t>(channels_.size()));
+    put_le<std::uint32_t>(st, 0), put_le<std::uint32_t>(st, 0),
+        put_le<std::uint32_t>(st, static_cast<std::uint32_t>(chunks_.size()));
     std::uint64_t first = chunks_.empty() ? 0 : chunks_.front().start_ns, last = 0;
     for (const ChunkIndex& c : chunks_) first = std::min(first, c.start_ns), last = std::max(last, c.end_ns);
-    put<std::uint64_t>(st, first), put<std::uint64_t>(st, last);
-    put<std::uint32_t>(st, static_cast<std::uint32_t>(counts_.size() * 10));
-    for (const auto& [ch, n] : counts_) put<std::uint16_t>(st, ch), put<std::uint64_t>(st, n);
-    record(s, 0x0B, st);
+    put_le<std::uint64_t>(st, first), put_le<std::uint64_t>(st, last);
+    put_le<std::uint32_t>(st, static_cast<std::uint32_t>(counts_.size() * 10));
+    for (const auto& [ch, n] : counts_) put_le<std::uint16_t>(st, ch), put_le<std::uint64_t>(st, n);
+    put_mcap_record(s, 0x0B, st);
     for (const ChunkIndex& c : chunks_) {
       Buf x;
-      put<std::uint64_t>(x, c.start_ns), put<std::uint64_t>(x, c.end_ns), put<std::uint64_t>(x, c.offset);
-      put<std::uint64_t>(x, c.length);
-      put<std::uint32_t>(x, static_cast<std::uint32_t>(c.index_offsets.size() * 10));
-      for (const auto& [ch, off] : c.index_offsets) put<std::uint16_t>(x, ch), put<std::uint64_t>(x, off);
-      put<std::uint64_t>(x, c.index_length), put_str(x, compression_), put<std::uint64_t>(x, c.compressed);
-      put<std::uint64_t>(x, c.uncompressed);
-      record(s, 0x08, x);
+      put_le<std::uint64_t>(x, c.start_ns), put_le<std::uint64_t>(x, c.end_ns),
+          put_le<std::uint64_t>(x, c.offset);
+      put_le<std::uint64_t>(x, c.length);
+      put_le<std::uint32_t>(x, static_cast<std::uint32_t>(c.index_offsets.size() * 10));
+      for (const auto& [ch, off] : c.index_offsets)
+        put_le<std::uint16_t>(x, ch), put_le<std::uint64_t>(x, off);
+      put_le<std::uint64_t>(x, c.index_length), put_string(x, compression_),
+          put_le<std::uint64_t>(x, c.compressed);
+      put_le<std::uint64_t>(x, c.uncompressed);
+      put_mcap_record(s, 0x08, x);
     }
     Buf footer;
-    put<std::uint64_t>(footer, summary_start), put<std::uint64_t>(footer, 0);  // no summary offsets
+    put_le<std::uint64_t>(footer, summary_start), put_le<std::uint64_t>(footer, 0);  // no summary offsets
     Buf tail;
     tail.push_back(0x02);
-    put<std::uint64_t>(tail, 20);
+    put_le<std::uint64_t>(tail, 20);
     tail.insert(tail.end(), footer.begin(), footer.end());
     // The summary CRC covers the summary and the footer up to the CRC itself.
     std::uint32_t crc = crc32({s.data(), s.size()});
     crc = crc32({tail.data(), tail.size()}, crc);
-    put<std::uint32_t>(tail, crc);
+    put_le<std::uint32_t>(tail, crc);
     tail.insert(tail.end(), kMagic, kMagic + 8);
     emit(s);
     emit(tail);
