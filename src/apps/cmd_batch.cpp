@@ -1,5 +1,6 @@
 // `s3m batch MANIFEST --out DIR --engine slurm|local`: many recordings of one building, one
 // `s3m run` each, then their N-way merge and a summary (s3m::batch).
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -60,8 +61,8 @@ void run_batch(const BatchArgs& a) {
   const batch::Plan plan = batch::make_plan(a.manifest, a.out, this_binary());
   std::cout << plan.todo.size() << " of " << plan.manifest.recordings.size()
             << " recordings to run; scripts in " << plan.paths.dir << "/jobs\n";
-  if (!a.dry_run)  // the merge stage writes them again: none is left from an earlier batch
-    for (const char* f : {"/summary.json", "/summary.html"}) std::filesystem::remove(plan.paths.dir + f);
+  // A summary older than this batch is an earlier batch's: this one's merge stage did not run.
+  const auto started = std::filesystem::file_time_type::clock::now() - std::chrono::seconds(1);
   if (a.engine == "local") {
     if (a.dry_run) return print_scripts(plan);
     const int rc = batch::run_local(plan, a.jobs);
@@ -77,8 +78,10 @@ void run_batch(const BatchArgs& a) {
               << "\n";
     if (!a.wait) return;
   }
-  std::ifstream in(plan.paths.dir + "/summary.json");
-  if (!in)
+  const std::string summary = plan.paths.dir + "/summary.json";
+  std::error_code ec;
+  std::ifstream in(summary);
+  if (!in || std::filesystem::last_write_time(summary, ec) < started || ec)
     throw Error("batch: the merge stage wrote no summary.json (its log: " + plan.paths.dir +
                 "/logs/merge.log)");
   report(nlohmann::json::parse(in), plan.paths.dir);

@@ -40,18 +40,39 @@ fs::path write_manifest(const fs::path& dir) {
   return manifest;
 }
 
+// The s3m binary's size and modification time: the batch runs it, so a new s3m makes the cached
+// batch again even when this test binary did not change. The copies an earlier s3m of this build
+// folder made are removed.
+fs::path batch_cache_dir() {
+  const fs::path s3m = fs::canonical(S3M_BINARY);
+  const std::string prefix = "s3m_it_batch_local_s";
+  const std::string base = prefix + std::to_string(fs::file_size(s3m)) + "_" +
+                           std::to_string(fs::last_write_time(s3m).time_since_epoch().count());
+  const fs::path dir = build_stamped(fs::temp_directory_path() / base);  // base_b<build folder>_<test binary>
+  const std::string own = dir.filename().string();
+  const std::string build_key = own.substr(base.size(), own.find('_', base.size() + 1) - base.size() + 1);
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(fs::temp_directory_path(), ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) == 0 && name.find(build_key) != std::string::npos && name.rfind(own, 0) != 0) {
+      std::error_code ignored;
+      fs::remove_all(e.path(), ignored);
+    }
+  }
+  return dir;
+}
+
 // The local engine's batch, made once (cached_folder): DIR/manifest.yaml, DIR/out (the batch),
 // DIR/exit_code, DIR/log.
 const fs::path& local_batch() {
-  static const fs::path d = cached_folder(
-      build_stamped(fs::temp_directory_path() / "s3m_it_batch_local"), "exit_code", [](const fs::path& tmp) {
-        const fs::path manifest = write_manifest(tmp);
-        std::string log;
-        const int rc = run_s3m("batch '" + manifest.string() + "' --out '" + (tmp / "out").string() +
-                                   "' --engine local --jobs 2",
-                               tmp / "log", &log);
-        std::ofstream(tmp / "exit_code") << rc;
-      });
+  static const fs::path d = cached_folder(batch_cache_dir(), "exit_code", [](const fs::path& tmp) {
+    const fs::path manifest = write_manifest(tmp);
+    std::string log;
+    const int rc = run_s3m(
+        "batch '" + manifest.string() + "' --out '" + (tmp / "out").string() + "' --engine local --jobs 2",
+        tmp / "log", &log);
+    std::ofstream(tmp / "exit_code") << rc;
+  });
   return d;
 }
 

@@ -13,8 +13,18 @@ namespace s3m::batch {
 namespace {
 namespace fs = std::filesystem;
 
+fs::path scratch_root() {
+  return fs::temp_directory_path() / ("s3m_batch_unit_" + std::to_string(::getpid()));
+}
+
+// This process's scratch folders go when the tests end.
+struct RemoveScratch : ::testing::Environment {
+  void TearDown() override { fs::remove_all(scratch_root()); }
+};
+const auto* const kRemoveScratch = ::testing::AddGlobalTestEnvironment(new RemoveScratch);
+
 fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("s3m_batch_unit_" + std::to_string(::getpid())) / name;
+  const fs::path d = scratch_root() / name;
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
