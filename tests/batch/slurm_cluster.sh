@@ -35,6 +35,7 @@ done
 [ "$(id -u)" = 0 ] || { echo "$0: the test cluster runs its daemons as root"; exit 77; }
 export PATH="$PATH:/usr/sbin"
 
+stop  # daemons an earlier start left in this folder (e.g. a test run that was killed)
 mkdir -p "$dir"/{state,spool,munge}
 dir="$(cd "$dir" && pwd)"
 chmod 700 "$dir/munge"
@@ -82,7 +83,7 @@ NodeName=$node CPUs=$cpus RealMemory=$mem_mb State=UNKNOWN
 PartitionName=batch Nodes=$node Default=YES MaxTime=INFINITE State=UP
 CONF
 export SLURM_CONF="$dir/slurm.conf"
-slurmctld -i -f "$SLURM_CONF"
+slurmctld -c -i -f "$SLURM_CONF"  # -c: no jobs from an earlier start
 slurmd -f "$SLURM_CONF"
 # Ready when the node is idle (or mixed/allocated by an earlier test's leftovers).
 for _ in $(seq 100); do
