@@ -77,6 +77,24 @@ TEST(MergeMany, FiveRunsOneFromAnotherBuildingIsNotPlacedTheOthersMerge) {
   EXPECT_EQ(keyframes_of(o.out_dir), n_keyframes);
 }
 
+TEST(MergeMany, CommandLineMergesThreeRunsAndSaysHowEachJoined) {
+  const fs::path out = scratch_dir() / "merge_cli";
+  std::string log;
+  ASSERT_EQ(
+      run_s3m("merge '" + fleet_run("a") + "' '" + fleet_run("b") + "' '" + fleet_run("handheld") +
+                  "' --config '" + S3M_TEST_DATA_DIR + "/../../config/sim.yaml' --out '" + out.string() + "'",
+              scratch_dir() / "merge_cli.log", &log),
+      0)
+      << log;
+  EXPECT_NE(log.find("run 1 (" + fleet_run("a") + "): world"), std::string::npos) << log;
+  EXPECT_NE(log.find("run 2 (" + fleet_run("b") + "): joined through run 1, "), std::string::npos) << log;
+  EXPECT_NE(log.find("run 3 (" + fleet_run("handheld") + "): joined through run "), std::string::npos) << log;
+  const json j = json::parse(read_bytes((out / "merge.json").string()));
+  EXPECT_EQ(j["order"], json({1, 2, 3}));
+  for (const char* f : {"slam_map.bin", "kept_clouds.bin", "map.ot", "trajectory_camera_3.txt"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+}
+
 TEST(MergeMany, RefusesTooFewOrRepeatedRunsAndForeignFolders) {
   run::MergeManyOptions o;
   o.config = sim_preset();
