@@ -239,6 +239,8 @@ json merge_many(const MergeManyOptions& o) {
   std::vector<int> order = merge_order(s, w);
   json merges = json::array();
   const slam::LoadedSlamMap merged = merge_in_order(s, order, vocabulary, o, merges);
+  for (std::size_t k = 0; k < order.size(); ++k)
+    s[order[k]].order = int(k);  // a run left out shifts the rest
   // 3. The semantic map from every merged run's clouds at the merged poses.
   const pipeline::KeyframeStore store = merged_store(s, order, merged.map);
   pipeline::MapIntegrator semantic(o.config.map);
