@@ -163,7 +163,8 @@ RunStatus read_status(const Paths& paths, const Recording& r) {
   if (!fs::exists(paths.exit_file(r))) {
     s.state = has_log ? RunState::kNotFinished : RunState::kNotStarted;
     if (has_log)
-      s.error = "no exit status (the task was killed, or is still running): " + error_of(paths.log(r));
+      s.error = "no exit status (the task was killed, or is still running; a Slurm task's own output is in " +
+                paths.dir + "/logs/slurm-runs-*.out): " + error_of(paths.log(r));
     return s;
   }
   std::istringstream(read_file(paths.exit_file(r))) >> s.exit_code;
