@@ -29,6 +29,7 @@ packages=(
   python3 python3-numpy python3-matplotlib
   libjs-three chromium  # the map viewer (three.js r111, copied into reports) and its browser test
   libzstd-dev liblz4-dev libsqlite3-dev zlib1g-dev  # ROS 2 recordings: MCAP chunks, CRC-32, .db3
+  slurm-wlm munge  # s3m batch --engine slurm; the batch tests start a one-node cluster (tests/batch/slurm_cluster.sh)
 )
 [ "$with_training" = 1 ] && packages+=(python3-torch python3-onnx)
 # Node.js and npm: the ROS 2 tests' independent reference writer (tests/ros2, npm ci below). Only

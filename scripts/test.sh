@@ -2,6 +2,8 @@
 # s3m test suite. Needs only the repository (no ../shared data).
 #  1. Release build (build/, incremental): every unit and integration test with ctest; with ROS
 #     installed also the ROS1 node and rosbag tests (-DS3M_WITH_ROS=ON, ctest label "ros").
+#     The Slurm batch test runs on a one-node cluster ctest starts and stops around it
+#     (slurm_cluster_start/stop: tests/batch/slurm_cluster.sh, as root); skipped without Slurm.
 #  2. Sanitizer build (build-asan/: ASan + UBSan, -O1 -g, no benchmarks): the unit tests again
 #     (ctest -L unit, which includes the fuzz-corpus replay); any sanitizer report or leak fails.
 # Usage: scripts/test.sh [--quick] [--restricted-isa] [extra ctest args]

@@ -57,6 +57,7 @@ void register_export(CLI::App& app);   // map export (PLY, ColorOcTree, .bt)
 void register_vocab(CLI::App& app);    // bag-of-words vocabulary training
 void register_tum2bag(CLI::App& app);  // TUM directory -> ROS1 bag (ROS builds)
 void register_view(CLI::App& app);     // interactive 3-D map viewer (HTML)
-void register_merge(CLI::App& app);    // merge two saved sessions
+void register_merge(CLI::App& app);    // merge saved sessions (two or more)
+void register_batch(CLI::App& app);    // many recordings: runs on Slurm or locally, N-way merge
 
 }  // namespace s3m::apps

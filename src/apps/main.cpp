@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   s3m::apps::register_run(app);
   s3m::apps::register_check(app);
   s3m::apps::register_merge(app);
+  s3m::apps::register_batch(app);
   s3m::apps::register_demo(app);
   s3m::apps::register_segeval(app);
   s3m::apps::register_query(app);

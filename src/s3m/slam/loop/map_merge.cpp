@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -119,69 +121,88 @@ namespace {
 
 double angle_deg(const SE3& T) { return rotation_angle_rad(T.linear()) * 180.0 / M_PI; }
 
-}  // namespace
+struct Hit {
+  KeyframeId b_kf, a_kf;
+  SE3 T_a_b;
+  int n_matches;
+};
 
-MergedSessions merge_sessions(LoadedSlamMap a, const LoadedSlamMap& b,
+// Steps 1-3 of the offline merge: A and B in one map (B as sub-map 1), every B keyframe verified
+// against its best-scoring A keyframes, and the best-supported pair enough others agree with.
+struct SessionSearch {
+  Map map;
+  KeyframeId b_offset = 0;
+  std::unique_ptr<LoopCloser> closer;
+  std::vector<Hit> hits;
+  std::optional<Hit> best;
+  int n_queried = 0, n_agreeing = 0, most_agreeing = 0;
+  VerifyStats stats;
+};
+
+SessionSearch search_sessions(LoadedSlamMap a, const LoadedSlamMap& b,
                               std::shared_ptr<const features::Vocabulary> vocabulary, const LoopConfig& loop,
                               const SessionMergeConfig& config) {
   config.validate();
-  MergedSessions m{std::move(a.map),
-                   std::move(a.index),
-                   std::move(a.loop_edges),
-                   0,
-                   SE3::Identity(),
-                   kNoId,
-                   kNoId,
-                   0,
-                   0,
-                   0,
-                   {}};
+  SessionSearch s;
+  s.map = std::move(a.map);
   // 1. One map: B as sub-map 1 with shifted ids, its stored BoW vectors and loop edges.
-  m.b_offset = m.map.append(b.map, 1);
+  s.b_offset = s.map.append(b.map, 1);
   for (const auto& [id, kf] : b.map.keyframes())
-    if (const KeyFrameBow* bow = b.index.find(id)) m.index.restore(id + m.b_offset, *bow);
-  for (const auto& [cur, lp] : b.loop_edges) m.loop_edges.emplace_back(cur + m.b_offset, lp + m.b_offset);
-  LoopCloser closer(std::move(vocabulary), a.camera, loop);
-  closer.index() = std::move(m.index);
-  closer.index().sync(m.map);
-  closer.restore_loop_edges(std::move(m.loop_edges));
+    if (const KeyFrameBow* bow = b.index.find(id)) a.index.restore(id + s.b_offset, *bow);
+  for (const auto& [cur, lp] : b.loop_edges) a.loop_edges.emplace_back(cur + s.b_offset, lp + s.b_offset);
+  s.closer = std::make_unique<LoopCloser>(std::move(vocabulary), a.camera, loop);
+  LoopCloser& closer = *s.closer;
+  closer.index() = std::move(a.index);
+  closer.index().sync(s.map);
+  closer.restore_loop_edges(std::move(a.loop_edges));
 
   // 2. Every B keyframe against its best-scoring A keyframes: geometric verification only.
-  struct Hit {
-    KeyframeId b_kf, a_kf;
-    SE3 T_a_b;
-    int n_matches;
-  };
-  std::vector<Hit> hits;
-  VerifyStats stats;
-  int n_queried = 0;
-  for (const auto& [id, kf] : m.map.keyframes()) {
+  for (const auto& [id, kf] : s.map.keyframes()) {
     if (kf.submap != 1) continue;
-    ++n_queried;
+    ++s.n_queried;
     const auto found = closer.index().database().query(closer.index().find(id)->bow, 0, [&](int c) {
-      return m.map.has_keyframe(KeyframeId(c)) && m.map.keyframe(KeyframeId(c)).submap == 0;
+      return s.map.has_keyframe(KeyframeId(c)) && s.map.keyframe(KeyframeId(c)).submap == 0;
     });
     std::vector<KeyframeId> candidates;
     for (const auto& h : found)
       if (int(candidates.size()) < config.candidates_per_keyframe)
         candidates.push_back(KeyframeId(h.entry_id));
-    if (const auto r = closer.recognise(m.map, id, candidates, &stats))
-      hits.push_back({id, r->loop_kf, r->T_w_cur * kf.T_w_c.inverse(), r->n_matches});
+    if (const auto r = closer.recognise(s.map, id, candidates, &s.stats))
+      s.hits.push_back({id, r->loop_kf, r->T_w_cur * kf.T_w_c.inverse(), r->n_matches});
   }
   // 3. The best-supported pair whose alignment enough other pairs agree with.
-  const Hit* best = nullptr;
-  int most_agreeing = 0;
-  for (const Hit& h : hits) {
-    const int agreeing = int(std::count_if(hits.begin(), hits.end(), [&](const Hit& o) {
+  for (const Hit& h : s.hits) {
+    const int agreeing = int(std::count_if(s.hits.begin(), s.hits.end(), [&](const Hit& o) {
       const SE3 d = h.T_a_b.inverse() * o.T_a_b;
       return d.translation().norm() < config.agree_m && angle_deg(d) < config.agree_deg;
     }));
-    most_agreeing = std::max(most_agreeing, agreeing);
-    if (agreeing >= config.min_agreeing && (!best || h.n_matches > best->n_matches))
-      best = &h, m.n_agreeing = agreeing;
+    s.most_agreeing = std::max(s.most_agreeing, agreeing);
+    if (agreeing >= config.min_agreeing && (!s.best || h.n_matches > s.best->n_matches))
+      s.best = h, s.n_agreeing = agreeing;
   }
-  m.n_verified = int(hits.size());
-  if (!best)
+  return s;
+}
+
+}  // namespace
+
+SessionOverlap find_session_overlap(LoadedSlamMap a, const LoadedSlamMap& b,
+                                    std::shared_ptr<const features::Vocabulary> vocabulary,
+                                    const LoopConfig& loop, const SessionMergeConfig& config) {
+  const SessionSearch s = search_sessions(std::move(a), b, std::move(vocabulary), loop, config);
+  SessionOverlap o;
+  o.n_verified = int(s.hits.size());
+  if (!s.best) return o;
+  o.placed = true;
+  o.n_agreeing = s.n_agreeing;
+  o.n_matches = s.best->n_matches;
+  return o;
+}
+
+MergedSessions merge_sessions(LoadedSlamMap a, const LoadedSlamMap& b,
+                              std::shared_ptr<const features::Vocabulary> vocabulary, const LoopConfig& loop,
+                              const SessionMergeConfig& config) {
+  SessionSearch s = search_sessions(std::move(a), b, std::move(vocabulary), loop, config);
+  if (!s.best)
     throw Error(fmt::format(
         "merge: the two maps do not overlap: none of run B's {} keyframes was recognised in run A's {} "
         "keyframes "
@@ -189,19 +210,28 @@ MergedSessions merge_sessions(LoadedSlamMap a, const LoadedSlamMap& b,
         "BoW "
         "matches and a 3D-3D RANSAC pose; the best guided search found {} of the {} matches needed; {} pairs "
         "verified, at most {} agreeing on one alignment, {} needed)",
-        n_queried, m.map.n_keyframes() - n_queried, stats.candidates, config.candidates_per_keyframe,
-        stats.bow_matched, stats.best_matches, loop.min_projection_matches, hits.size(), most_agreeing,
-        config.min_agreeing));
+        s.n_queried, s.map.n_keyframes() - s.n_queried, s.stats.candidates, config.candidates_per_keyframe,
+        s.stats.bow_matched, s.stats.best_matches, loop.min_projection_matches, s.hits.size(),
+        s.most_agreeing, config.min_agreeing));
   // 4. Merge at that pair (verified again, deterministically, and applied).
-  m.b_keyframe = best->b_kf;
-  m.a_keyframe = best->a_kf;
-  m.T_a_b = best->T_a_b;
-  m.n_matches = best->n_matches;
-  const auto correction = closer.merge_at(m.map, best->b_kf, {best->a_kf});
+  const auto correction = s.closer->merge_at(s.map, s.best->b_kf, {s.best->a_kf});
   require(correction.has_value(), "merge: the verified pair did not verify again (a bug)");
-  m.correction = *correction;
-  m.index = std::move(closer.index());
-  m.loop_edges = closer.loop_edges();
+  MergedSessions m{std::move(s.map),
+                   std::move(s.closer->index()),
+                   s.closer->loop_edges(),
+                   s.b_offset,
+                   SE3::Identity(),
+                   kNoId,
+                   kNoId,
+                   0,
+                   0,
+                   int(s.hits.size()),
+                   *correction};
+  m.n_agreeing = s.n_agreeing;
+  m.b_keyframe = s.best->b_kf;
+  m.a_keyframe = s.best->a_kf;
+  m.T_a_b = s.best->T_a_b;
+  m.n_matches = s.best->n_matches;
   return m;
 }
 

@@ -15,7 +15,8 @@
 // Sub-map 0 is the world (the session's first map, or the loaded one): poses are reported in it,
 // and what never joins it is neither reported nor saved.
 //
-// merge_sessions() does the same offline for two saved maps (`s3m merge RUN_A RUN_B`).
+// merge_sessions() does the same offline for two saved maps (`s3m merge RUN_A RUN_B`);
+// find_session_overlap() only measures how well they overlap.
 #include <memory>
 #include <set>
 #include <string>
@@ -45,6 +46,18 @@ struct MergedSessions {
   int n_matches = 0, n_agreeing = 0, n_verified = 0;
   LoopCorrection correction;  // every keyframe's pose before and after
 };
+
+// How well saved map b is recognised in saved map a (steps 1-3 of merge_sessions, nothing merged):
+// an N-way merge orders its merges by it.
+struct SessionOverlap {
+  bool placed = false;  // an alignment at least config.min_agreeing verified pairs agree on
+  int n_verified = 0;   // b's keyframes verified against one of a's
+  int n_agreeing = 0;   // of those, agreeing with the best pair's alignment (0 when not placed)
+  int n_matches = 0;    // the best pair's projection matches
+};
+SessionOverlap find_session_overlap(LoadedSlamMap a, const LoadedSlamMap& b,
+                                    std::shared_ptr<const features::Vocabulary> vocabulary,
+                                    const LoopConfig& loop, const SessionMergeConfig& config = {});
 
 // Merges saved map b into saved map a (same camera and vocabulary: load both with a's camera).
 // Throws s3m::Error when no keyframe of b is recognised in a, saying what was tried.
