@@ -79,6 +79,11 @@ TEST(MergeMany, FiveRunsOneFromAnotherBuildingIsNotPlacedTheOthersMerge) {
 
 TEST(MergeMany, CommandLineMergesThreeRunsAndSaysHowEachJoined) {
   const fs::path out = scratch_dir() / "merge_cli";
+  // An earlier merge of more runs left its 7th trajectory; the user keeps notes beside it.
+  fs::remove_all(out);
+  fs::create_directories(out);
+  std::ofstream(out / "trajectory_camera_7.txt") << "# an earlier merge's\n";
+  std::ofstream(out / "notes.txt") << "mine";
   std::string log;
   ASSERT_EQ(
       run_s3m("merge '" + fleet_run("a") + "' '" + fleet_run("b") + "' '" + fleet_run("handheld") +
@@ -93,6 +98,10 @@ TEST(MergeMany, CommandLineMergesThreeRunsAndSaysHowEachJoined) {
   EXPECT_EQ(j["order"], json({1, 2, 3}));
   for (const char* f : {"slam_map.bin", "kept_clouds.bin", "map.ot", "trajectory_camera_3.txt"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
+  EXPECT_FALSE(fs::exists(out / "trajectory_camera_7.txt"));  // not this merge's: removed
+  EXPECT_EQ(read_bytes((out / "notes.txt").string()), "mine");
+  for (const auto& e : fs::directory_iterator(out))
+    EXPECT_NE(e.path().filename().string().rfind(".s3m-staging", 0), 0u) << e.path();
 }
 
 TEST(MergeMany, RefusesTooFewOrRepeatedRunsAndForeignFolders) {

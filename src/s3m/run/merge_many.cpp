@@ -12,11 +12,13 @@
 #include "s3m/core/atomic_file.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
+#include "s3m/io/output_folder.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
 #include "s3m/pipeline/map_integrator.hpp"
 #include "s3m/pipeline/session_io.hpp"
+#include "s3m/run/session_merge.hpp"
 
 namespace s3m::run {
 namespace fs = std::filesystem;
@@ -203,7 +205,7 @@ io::Trajectory re_expressed(const Session& run, const slam::Map& merged) {
 }
 
 // An unplaced run's session, copied as it is.
-std::string keep_unplaced(const Session& run, int k, const fs::path& out) {
+void keep_unplaced(const Session& run, int k, const fs::path& out) {
   const fs::path dir = out / "unplaced" / std::to_string(k + 1);
   fs::create_directories(dir);
   for (const char* f : {pipeline::kSlamMapFile, pipeline::kKeptCloudsFile, "map.ot", "map.ply",
@@ -211,7 +213,6 @@ std::string keep_unplaced(const Session& run, int k, const fs::path& out) {
     const fs::path from = fs::path(run.dir) / f;
     if (fs::exists(from)) fs::copy_file(from, dir / f, fs::copy_options::overwrite_existing);
   }
-  return dir.string();
 }
 
 json overlap_json(const Overlaps& w) {
@@ -246,11 +247,10 @@ json merge_many(const MergeManyOptions& o) {
   pipeline::MapIntegrator semantic(o.config.map);
   semantic.rebuild(store);
 
-  // 4. Outputs: the merged session, each merged run's trajectory, the unplaced runs as they are.
-  std::error_code ec;
-  fs::create_directories(o.out_dir, ec);
-  if (ec) throw Error("merge: cannot create the output folder '" + o.out_dir + "': " + ec.message());
-  const fs::path out(o.out_dir);
+  // 4. Outputs (staged: a merge that fails halfway leaves the folder as it was): the merged session,
+  // each merged run's trajectory, the unplaced runs as they are.
+  io::StagedFolder staged(o.out_dir, "--out");
+  const fs::path out(staged.path());
   slam::save_slam_map((out / pipeline::kSlamMapFile).string(), merged.map, merged.index, merged.loop_edges,
                       merged.camera);
   pipeline::save_kept_clouds((out / pipeline::kKeptCloudsFile).string(), store);
@@ -267,7 +267,8 @@ json merge_many(const MergeManyOptions& o) {
               {"kept_clouds", run.clouds.size()}};
     if (run.order < 0) {
       r["status"] = "not placed";
-      r["kept_as"] = keep_unplaced(run, int(k), out);
+      keep_unplaced(run, int(k), out);
+      r["kept_as"] = (fs::path(o.out_dir) / "unplaced" / std::to_string(k + 1)).string();
     } else {
       r["status"] = run.order == 0 ? "world" : "joined";
       r["order"] = run.order + 1;
@@ -285,6 +286,7 @@ json merge_many(const MergeManyOptions& o) {
             {"merges", merges},      {"overlaps", overlap_json(w)}, {"map", semantic.describe()}};
   for (int k : order) j["order"].push_back(k + 1);
   write_text_atomic((out / "merge.json").string(), j.dump(2) + "\n");
+  staged.commit(merge_output_names(o.out_dir));
   return j;
 }
 

@@ -11,6 +11,7 @@
 #include "s3m/core/atomic_file.hpp"
 #include "s3m/core/error.hpp"
 #include "s3m/features/bow_vocabulary.hpp"
+#include "s3m/io/output_folder.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/pipeline/factories.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
@@ -138,11 +139,9 @@ json merge_runs(const MergeRunsOptions& o) {
   pipeline::MapIntegrator semantic(o.config.map);
   semantic.rebuild(store);
 
-  // 4. Outputs.
-  std::error_code ec;
-  fs::create_directories(o.out_dir, ec);
-  if (ec) throw Error("merge: cannot create the output folder '" + o.out_dir + "': " + ec.message());
-  const fs::path out(o.out_dir);
+  // 4. Outputs, staged: a merge that fails halfway leaves the folder as it was.
+  io::StagedFolder staged(o.out_dir, "--out");
+  const fs::path out(staged.path());
   slam::save_slam_map((out / pipeline::kSlamMapFile).string(), m.map, m.index, m.loop_edges, camera);
   pipeline::save_kept_clouds((out / pipeline::kKeptCloudsFile).string(), store);
   semantic.save((out / "map.ot").string(), (out / "map.ply").string());
@@ -176,7 +175,24 @@ json merge_runs(const MergeRunsOptions& o) {
       {"map", semantic.describe()},
       {"outputs", {{"trajectory_camera_a", !traj_a.empty()}, {"trajectory_camera_b", !traj_b.empty()}}}};
   write_text_atomic((out / "merge.json").string(), j.dump(2) + "\n");
+  staged.commit(merge_output_names(o.out_dir));
   return j;
+}
+
+std::vector<std::string> merge_output_names(const std::string& out_dir) {
+  std::vector<std::string> names = {pipeline::kSlamMapFile,
+                                    pipeline::kKeptCloudsFile,
+                                    "map.ot",
+                                    "map.ply",
+                                    "keyframes.txt",
+                                    "merge.json",
+                                    "unplaced"};
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(out_dir, ec)) {
+    const std::string n = e.path().filename().string();
+    if (n.rfind("trajectory_camera_", 0) == 0 && e.path().extension() == ".txt") names.push_back(n);
+  }
+  return names;
 }
 
 }  // namespace s3m::run

@@ -12,6 +12,7 @@
 // trajectory_camera_b.txt (each run's trajectory_camera.txt, when it has one, re-expressed in the
 // merged world through its nearest keyframe in time) and merge.json (what was matched).
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -32,5 +33,10 @@ struct MergeRunsOptions {
 // file, maps of different cameras or vocabularies, runs that do not overlap (what was tried).
 // Returns what merge.json holds.
 nlohmann::json merge_runs(const MergeRunsOptions& options);
+
+// The names a merge owns in its output folder (for io::StagedFolder::commit): the session, the map,
+// keyframes.txt, merge.json, unplaced/, and every trajectory_camera_<a|b|N>.txt already in out_dir
+// (an earlier merge of more runs must not leave its extra trajectories behind).
+std::vector<std::string> merge_output_names(const std::string& out_dir);
 
 }  // namespace s3m::run
