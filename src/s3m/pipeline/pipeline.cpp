@@ -68,9 +68,9 @@ void Pipeline::process(RgbdFrame frame) {
 Pipeline::Work Pipeline::step1_track(RgbdFrame frame) {
   Stopwatch sw;
   Work w;
-  mask_dynamic(frame);
+  const RgbdFrame slam_frame = slam_input(frame);
   sw.reset();
-  w.track = poses_->track(masked_depth(frame));
+  w.track = poses_->track(slam_frame);
   timings_.add("track", sw.elapsed_ms());
   if (w.track.ok) {
     T_w_prev_ = T_w_last_;
@@ -89,30 +89,28 @@ Pipeline::Work Pipeline::step1_track(RgbdFrame frame) {
   return w;
 }
 
-// Before tracking: the pixels tracking must not use. Only the pipeline's prediction counts (a
-// simulator frame's ground-truth mask is not the system's knowledge).
-void Pipeline::mask_dynamic(RgbdFrame& frame) {
+// Before tracking: the pixels tracking must not use (frame.dynamic_mask), and the frame SLAM gets:
+// without depth under the mask, so that the dense depth odometry (lost frames, keyframe links) does
+// not align people either. The frame itself keeps its depth: the map needs the rays to the people to
+// clear the space they leave. Only the pipeline's prediction counts (a simulator frame's
+// ground-truth mask is not the system's knowledge).
+RgbdFrame Pipeline::slam_input(RgbdFrame& frame) {
   const DynamicConfig& d = config_.dynamic;
   const bool from_labels = d.masks_tracking() && d.mask_source == "labels" && !frame.labels.empty();
   if (!from_labels && (!masker_ || !T_w_last_)) {
     frame.dynamic_mask.release();
-    return;
+    return frame;
   }
   Stopwatch sw;
   frame.dynamic_mask = from_labels
                            ? label_mask(frame.labels, d.class_ids(), d.map_margin_px)
                            : masker_->mask(T_w_prev_ ? predict_pose(*T_w_prev_, *T_w_last_) : *T_w_last_);
-  timings_.add("dynamic_mask", sw.elapsed_ms());
-}
-
-// What SLAM gets: without depth under the dynamic mask, so that the dense depth odometry (lost
-// frames, keyframe links) does not align people either. The frame itself keeps its depth: the map
-// needs the rays to the people to clear the space they leave.
-RgbdFrame Pipeline::masked_depth(const RgbdFrame& frame) {
-  if (frame.dynamic_mask.empty() || cv::countNonZero(frame.dynamic_mask) == 0) return frame;
   RgbdFrame out = frame;
-  out.depth_m = frame.depth_m.clone();
-  out.depth_m.setTo(0.0f, frame.dynamic_mask);
+  if (!frame.dynamic_mask.empty() && cv::countNonZero(frame.dynamic_mask) > 0) {
+    out.depth_m = frame.depth_m.clone();
+    out.depth_m.setTo(0.0f, frame.dynamic_mask);
+  }
+  timings_.add("dynamic_mask", sw.elapsed_ms());
   return out;
 }
 

@@ -109,8 +109,7 @@ class Pipeline {
   };
 
   Work step1_track(RgbdFrame frame);
-  void mask_dynamic(RgbdFrame& frame);
-  static RgbdFrame masked_depth(const RgbdFrame& frame);
+  RgbdFrame slam_input(RgbdFrame& frame);
   void step2_segment(Work& w);
   void steps3to5_map(Work& w);
   void note_corrections(const std::vector<KeyframePoses>& corrections);
