@@ -100,7 +100,7 @@ struct DynamicConfig {
   bool mask_tracking = true;
   // The warped pixels are grown by this much: a person moves between the segmented frame and the
   // tracked one [px].
-  int mask_margin_px = 12;
+  int mask_margin_px = 4;
   // Where the tracking mask comes from: "segmented" (above), or "labels": the frame's own
   // ground-truth label image (simulator sequences), the best any segmentation could do, to
   // evaluate the rest of the method.
