@@ -23,7 +23,7 @@ namespace {
 struct RunArgs {
   std::string dataset, config, out, segmenter, model_dir, poses = "slam", vocab, map;
   bool localize_only = false, slam_only = false, deterministic = false, no_report = false,
-       no_loop_closing = false, force = false, no_session_mcap = false;
+       no_loop_closing = false, force = false, no_session_mcap = false, keep_dynamic = false, dynamic = false;
   long max_frames = -1;
   RosbagArgs bag;
 };
@@ -96,6 +96,11 @@ void register_run(CLI::App& app) {
       ->check(CLI::IsMember({"slam", "gt"}));
   cmd->add_flag("--slam-only", args->slam_only, "trajectories only (no segmentation, no map)");
   cmd->add_flag("--deterministic", args->deterministic, "single thread, identical output run to run");
+  cmd->add_flag("--dynamic", args->dynamic,
+                "the scene has things that move (dynamic.classes, default person): tracking uses no keypoint "
+                "on them and the map does not make them obstacles (dynamic.enabled)");
+  cmd->add_flag("--keep-dynamic", args->keep_dynamic,
+                "with --dynamic: map the classes that move like any other (dynamic.keep_in_map)");
   cmd->add_flag("--no-loop-closing", args->no_loop_closing,
                 "SLAM without loop closing and relocalisation (preset: loop_closing.enabled/relocalisation)");
   cmd->add_option("--vocab", args->vocab,
@@ -130,6 +135,14 @@ void register_run(CLI::App& app) {
     if (args->deterministic) {
       o.config.threads.deterministic = true;
       pipeline::mark_written(o.config, "threads.deterministic");
+    }
+    if (args->dynamic) {
+      o.config.dynamic.enabled = true;
+      pipeline::mark_written(o.config, "dynamic.enabled");
+    }
+    if (args->keep_dynamic) {
+      o.config.dynamic.keep_in_map = true;
+      pipeline::mark_written(o.config, "dynamic.keep_in_map");
     }
     // Without a preset a simulator sequence's camera mount comes from its sim.yaml; robot poses
     // would otherwise be camera poses (identity T_c_r) and the robot's ATE/RPE meaningless.

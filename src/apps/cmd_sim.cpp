@@ -22,7 +22,7 @@ namespace {
 struct SimArgs {
   std::string config_path, out_dir, scene = "office", trajectory = "uav_sweep", camera = "kinect", snapshots,
                                     sensor_profile;
-  int frames = 300, width = 640, height = 480, drop_frames = 0, motion_blur = 1;
+  int frames = 300, width = 640, height = 480, drop_frames = 0, motion_blur = 1, people = 0;
   double depth_time_offset_s = 0.0;
   std::uint64_t seed = 7, layout_seed = 0;
   double fps = 30.0, voxel_res_m = 0.05;
@@ -134,6 +134,7 @@ void run(const SimArgs& a, const CLI::App& cmd) {
   if (given("--frames")) cfg.trajectory.frames = a.frames;
   if (given("--fps")) cfg.trajectory.fps = a.fps;
   if (given("--drop-frames")) cfg.drop_frames = a.drop_frames;
+  if (given("--people")) cfg.people.count = a.people;
   if (given("--voxel-res")) cfg.voxel_resolution_m = a.voxel_res_m;
   // A profile sets noise and motion blur itself; only options written out override it then.
   if (!a.sensor_profile.empty()) sim::apply_sensor_profile(a.sensor_profile, cfg.sensor);
@@ -214,6 +215,10 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--width", args->width, "Image width [px]")->capture_default_str();
   cmd->add_option("--height", args->height, "Image height [px]")->capture_default_str();
   cmd->add_flag("--noise,!--no-noise", args->noise, "Sensor noise and dropouts on/off (default on)");
+  cmd->add_option("--people", args->people,
+                  "People walking through the scene (capsules labelled person; masks in dynamic/, paths in "
+                  "people.txt)")
+      ->check(CLI::Range(0, 20));
   cmd->add_option("--drop-frames", args->drop_frames, "Number of blank (dropped) frames")
       ->capture_default_str();
   cmd->add_option("--motion-blur", args->motion_blur, "Motion blur samples per frame (1 = off)")

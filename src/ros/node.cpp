@@ -219,7 +219,7 @@ void S3mNode::start(const CameraInfo& info, const std::string& camera_frame, con
       pipeline::choose_segmenter({}, c, pipeline::simulator_sign("", params_.use_labels));
   auto segmenter = pipeline::make_segmenter(choice, c, params_.use_labels);
   const std::string segmenter_name = segmenter ? segmenter->name() : "none";
-  auto map = std::make_unique<pipeline::MapIntegrator>(c.map);
+  auto map = std::make_unique<pipeline::MapIntegrator>(c.map, c.dynamic.map_exclusions());
   auto poses = pipeline::make_slam_poses(camera, c);
   const std::filesystem::path saved(params_.map);
   if (!params_.map.empty())

@@ -81,13 +81,32 @@ TEST(PipelineConfig, ErrorsNameFileLineAndExpectation) {
   EXPECT_NE(e.find("segmenter.type must be auto | onnx | oracle | none"), std::string::npos) << e;
 
   e = error_of("dataset:\n  depth_registration: maybe\n");
-  EXPECT_NE(e.find("dataset.depth_registration must be auto | registered | unregistered (got 'maybe')"), std::string::npos) << e;
+  EXPECT_NE(e.find("dataset.depth_registration must be auto | registered | unregistered (got 'maybe')"),
+            std::string::npos)
+      << e;
+
+  e = error_of("dynamic:\n  classes: [person, ghost]\n");
+  EXPECT_NE(e.find("dynamic.classes: 'ghost' is not a class"), std::string::npos) << e;
+  EXPECT_NE(e.find("bad.yaml"), std::string::npos) << e;
 
   e = error_of("threads: 4\n");
   EXPECT_NE(e.find("section 'threads' is not a map"), std::string::npos) << e;
 
   e = error_of("cloud: [1\n");
   EXPECT_NE(e.find("YAML syntax error"), std::string::npos) << e;
+}
+
+TEST(PipelineConfig, DynamicClassesAreOffUnlessEnabled) {
+  DynamicConfig d;
+  EXPECT_TRUE(d.map_exclusions().empty());
+  EXPECT_FALSE(d.masks_tracking());
+  d.enabled = true;
+  EXPECT_EQ(d.map_exclusions(), std::vector<ClassId>{cls::kPerson});
+  EXPECT_TRUE(d.masks_tracking());
+  d.keep_in_map = true;
+  EXPECT_TRUE(d.map_exclusions().empty());
+  d.classes = {"person", "chair"};
+  EXPECT_EQ(d.class_ids(), (std::vector<ClassId>{cls::kPerson, cls::kChair}));
 }
 
 TEST(PipelineConfig, MissingFileIsAClearError) {
@@ -121,20 +140,24 @@ TEST(PipelineConfig, ACopiedPresetStillFindsTheShippedFilesItNames) {
   const fs::path dir = fs::temp_directory_path() / "s3m_pipeline_config_copy";
   fs::remove_all(dir);
   fs::create_directories(dir);
-  for (const char* name : {"kitchen_7scenes.yaml", "realsense_d455.yaml"}) fs::copy(config / name, dir / name);
+  for (const char* name : {"kitchen_7scenes.yaml", "realsense_d455.yaml"})
+    fs::copy(config / name, dir / name);
   const PipelineConfig kitchen = load_pipeline_config((dir / "kitchen_7scenes.yaml").string());
-  EXPECT_TRUE(fs::equivalent(kitchen.segmenter.model, config / ".." / "models" / "deeplabv3plus_mnv2_ade20k_fast.yaml"))
+  EXPECT_TRUE(fs::equivalent(kitchen.segmenter.model,
+                             config / ".." / "models" / "deeplabv3plus_mnv2_ade20k_fast.yaml"))
       << kitchen.segmenter.model;
   const PipelineConfig d455 = load_pipeline_config((dir / "realsense_d455.yaml").string());
   EXPECT_TRUE(fs::equivalent(d455.dataset.camera, config / "cameras" / "realsense_d455_640x480.yaml"))
       << d455.dataset.camera;
   fs::create_directories(dir / "cameras");
-  fs::copy(config / "cameras" / "realsense_d455_640x480.yaml", dir / "cameras" / "realsense_d455_640x480.yaml");
+  fs::copy(config / "cameras" / "realsense_d455_640x480.yaml",
+           dir / "cameras" / "realsense_d455_640x480.yaml");
   EXPECT_EQ(load_pipeline_config((dir / "realsense_d455.yaml").string()).dataset.camera,
             (dir / "cameras" / "realsense_d455_640x480.yaml").string());
   // A file that is neither beside it nor shipped stays where the preset says, for the error to name.
   std::ofstream(dir / "own.yaml") << "segmenter: {type: onnx, model: ../nowhere/m.yaml}\n";
-  EXPECT_EQ(load_pipeline_config((dir / "own.yaml").string()).segmenter.model, (dir.parent_path() / "nowhere" / "m.yaml").string());
+  EXPECT_EQ(load_pipeline_config((dir / "own.yaml").string()).segmenter.model,
+            (dir.parent_path() / "nowhere" / "m.yaml").string());
   fs::remove_all(dir);
 }
 

@@ -165,13 +165,34 @@ void read_keypoint_depths(FrameFeatures& f, const std::vector<cv::Point2f>& raw_
   set_right_coordinates(f, camera.bf);
 }
 
+int drop_masked_keypoints(std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors, const cv::Mat& mask) {
+  require(mask.type() == CV_8UC1, "drop_masked_keypoints: the mask must be CV_8UC1");
+  std::vector<cv::KeyPoint> kept;
+  cv::Mat kept_desc;
+  kept.reserve(keypoints.size());
+  for (std::size_t i = 0; i < keypoints.size(); ++i) {
+    const int u = std::clamp(static_cast<int>(keypoints[i].pt.x), 0, mask.cols - 1);
+    const int v = std::clamp(static_cast<int>(keypoints[i].pt.y), 0, mask.rows - 1);
+    if (mask.at<std::uint8_t>(v, u) != 0) continue;
+    kept.push_back(keypoints[i]);
+    kept_desc.push_back(descriptors.row(static_cast<int>(i)));
+  }
+  const int dropped = static_cast<int>(keypoints.size() - kept.size());
+  if (dropped == 0) return 0;
+  keypoints = std::move(kept);
+  descriptors = kept_desc.empty() ? cv::Mat(0, descriptors.cols, descriptors.type()) : kept_desc;
+  return dropped;
+}
+
 FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m, const PinholeCamera& camera,
                                      const OrbExtractor& extractor, const FeatureConfig& config,
-                                     const std::optional<SE3>& T_d_c) {
+                                     const std::optional<SE3>& T_d_c, const cv::Mat& exclude) {
   require(!rgb.empty() && (rgb.type() == CV_8UC3 || rgb.type() == CV_8UC1),
           "compute_frame_features: expected a CV_8UC3 (BGR) or CV_8UC1 image");
   require(depth_m.empty() || (depth_m.type() == CV_32FC1 && depth_m.size() == rgb.size()),
           "compute_frame_features: depth must be CV_32FC1 metres with the image's size");
+  require(exclude.empty() || (exclude.type() == CV_8UC1 && exclude.size() == rgb.size()),
+          "compute_frame_features: the exclusion mask must be CV_8UC1 with the image's size");
   FrameFeatures f;
   f.pyramid = extractor.pyramid();
   // 1. ORB on the grey image.
@@ -182,6 +203,7 @@ FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m,
     gray = rgb;
   std::vector<cv::KeyPoint> raw;
   extractor.extract(gray, raw, f.descriptors);
+  if (!exclude.empty()) drop_masked_keypoints(raw, f.descriptors, exclude);
   // 2. Undistort.
   f.keypoints = raw;
   if (camera.has_distortion()) undistort_keypoints(f.keypoints, camera);

@@ -112,8 +112,15 @@ std::vector<cv::Point2f> raw_pixels(const FrameFeatures& f, const PinholeCamera&
 // instant (maps colour-instant camera points into the depth-instant camera). Given, each keypoint's
 // depth is read where its surface was at the depth instant and returned at the colour instant;
 // without it (synchronised images) at the keypoint's own pixel.
+// exclude (CV_8UC1 of the image's size, or empty): keypoints on its non-zero pixels are dropped
+// (things that move: the pose and the map must not use them).
 FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m, const PinholeCamera& camera,
                                      const OrbExtractor& extractor, const FeatureConfig& config,
-                                     const std::optional<SE3>& T_d_c = std::nullopt);
+                                     const std::optional<SE3>& T_d_c = std::nullopt,
+                                     const cv::Mat& exclude = cv::Mat());
+
+// Drops the keypoints (and their descriptor rows) that lie on non-zero pixels of mask (CV_8UC1);
+// returns how many were dropped.
+int drop_masked_keypoints(std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors, const cv::Mat& mask);
 
 }  // namespace s3m::features

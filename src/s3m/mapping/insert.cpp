@@ -15,7 +15,7 @@
 namespace s3m::mapping {
 
 namespace {
-enum VoxelState : std::uint8_t { kOccupied = 0, kFar = 1, kTooClose = 2, kOutlier = 3 };
+enum VoxelState : std::uint8_t { kOccupied = 0, kFar = 1, kTooClose = 2, kOutlier = 3, kDynamic = 4 };
 }
 
 void InsertConfig::validate() const {
@@ -48,7 +48,21 @@ InsertConfig insert_config_from_yaml(const YAML::Node& node, const std::string& 
   return c;
 }
 
-Inserter::Inserter(const InsertConfig& cfg) : cfg_(cfg) { cfg_.validate(); }
+Inserter::Inserter(const InsertConfig& cfg, std::vector<ClassId> dynamic)
+    : cfg_(cfg), dynamic_(std::move(dynamic)) {
+  cfg_.validate();
+}
+
+// The label with the largest summed probability over the voxel's points (the one fusion would rank
+// first); ties go to the lower id, as in Voxel::observation.
+bool Inserter::is_dynamic(const Voxel& v) const {
+  if (dynamic_.empty() || v.n_labels == 0) return false;
+  int best = 0;
+  for (int i = 1; i < v.n_labels; ++i)
+    if (v.prob_sum[i] > v.prob_sum[best] || (v.prob_sum[i] == v.prob_sum[best] && v.ids[i] < v.ids[best]))
+      best = i;
+  return std::find(dynamic_.begin(), dynamic_.end(), v.ids[best]) != dynamic_.end();
+}
 
 InsertStats Inserter::insert(const LabeledCloud& cloud, SemanticOcTree& tree) {
   cloud.validate();
@@ -79,7 +93,8 @@ InsertStats Inserter::insert(const LabeledCloud& cloud, SemanticOcTree& tree) {
     sw.reset();
     ray_ends_.clear();
     for (std::size_t i = 0; i < voxels_.voxels.size(); ++i) {
-      if (state_[i] == kOccupied) ray_ends_.push_back(coder.center(voxels_.voxels[i].key));
+      if (state_[i] == kOccupied || state_[i] == kDynamic)
+        ray_ends_.push_back(coder.center(voxels_.voxels[i].key));
       if (state_[i] == kFar && cfg_.clear_beyond_max_range) {
         const octomap::point3d c = coder.center(voxels_.voxels[i].key);
         ray_ends_.push_back(origin + (c - origin).normalized() * float(cfg_.max_range_m));
@@ -110,6 +125,8 @@ void Inserter::classify_by_range(const KeyCoder& coder, const octomap::point3d& 
       state_[i] = kFar, ++stats.voxels_far;
     else if (range < cfg_.min_range_m)
       state_[i] = kTooClose, ++stats.voxels_too_close;
+    else if (is_dynamic(voxels_.voxels[i]))
+      state_[i] = kDynamic, ++stats.voxels_dynamic;
   }
 }
 
@@ -123,7 +140,7 @@ void Inserter::prepare_rays(const KeyCoder& coder, const octomap::point3d& origi
     for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], k[a]), hi[a] = std::max(hi[a], k[a]);
   };
   for (std::size_t i = 0; i < voxels_.voxels.size(); ++i) {
-    if (state_[i] == kOccupied) extend(voxels_.voxels[i].key);
+    if (state_[i] == kOccupied || state_[i] == kDynamic) extend(voxels_.voxels[i].key);
     if (state_[i] == kFar && cfg_.clear_beyond_max_range) {
       const octomap::point3d c = coder.center(voxels_.voxels[i].key);
       octomap::OcTreeKey k;

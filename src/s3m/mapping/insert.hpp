@@ -45,13 +45,17 @@ void fields(config::FieldVisitor& v, InsertConfig& c);
 struct InsertStats {
   std::size_t points = 0, voxels = 0, voxels_occupied = 0, voxels_removed_outliers = 0, voxels_far = 0;
   std::size_t voxels_too_close = 0, points_out_of_bounds = 0, bricks = 0, rays = 0;
-  std::size_t voxels_free = 0;  // distinct free voxels updated (after removing occupied ones)
+  std::size_t voxels_free = 0;     // distinct free voxels updated (after removing occupied ones)
+  std::size_t voxels_dynamic = 0;  // voxels whose top class moves: rays clear up to them, no hit
   double ms_voxelize = 0, ms_filter = 0, ms_raycast = 0, ms_tree = 0, ms_total = 0;
 };
 
 class Inserter {
  public:
-  explicit Inserter(const InsertConfig& cfg = {});
+  // dynamic: classes that move (people). A voxel whose strongest label in the frame is one of them
+  // is not made occupied; its ray still clears the free space in front of it, so space a person
+  // walked through is cleared again by later views of what stood behind.
+  explicit Inserter(const InsertConfig& cfg = {}, std::vector<ClassId> dynamic = {});
   const InsertConfig& config() const { return cfg_; }
 
   // Integrates cloud (world frame) into tree. Thread-safe only for distinct Inserters/trees.
@@ -63,11 +67,14 @@ class Inserter {
   void prepare_rays(const KeyCoder& coder, const octomap::point3d& origin);
   void fill_observations(const SemanticOcTree& tree, bool has_color);
 
+  bool is_dynamic(const Voxel& v) const;
+
   InsertConfig cfg_;
+  std::vector<ClassId> dynamic_;
   // Scratch reused across frames (no steady-state allocation).
   VoxelSet voxels_;
   std::vector<VoxelSet> voxel_chunks_;
-  std::vector<std::uint8_t> state_;  // per voxel: 0 occupied, 1 far, 2 too close, 3 outlier
+  std::vector<std::uint8_t> state_;  // per voxel: 0 occupied, 1 far, 2 too close, 3 outlier, 4 dynamic
   std::vector<octomap::point3d> ray_ends_;
   BrickGrid grid_;
   FrameUpdate update_;

@@ -10,7 +10,8 @@
 
 namespace s3m::pipeline {
 
-MapIntegrator::MapIntegrator(const MapConfig& config) : config_(config), inserter_(config.insert) {
+MapIntegrator::MapIntegrator(const MapConfig& config, std::vector<ClassId> dynamic)
+    : config_(config), inserter_(config.insert, std::move(dynamic)) {
   config_.validate();
   tree_ = make_tree();
 }
@@ -46,7 +47,8 @@ std::size_t MapIntegrator::occupied_voxels() const {
   std::size_t n = 0;
   const unsigned max_depth = tree_->getTreeDepth();
   for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it)
-    if (tree_->isNodeOccupied(*it)) n += std::size_t{1} << (3 * (max_depth - it.getDepth()));  // pruned leaves
+    if (tree_->isNodeOccupied(*it))
+      n += std::size_t{1} << (3 * (max_depth - it.getDepth()));  // pruned leaves
   return n;
 }
 

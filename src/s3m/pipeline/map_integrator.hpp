@@ -4,8 +4,8 @@
 #include <memory>
 #include <string>
 
-#include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
+#include <nlohmann/json.hpp>
 
 #include "s3m/core/se3.hpp"
 #include "s3m/mapping/insert.hpp"
@@ -17,7 +17,8 @@ namespace s3m::pipeline {
 
 class MapIntegrator {
  public:
-  explicit MapIntegrator(const MapConfig& config);
+  // dynamic: classes whose voxels are not made occupied (mapping::Inserter).
+  explicit MapIntegrator(const MapConfig& config, std::vector<ClassId> dynamic = {});
 
   // Inserts cloud_c (camera frame, origin 0) observed from T_w_c; rays from the camera centre clear
   // free space.

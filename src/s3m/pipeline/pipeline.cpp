@@ -22,6 +22,9 @@ Pipeline::Pipeline(PipelineConfig config, PinholeCamera camera, std::unique_ptr<
   config_.validate();
   camera_.validate();
   store_ = KeyframeStore(static_cast<std::size_t>(config_.cloud.kept_clouds_budget_mb * 1e6));
+  if (config_.dynamic.masks_tracking() && segmenter_)
+    masker_ =
+        std::make_unique<DynamicMasker>(camera_, config_.dynamic.class_ids(), config_.dynamic.mask_margin_px);
   if (!config_.threads.deterministic) start_threads();
 }
 
@@ -65,8 +68,14 @@ void Pipeline::process(RgbdFrame frame) {
 Pipeline::Work Pipeline::step1_track(RgbdFrame frame) {
   Stopwatch sw;
   Work w;
-  w.track = poses_->track(frame);
+  const RgbdFrame slam_frame = slam_input(frame);
+  sw.reset();
+  w.track = poses_->track(slam_frame);
   timings_.add("track", sw.elapsed_ms());
+  if (w.track.ok) {
+    T_w_prev_ = T_w_last_;
+    T_w_last_ = w.track.T_w_c;
+  }
   // The tracker alone: with --deterministic "track" holds local mapping too (the 10 ms target is the
   // tracker's).
   if (w.track.tracking_ms >= 0) timings_.add("slam_tracking", w.track.tracking_ms);
@@ -80,6 +89,31 @@ Pipeline::Work Pipeline::step1_track(RgbdFrame frame) {
   return w;
 }
 
+// Before tracking: the pixels tracking must not use (frame.dynamic_mask), and the frame SLAM gets:
+// without depth under the mask, so that the dense depth odometry (lost frames, keyframe links) does
+// not align people either. The frame itself keeps its depth: the map needs the rays to the people to
+// clear the space they leave. Only the pipeline's prediction counts (a simulator frame's
+// ground-truth mask is not the system's knowledge).
+RgbdFrame Pipeline::slam_input(RgbdFrame& frame) {
+  const DynamicConfig& d = config_.dynamic;
+  const bool from_labels = d.masks_tracking() && d.mask_source == "labels" && !frame.labels.empty();
+  if (!from_labels && (!masker_ || !T_w_last_)) {
+    frame.dynamic_mask.release();
+    return frame;
+  }
+  Stopwatch sw;
+  frame.dynamic_mask = from_labels
+                           ? label_mask(frame.labels, d.class_ids(), d.map_margin_px)
+                           : masker_->mask(T_w_prev_ ? predict_pose(*T_w_prev_, *T_w_last_) : *T_w_last_);
+  RgbdFrame out = frame;
+  if (!frame.dynamic_mask.empty() && cv::countNonZero(frame.dynamic_mask) > 0) {
+    out.depth_m = frame.depth_m.clone();
+    out.depth_m.setTo(0.0f, frame.dynamic_mask);
+  }
+  timings_.add("dynamic_mask", sw.elapsed_ms());
+  return out;
+}
+
 // 2. segment: top-k labels for frames that go into the map (or every frame, when configured).
 void Pipeline::step2_segment(Work& w) {
   if (!segmenter_) return;
@@ -87,6 +121,8 @@ void Pipeline::step2_segment(Work& w) {
   Stopwatch sw;
   w.labels = segmenter_->segment(w.frame);
   timings_.add("segment", sw.elapsed_ms());
+  if (masker_ && w.track.ok && !w.labels.empty())
+    masker_->set_reference(w.labels.argmax, w.frame.depth_m, w.track.T_w_c);
 }
 
 void Pipeline::steps3to5_map(Work& w) {
@@ -97,8 +133,13 @@ void Pipeline::steps3to5_map(Work& w) {
     // 3. cloud: back-project the labelled, range-filtered pixels; keep a downsampled copy.
     Stopwatch sw;
     const CloudConfig& cc = config_.cloud;
+    const std::vector<ClassId> excluded = config_.dynamic.map_exclusions();
+    const semantics::LabelMap labels =
+        excluded.empty()
+            ? w.labels
+            : grow_dynamic_labels(w.labels, excluded, config_.dynamic.map_margin_px, f.dynamic_mask);
     mapping::LabeledCloud cloud =
-        backproject(camera_, f.depth_m, f.rgb, w.labels, {cc.min_depth_m, cc.max_depth_m, cc.pixel_stride});
+        backproject(camera_, f.depth_m, f.rgb, labels, {cc.min_depth_m, cc.max_depth_m, cc.pixel_stride});
     cloud = voxel_downsample(cloud, cc.keyframe_voxel_m > 0 ? cc.keyframe_voxel_m : map_->resolution_m());
     cv::Mat in_range;
     cv::inRange(f.depth_m, cc.min_depth_m, cc.max_depth_m, in_range);

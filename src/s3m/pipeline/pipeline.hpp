@@ -25,6 +25,7 @@
 #include "s3m/core/camera.hpp"
 #include "s3m/core/frame_state.hpp"
 #include "s3m/core/rgbd_frame.hpp"
+#include "s3m/pipeline/dynamic_mask.hpp"
 #include "s3m/pipeline/keyframe_store.hpp"
 #include "s3m/pipeline/map_integrator.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
@@ -108,6 +109,7 @@ class Pipeline {
   };
 
   Work step1_track(RgbdFrame frame);
+  RgbdFrame slam_input(RgbdFrame& frame);
   void step2_segment(Work& w);
   void steps3to5_map(Work& w);
   void note_corrections(const std::vector<KeyframePoses>& corrections);
@@ -122,6 +124,11 @@ class Pipeline {
   std::unique_ptr<PoseSource> poses_;
   std::unique_ptr<semantics::Segmenter> segmenter_;
   std::unique_ptr<MapIntegrator> map_;
+
+  // dynamic.mask_tracking with a segmenter: what tracking must not use, from the last segmented
+  // frame (set by the segmentation step, read by the tracking step).
+  std::unique_ptr<DynamicMasker> masker_;
+  std::optional<SE3> T_w_last_, T_w_prev_;  // the last two tracked poses (tracking step only)
 
   KeyframeStore store_;  // touched only by the mapping step
   StageTimings timings_;

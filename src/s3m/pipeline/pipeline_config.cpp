@@ -98,6 +98,7 @@ void fields(config::FieldVisitor& v, PipelineConfig& c) {
   v("flow", c.flow);
   v("eval", c.eval);
   v("map", c.map);
+  v("dynamic", c.dynamic);
   v("segmenter", c.segmenter);
   v("overlays", c.overlays);
 }
@@ -150,6 +151,36 @@ void ThreadingConfig::validate() const {
 
 void FlowConfig::validate() const {}
 
+void fields(config::FieldVisitor& v, DynamicConfig& c) {
+  v("enabled", c.enabled);
+  v("classes", c.classes);
+  v("keep_in_map", c.keep_in_map);
+  v("mask_tracking", c.mask_tracking);
+  v("mask_margin_px", c.mask_margin_px);
+  v("mask_source", c.mask_source);
+  v("map_margin_px", c.map_margin_px);
+}
+
+void DynamicConfig::validate() const {
+  class_ids();  // every name known
+  require(mask_margin_px >= 0 && mask_margin_px <= 200,
+          "dynamic.mask_margin_px must be in [0, 200] px (got " + std::to_string(mask_margin_px) + ")");
+  require(map_margin_px >= 0 && map_margin_px <= 50,
+          "dynamic.map_margin_px must be in [0, 50] px (got " + std::to_string(map_margin_px) + ")");
+  require(mask_source == "segmented" || mask_source == "labels",
+          "dynamic.mask_source must be segmented | labels (got '" + mask_source + "')");
+}
+
+std::vector<ClassId> DynamicConfig::class_ids() const {
+  std::vector<ClassId> ids;
+  for (const std::string& name : classes) {
+    const int id = indoor_classes().find(name);
+    require(id > 0, "dynamic.classes: '" + name + "' is not a class of the indoor class list (classes.txt)");
+    ids.push_back(static_cast<ClassId>(id));
+  }
+  return ids;
+}
+
 void EvalConfig::validate() const {
   require(std::isfinite(rpe_delta_s) && rpe_delta_s > 0,
           "eval.rpe_delta_s must be > 0 s (got " + num(rpe_delta_s) + ")");
@@ -172,6 +203,7 @@ void PipelineConfig::validate() const {
   flow.validate();
   eval.validate();
   map.validate();
+  dynamic.validate();
   segmenter.validate();
 }
 
@@ -249,6 +281,7 @@ PipelineConfig pipeline_config_from_yaml(const YAML::Node& root, const std::stri
   validate_in(c.flow, path, "flow");
   validate_in(c.eval, path, "eval");
   validate_in(c.map, path, "map");
+  validate_in(c.dynamic, path, "dynamic");
   validate_in(c.segmenter, path, "segmenter");
   return c;
 }

@@ -86,6 +86,37 @@ struct EvalConfig {
   void validate() const;
 };
 
+// The `dynamic:` section: things that move (people) in a scene SLAM and the map otherwise assume
+// static. Off by default (`s3m run --dynamic`), so runs of static scenes map and track as before
+// (a standing person stays in the map).
+struct DynamicConfig {
+  bool enabled = false;
+  // Classes that move (names of the indoor class list). Their voxels are not made occupied (rays
+  // still clear the space in front of them), unless keep_in_map.
+  std::vector<std::string> classes{"person"};
+  bool keep_in_map = false;  // `s3m run --keep-dynamic`: map them like any other class
+  // Tracking uses no keypoint where the last segmented frame's dynamic pixels, moved into the
+  // frame by their depth and the predicted pose, fall (dynamic_mask.hpp). Needs a segmenter.
+  bool mask_tracking = true;
+  // The warped pixels are grown by this much: a person moves between the segmented frame and the
+  // tracked one [px].
+  int mask_margin_px = 4;
+  // Where the tracking mask comes from: "segmented" (above), or "labels": the frame's own
+  // ground-truth label image (simulator sequences), the best any segmentation could do, to
+  // evaluate the rest of the method.
+  std::string mask_source = "segmented";
+  // Pixels this close to a dynamic pixel are left out of the map too (borders of segments and of
+  // depth mix a person with what is behind) [px].
+  int map_margin_px = 4;
+  void validate() const;
+  std::vector<ClassId> class_ids() const;  // the ids of `classes` in the indoor class list
+  // What the map leaves out: class_ids() when enabled and not keep_in_map, else nothing.
+  std::vector<ClassId> map_exclusions() const {
+    return enabled && !keep_in_map ? class_ids() : std::vector<ClassId>{};
+  }
+  bool masks_tracking() const { return enabled && mask_tracking; }
+};
+
 // The `map:` section of a preset is mapping::MappingConfig (resolution_m, occupancy, fusion, insert).
 using MapConfig = mapping::MappingConfig;
 
@@ -111,6 +142,7 @@ struct PipelineConfig {
   // `loop_closing:` section (slam::read_loop_closing; a relative vocabulary is relative to the preset).
   slam::SlamConfig slam;
   MapConfig map;
+  DynamicConfig dynamic;
   SegmenterConfig segmenter;
   // Named overlays (config/overlays/NAME.yaml, config_overlays.hpp) applied beneath the keys this
   // config writes: those a preset lists under `overlays:`, then those an automatic decision chose.

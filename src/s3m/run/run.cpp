@@ -178,7 +178,7 @@ Components build(const RunOptions& o) {
     segmenter = pipeline::make_segmenter(choice, c.config, c.source->has_labels());
     pipeline::record_segmenter_choice(c.config, choice);
     c.info.segmenter_reason = choice.reason;
-    map = std::make_unique<pipeline::MapIntegrator>(c.config.map);
+    map = std::make_unique<pipeline::MapIntegrator>(c.config.map, c.config.dynamic.map_exclusions());
     resolve_segment_mode(c.config.flow, c.source->has_labels());
   }
   c.info.segmenter = segmenter ? segmenter->name() : (o.slam_only ? "none (--slam-only)" : "none");

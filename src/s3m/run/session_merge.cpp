@@ -136,7 +136,7 @@ json merge_runs(const MergeRunsOptions& o) {
 
   // 3. The semantic map from both runs' clouds at the merged poses, with the configured fusion.
   const pipeline::KeyframeStore store = merged_store(clouds_a, clouds_b, m.b_offset, m.map);
-  pipeline::MapIntegrator semantic(o.config.map);
+  pipeline::MapIntegrator semantic(o.config.map, o.config.dynamic.map_exclusions());
   semantic.rebuild(store);
 
   // 4. Outputs, staged: a merge that fails halfway leaves the folder as it was.

@@ -67,22 +67,43 @@ Renderer::Renderer(const Scene& scene, const SensorConfig& sensor)
       const double x = (u - c.cx) / c.fx, y = (v - c.cy) / c.fy;
       inv_ray_length_.at<float>(v, u) = static_cast<float>(1.0 / std::sqrt(x * x + y * y + 1.0));
     }
-  for (const auto& p : scene_.primitives) {
-    const SE3 T_p_w = p.T_w_p.inverse();
-    prim_cache_.push_back({T_p_w.linear().cast<float>(), p.T_w_p.linear().cast<float>(),
-                           T_p_w.translation().cast<float>(), p.half_extents_m.cast<float>()});
-  }
+  for (const auto& p : scene_.primitives) prim_cache_.push_back(cache_of(p));
 }
 
-IdealView Renderer::render_ideal(const SE3& T_w_c) const { return render_rows(&T_w_c, false); }
+Renderer::PrimCache Renderer::cache_of(const Primitive& p) {
+  const SE3 T_p_w = p.T_w_p.inverse();
+  return {T_p_w.linear().cast<float>(), p.T_w_p.linear().cast<float>(), T_p_w.translation().cast<float>(),
+          p.half_extents_m.cast<float>()};
+}
 
-IdealView Renderer::render_ideal(const std::vector<SE3>& T_w_c_of_row) const {
+namespace {
+Scene scene_of(const std::vector<Primitive>& primitives) {
+  Scene s;
+  s.primitives = primitives;
+  return s;
+}
+}  // namespace
+
+MovingLayer::MovingLayer(std::vector<Primitive> primitives)
+    : primitives_(std::move(primitives)), raycaster_(scene_of(primitives_)) {}
+
+IdealView Renderer::render_ideal(const SE3& T_w_c, const MovingLayer* movers) const {
+  return render_rows(&T_w_c, false, movers);
+}
+
+IdealView Renderer::render_ideal(const std::vector<SE3>& T_w_c_of_row, const MovingLayer* movers) const {
   require(static_cast<int>(T_w_c_of_row.size()) == sensor_.camera.height,
           "Renderer::render_ideal: need one pose per image row");
-  return render_rows(T_w_c_of_row.data(), true);
+  return render_rows(T_w_c_of_row.data(), true, movers);
 }
 
-IdealView Renderer::render_rows(const SE3* T_w_c, bool per_row) const {
+cv::Mat Renderer::moving_mask(const IdealView& v) const {
+  cv::Mat mask;
+  cv::compare(v.prim_ids, static_cast<double>(scene_.primitives.size()), mask, cv::CMP_GE);
+  return mask;
+}
+
+IdealView Renderer::render_rows(const SE3* T_w_c, bool per_row, const MovingLayer* movers) const {
   const PinholeCamera& cam = sensor_.camera;
   const int W = cam.width, H = cam.height;
   IdealView v;
@@ -100,6 +121,12 @@ IdealView Renderer::render_rows(const SE3* T_w_c, bool per_row) const {
   const std::uint8_t* srgb = srgb_table().data();
   for (const auto& l : scene_.lights)
     lights.push_back({l.position_w.cast<float>(), kLightGain * l.intensity});
+  // Moving primitives follow the static ones: id n_static + k.
+  const int n_static = static_cast<int>(scene_.primitives.size());
+  const bool moving = movers && !movers->primitives().empty();
+  std::vector<PrimCache> mover_cache;
+  if (moving)
+    for (const auto& p : movers->primitives()) mover_cache.push_back(cache_of(p));
 
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 4), [&](const tbb::blocked_range<int>& rows) {
     RayPacket pk;
@@ -121,6 +148,14 @@ IdealView Renderer::render_rows(const SE3* T_w_c, bool per_row) const {
           pk.active[i] = u < W ? -1 : 0;
         }
         raycaster_.intersect(pk);
+        if (moving) {  // a mover in front of the static hit replaces it
+          RayPacket mk = pk;
+          for (int i = 0; i < kPacket; ++i) mk.t_max[i] = std::isfinite(pk.t_hit[i]) ? pk.t_hit[i] : 1000.0f;
+          movers->raycaster().intersect(mk);
+          for (int i = 0; i < kPacket; ++i)
+            if (mk.prim[i] >= 0 && mk.t_hit[i] < pk.t_hit[i])
+              pk.t_hit[i] = mk.t_hit[i], pk.prim[i] = n_static + mk.prim[i];
+        }
         // 2. Shade: procedural albedo x (ambient + Lambertian point lights).
         auto* bgr = v.rgb.ptr<cv::Vec3b>(r);
         auto* depth = v.depth_m.ptr<float>(r);
@@ -137,8 +172,9 @@ IdealView Renderer::render_rows(const SE3* T_w_c, bool per_row) const {
             label[u] = cls::kUnknown;
             continue;
           }
-          const Primitive& prim = scene_.primitives[id];
-          const PrimCache& pc = prim_cache_[id];
+          const bool mover = id >= n_static;
+          const Primitive& prim = mover ? movers->primitives()[id - n_static] : scene_.primitives[id];
+          const PrimCache& pc = mover ? mover_cache[id - n_static] : prim_cache_[id];
           const Eigen::Vector3f p_w = o_w + pk.t_hit[i] * d_w[i];
           const Eigen::Vector3f p_p = pc.R_p_w * p_w + pc.t_p_w;
           const Eigen::Vector3f n_p = local_normal(prim.shape, pc.half_m, p_p);

@@ -26,6 +26,20 @@ struct IdealView {
   cv::Mat cos_incidence;  // CV_32FC1 |cos| of the angle between ray and surface normal
 };
 
+// Primitives that move (people): one frame's positions, ray cast over the static scene through a
+// small BVH of their own, so the static scene's BVH is built once. Their pixels get primitive ids
+// after the static scene's (IdealView::prim_ids >= Scene::primitives.size()).
+class MovingLayer {
+ public:
+  explicit MovingLayer(std::vector<Primitive> primitives);
+  const std::vector<Primitive>& primitives() const { return primitives_; }
+  const Raycaster& raycaster() const { return raycaster_; }
+
+ private:
+  std::vector<Primitive> primitives_;
+  Raycaster raycaster_;
+};
+
 // Capture instants of one frame's two streams [s].
 struct FrameTimes {
   double colour_s = 0;  // end of the exposure of the colour image's first row
@@ -41,14 +55,17 @@ class Renderer {
   const Scene& scene() const { return scene_; }
 
   // 1. cast one ray per pixel, 2. shade the hits. No sensor effects, no range limits.
-  IdealView render_ideal(const SE3& T_w_c) const;
+  // movers (may be null): moving primitives drawn over the scene.
+  IdealView render_ideal(const SE3& T_w_c, const MovingLayer* movers = nullptr) const;
   // The same with image row r seen from T_w_c_of_row[r] (a rolling shutter); one pose per row.
-  IdealView render_ideal(const std::vector<SE3>& T_w_c_of_row) const;
+  IdealView render_ideal(const std::vector<SE3>& T_w_c_of_row, const MovingLayer* movers = nullptr) const;
 
   // A sensor frame at T_w_c: ideal render + sensor model (range limits, noise, dropouts, blur).
   // noise_seed selects the random draws (use a different one per frame). When
   // motion_blur_samples > 1, T_w_c_open is the pose when the shutter opened (else ignored).
-  RgbdFrame render(const SE3& T_w_c, std::uint64_t noise_seed, const SE3* T_w_c_open = nullptr) const;
+  // With movers, RgbdFrame::dynamic_mask marks the pixels that see one.
+  RgbdFrame render(const SE3& T_w_c, std::uint64_t noise_seed, const SE3* T_w_c_open = nullptr,
+                   const MovingLayer* movers = nullptr) const;
 
   // A sensor frame whose parts are captured at different instants, for the sensor lies
   // (SensorConfig::timed()). T_w_c_at(t) is the colour camera's pose at time t [s]. Colour row r is
@@ -56,10 +73,12 @@ class Renderer {
   // exposure_s before (motion_blur_samples > 1); depth is a snapshot at times.depth_s from the depth
   // camera, turned by depth_registration_error_px against the colour camera. Labels follow colour.
   RgbdFrame render_timed(const std::function<SE3(double)>& T_w_c_at, const FrameTimes& times,
-                         std::uint64_t noise_seed) const;
+                         std::uint64_t noise_seed, const MovingLayer* movers = nullptr) const;
 
  private:
-  IdealView render_rows(const SE3* T_w_c, bool per_row) const;
+  IdealView render_rows(const SE3* T_w_c, bool per_row, const MovingLayer* movers) const;
+  // Pixels of an ideal view that see a moving primitive (255), for RgbdFrame::dynamic_mask.
+  cv::Mat moving_mask(const IdealView& v) const;
   cv::Mat sensor_depth_image(IdealView& depth_view, std::uint64_t noise_seed) const;
 
   Scene scene_;
@@ -69,6 +88,7 @@ class Renderer {
     Eigen::Matrix3f R_p_w, R_w_p;
     Eigen::Vector3f t_p_w, half_m;
   };
+  static PrimCache cache_of(const Primitive& p);
   std::vector<PrimCache> prim_cache_;
   cv::Mat inv_ray_length_;  // CV_32FC1: 1 / |(x, y, 1)| of each pixel's ray
 };

@@ -63,10 +63,12 @@ cv::Mat sensor_depth(const IdealView& v, const SensorConfig& s, std::uint64_t se
 }
 
 // Average of ideal renders over the exposure (poses interpolated on SE(3)).
-cv::Mat motion_blurred_rgb(const Renderer& r, const SE3& T_open, const SE3& T_close, int samples) {
+cv::Mat motion_blurred_rgb(const Renderer& r, const SE3& T_open, const SE3& T_close, int samples,
+                           const MovingLayer* movers) {
   cv::Mat acc = cv::Mat::zeros(r.camera().height, r.camera().width, CV_32FC3);
   for (int k = 0; k < samples; ++k) {
-    const IdealView v = r.render_ideal(interpolate(T_open, T_close, static_cast<double>(k) / (samples - 1)));
+    const IdealView v =
+        r.render_ideal(interpolate(T_open, T_close, static_cast<double>(k) / (samples - 1)), movers);
     cv::accumulate(v.rgb, acc);
   }
   cv::Mat rgb;
@@ -94,13 +96,14 @@ void add_colour_noise(cv::Mat& rgb, double sigma, std::uint64_t seed) {
 
 }  // namespace
 
-RgbdFrame Renderer::render(const SE3& T_w_c, std::uint64_t noise_seed, const SE3* T_w_c_open) const {
+RgbdFrame Renderer::render(const SE3& T_w_c, std::uint64_t noise_seed, const SE3* T_w_c_open,
+                           const MovingLayer* movers) const {
   // 1. Ideal render at the pose when the shutter closes (depth is a snapshot, as in the IR stream).
-  IdealView ideal = render_ideal(T_w_c);
+  IdealView ideal = render_ideal(T_w_c, movers);
   RgbdFrame f;
   // 2. Colour: motion blur over the exposure, lens blur, then sensor noise.
   f.rgb = (sensor_.motion_blur_samples > 1 && T_w_c_open)
-              ? motion_blurred_rgb(*this, *T_w_c_open, T_w_c, sensor_.motion_blur_samples)
+              ? motion_blurred_rgb(*this, *T_w_c_open, T_w_c, sensor_.motion_blur_samples, movers)
               : ideal.rgb;
   if (sensor_.optics_blur_px > 0) cv::GaussianBlur(f.rgb, f.rgb, cv::Size(0, 0), sensor_.optics_blur_px);
   if (sensor_.noise && sensor_.rgb_sigma > 0) add_colour_noise(f.rgb, sensor_.rgb_sigma, noise_seed);
@@ -108,6 +111,7 @@ RgbdFrame Renderer::render(const SE3& T_w_c, std::uint64_t noise_seed, const SE3
   f.depth_m = sensor_depth_image(ideal, noise_seed);
   // 4. Labels are ground truth: every pixel that sees a surface keeps its class.
   f.labels = ideal.labels;
+  if (movers) f.dynamic_mask = moving_mask(ideal);
   return f;
 }
 
@@ -121,7 +125,7 @@ cv::Mat Renderer::sensor_depth_image(IdealView& v, std::uint64_t noise_seed) con
 }
 
 RgbdFrame Renderer::render_timed(const std::function<SE3(double)>& T_w_c_at, const FrameTimes& times,
-                                 std::uint64_t noise_seed) const {
+                                 std::uint64_t noise_seed, const MovingLayer* movers) const {
   const SensorConfig& s = sensor_;
   const int H = s.camera.height, blur = std::max(1, s.motion_blur_samples);
   // 1. Colour: each exposure sample renders every row at its own instant; the last sample (the
@@ -132,8 +136,8 @@ RgbdFrame Renderer::render_timed(const std::function<SE3(double)>& T_w_c_at, con
     const double t0 =
         times.colour_s - (blur > 1 ? s.exposure_s * (1.0 - static_cast<double>(k) / (blur - 1)) : 0.0);
     closing = s.rolling_shutter_s > 0
-                  ? render_ideal(rolling_shutter_poses(T_w_c_at, t0, s.rolling_shutter_s, H))
-                  : render_ideal(T_w_c_at(t0));
+                  ? render_ideal(rolling_shutter_poses(T_w_c_at, t0, s.rolling_shutter_s, H), movers)
+                  : render_ideal(T_w_c_at(t0), movers);
     if (blur > 1) cv::accumulate(closing.rgb, acc);
   }
   RgbdFrame f;
@@ -147,9 +151,10 @@ RgbdFrame Renderer::render_timed(const std::function<SE3(double)>& T_w_c_at, con
   SE3 T_w_d = T_w_c_at(times.depth_s);
   if (s.depth_registration_error_px != 0)
     T_w_d = T_w_d * misregistered_depth_camera(s.depth_registration_error_px, s.camera.fx);
-  IdealView depth_view = render_ideal(T_w_d);
+  IdealView depth_view = render_ideal(T_w_d, movers);
   f.depth_m = sensor_depth_image(depth_view, noise_seed);
   f.labels = closing.labels;
+  if (movers) f.dynamic_mask = moving_mask(closing);
   return f;
 }
 

@@ -1,6 +1,7 @@
 #include "s3m/sim/simulate.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <thread>
@@ -12,6 +13,7 @@
 #include "s3m/core/timing.hpp"
 #include "s3m/core/yaml_util.hpp"
 #include "s3m/io/atomic_file.hpp"
+#include "s3m/io/image_io.hpp"
 #include "s3m/io/trajectory.hpp"
 #include "s3m/io/tum_dataset.hpp"
 #include "s3m/sim/gt_voxels.hpp"
@@ -89,6 +91,7 @@ std::string sim_yaml(const SimConfig& c, const Trajectory& t, const SimSummary& 
   e << YAML::Key << "drop_frames" << YAML::Value << c.drop_frames;
   e << YAML::Key << "noise" << YAML::Value << c.sensor.noise;
   e << YAML::Key << "voxel_resolution_m" << YAML::Value << c.voxel_resolution_m;
+  if (c.people.count > 0) e << YAML::Key << "people" << YAML::Value << c.people.count;  // absent: none
   e << YAML::Key << "trajectory_length_m" << YAML::Value << s.length_m;
   e << YAML::Key << "max_speed_mps" << YAML::Value << s.max_speed_mps;
   emit_pose(e, "T_c_r", t.T_c_r);
@@ -98,11 +101,36 @@ std::string sim_yaml(const SimConfig& c, const Trajectory& t, const SimSummary& 
          e.c_str() + "\n";
 }
 
+// dynamic/<index>.png: the frame's ground-truth mask of what moves.
+void write_dynamic_mask(const std::string& out_dir, const RgbdFrame& f) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%06d.png", f.index);
+  const std::filesystem::path dir = std::filesystem::path(out_dir) / "dynamic";
+  std::filesystem::create_directories(dir);
+  io::write_label_png((dir / name).string(), f.dynamic_mask);
+}
+
+// people.txt: where each person stands at each frame's colour stamp.
+std::string people_table(const Simulation& sim) {
+  std::string out = "# frame t_s person x_m y_m (floor position, world frame)\n";
+  char line[128];
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    const double t = sim.frame_times(i).colour_s;
+    for (std::size_t k = 0; k < sim.walkers().size(); ++k) {
+      const Eigen::Vector2d p = sim.walkers()[k].position(t);
+      std::snprintf(line, sizeof(line), "%zu %.6f %zu %.4f %.4f\n", i, t, k, p.x(), p.y());
+      out += line;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 void SimConfig::validate() const {
   trajectory.validate();
   sensor.validate();
+  people.validate();
   require(drop_frames >= 0, "sim: drop_frames must be >= 0");
   require(6.0 * sensor.time_jitter_s < 1.0 / trajectory.fps,
           "sim: sensor.time_jitter_s must be below 1 / (6 fps), or a stream's stamps could swap order");
@@ -127,6 +155,7 @@ void fields(config::FieldVisitor& v, SimConfig& c) {
   v("voxel_resolution_m", c.voxel_resolution_m);
   v("trajectory", c.trajectory);
   v("sensor", c.sensor);
+  v("people", c.people);
 }
 
 void load_sim_config(const YAML::Node& n, SimConfig& c, const std::string& ctx) {
@@ -143,7 +172,8 @@ Simulation::Simulation(const SimConfig& cfg)
     : cfg_(validated(cfg)),
       renderer_(make_scene(cfg.scene, cfg.layout()), cfg.sensor),
       trajectory_(make_trajectory(renderer_.scene(), cfg.trajectory, cfg.seed)),
-      dropped_(choose_dropped(cfg.trajectory.frames, cfg.drop_frames, cfg.seed)) {}
+      dropped_(choose_dropped(cfg.trajectory.frames, cfg.drop_frames, cfg.seed)),
+      walkers_(plan_walkers(renderer_.scene(), trajectory_, cfg.people, cfg.seed)) {}
 
 RgbdFrame Simulation::frame(std::size_t i) const {
   require(i < size(), "Simulation::frame: index " + std::to_string(i) + " out of range");
@@ -154,15 +184,29 @@ RgbdFrame Simulation::frame(std::size_t i) const {
     f.rgb = cv::Mat::zeros(c.height, c.width, CV_8UC3);
     f.depth_m = cv::Mat::zeros(c.height, c.width, CV_32FC1);
     f.labels = cv::Mat::zeros(c.height, c.width, CV_16UC1);
-  } else if (cfg_.sensor.timed()) {  // parts of the frame at other instants: the continuous path
+    if (!walkers_.empty()) f.dynamic_mask = cv::Mat::zeros(c.height, c.width, CV_8UC1);
+    f.index = static_cast<int>(i);
+    f.t_s = frame_times(i).colour_s;
+    return f;
+  }
+  // People where they are at the colour stamp.
+  std::optional<MovingLayer> people;
+  if (!walkers_.empty()) {
+    std::vector<Primitive> prims;
+    for (const Walker& w : walkers_)
+      for (Primitive& p : walker_primitives(w, frame_times(i).colour_s)) prims.push_back(std::move(p));
+    people.emplace(std::move(prims));
+  }
+  const MovingLayer* movers = people ? &*people : nullptr;
+  if (cfg_.sensor.timed()) {  // parts of the frame at other instants: the continuous path
     f = renderer_.render_timed([this](double t) { return trajectory_.T_w_c_at(t); }, frame_times(i),
-                               hash3(cfg_.seed, i, 0xF4A3Eull));
+                               hash3(cfg_.seed, i, 0xF4A3Eull), movers);
   } else {
     const SE3 T_open =
         i > 0 ? interpolate(trajectory_.samples[i - 1].T_w_c, s.T_w_c,
                             std::clamp(1.0 - cfg_.sensor.exposure_s * cfg_.trajectory.fps, 0.0, 1.0))
               : s.T_w_c;
-    f = renderer_.render(s.T_w_c, hash3(cfg_.seed, i, 0xF4A3Eull), &T_open);
+    f = renderer_.render(s.T_w_c, hash3(cfg_.seed, i, 0xF4A3Eull), &T_open, movers);
   }
   f.index = static_cast<int>(i);
   f.t_s = frame_times(i).colour_s;
@@ -202,7 +246,10 @@ SimSummary simulate_sequence(const SimConfig& cfg, const std::string& out_dir,
   std::exception_ptr writer_error;
   std::thread writer_thread([&] {
     try {
-      while (auto item = queue.pop()) writer.add(item->first, item->second.T_w_c, item->second.depth_t_s);
+      while (auto item = queue.pop()) {
+        writer.add(item->first, item->second.T_w_c, item->second.depth_t_s);
+        if (!item->first.dynamic_mask.empty()) write_dynamic_mask(out_dir, item->first);
+      }
     } catch (...) {
       writer_error = std::current_exception();
       queue.close();
@@ -235,6 +282,7 @@ SimSummary simulate_sequence(const SimConfig& cfg, const std::string& out_dir,
   io::write_gt_voxels((d / "gt_voxels.txt").string(), voxels);
   sum.voxels = voxels.labels.size();
   sum.render_ms_mean = sum.frames ? render_ms / sum.frames : 0.0;
+  if (!sim.walkers().empty()) io::write_text_atomic((d / "people.txt").string(), people_table(sim));
   io::write_text_atomic((d / "sim.yaml").string(), sim_yaml(cfg, sim.trajectory(), sum));
   sum.seconds = total.elapsed_ms() / 1000.0;
   return sum;

@@ -15,6 +15,7 @@
 
 #include "s3m/core/rgbd_frame.hpp"
 #include "s3m/io/gt_voxels.hpp"
+#include "s3m/sim/people.hpp"
 #include "s3m/sim/renderer.hpp"
 #include "s3m/sim/scene.hpp"
 #include "s3m/sim/sensor.hpp"
@@ -36,13 +37,15 @@ struct SimConfig {
   std::optional<std::uint64_t> layout_seed;
   TrajectoryConfig trajectory;
   SensorConfig sensor;
+  PeopleConfig people;               // people walking through (none by default)
   int drop_frames = 0;               // this many frames (never the first 10) come out blank: black, no depth
   double voxel_resolution_m = 0.05;  // ground-truth voxel map resolution
   std::uint64_t layout() const { return layout_seed.value_or(seed); }
   void validate() const;
 };
 
-// YAML keys: scene, seed, layout_seed, drop_frames, voxel_resolution_m, trajectory: {...}, sensor: {...}.
+// YAML keys: scene, seed, layout_seed, drop_frames, voxel_resolution_m, trajectory: {...}, sensor: {...},
+// people: {...}.
 // Unknown keys are errors (ParseError with file and line).
 SimConfig load_sim_config(const std::string& path);
 void load_sim_config(const YAML::Node& node, SimConfig& cfg, const std::string& ctx);
@@ -60,9 +63,11 @@ class Simulation {
   const Renderer& renderer() const { return renderer_; }
   const PinholeCamera& camera() const { return renderer_.camera(); }
   bool is_dropped(std::size_t i) const { return dropped_.count(i) > 0; }
+  const std::vector<Walker>& walkers() const { return walkers_; }
 
   // Frame i as the sensor delivers it (noise per config; blank if dropped); t_s is its colour
-  // stamp. Thread-safe.
+  // stamp. With people, dynamic_mask marks the pixels that see one (all zero when dropped).
+  // Thread-safe.
   RgbdFrame frame(std::size_t i) const;
   // Frame i's capture instants [s]: the trajectory sample's time, unless the sensor's timing lies
   // (offset, jitter) move them; jitter is drawn per seed and frame.
@@ -75,6 +80,7 @@ class Simulation {
   Renderer renderer_;
   Trajectory trajectory_;
   std::set<std::size_t> dropped_;
+  std::vector<Walker> walkers_;  // people, planned per seed (empty: a static scene)
 };
 
 struct SimSummary {
@@ -90,6 +96,9 @@ struct SimSummary {
 // Renders the whole sequence into out_dir (created if needed) in TUM layout:
 // rgb/ depth/ labels/ rgb.txt depth.txt labels.txt associations.txt groundtruth.txt (T_w_c)
 // groundtruth_robot.txt (T_w_r) camera.yaml classes.txt gt_voxels.txt sim.yaml (config + T_c_r).
+// With people: dynamic/<frame index, 6 digits>.png (255 where a person is seen) and people.txt
+// (`frame t_s person x y` per person and frame: where each stands on the floor); gt_voxels.txt
+// stays the static scene's.
 // progress(done, total) is called after each frame. Same config -> byte-identical files.
 SimSummary simulate_sequence(const SimConfig& cfg, const std::string& out_dir,
                              const std::function<void(int, int)>& progress = {});

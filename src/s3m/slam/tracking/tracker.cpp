@@ -147,8 +147,9 @@ TrackerOutput Tracker::process(const RgbdFrame& frame, int pending_keyframes) {
 }
 
 std::shared_ptr<const features::FrameFeatures> Tracker::extract(const RgbdFrame& frame) const {
-  return std::make_shared<features::FrameFeatures>(features::compute_frame_features(
-      frame.rgb, frame.depth_m, camera_, extractor_, feature_config_, depth_instant(frame)));
+  return std::make_shared<features::FrameFeatures>(
+      features::compute_frame_features(frame.rgb, frame.depth_m, camera_, extractor_, feature_config_,
+                                       depth_instant(frame), frame.dynamic_mask));
 }
 
 std::optional<SE3> Tracker::depth_instant(const RgbdFrame& frame) const {
