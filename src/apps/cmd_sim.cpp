@@ -177,7 +177,7 @@ void run(const SimArgs& a, const CLI::App& cmd) {
   });
   out.commit({"rgb", "depth", "labels", "rgb.txt", "depth.txt", "labels.txt", "associations.txt",
               "camera.yaml", "classes.txt", "groundtruth.txt", "groundtruth_robot.txt", "gt_voxels.txt",
-              "sim.yaml"});
+              "sim.yaml", "dynamic", "people.txt"});
   std::fprintf(
       stderr,
       "\ndone: %d frames (%d dropped) in %.1f s, %.1f ms/frame rendering; trajectory %.2f m, max speed "
