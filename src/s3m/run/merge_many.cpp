@@ -191,17 +191,7 @@ io::Trajectory re_expressed(const Session& run, const slam::Map& merged) {
   for (const auto& [id, kf] : run.map.map.keyframes())
     if (merged.has_keyframe(id + run.offset))
       correction_at[kf.t_s] = merged.keyframe(id + run.offset).T_w_c * kf.T_w_c.inverse();
-  if (correction_at.empty()) return {};
-  io::Trajectory out = io::read_tum_trajectory(path.string());
-  for (auto& p : out) {
-    auto hi = correction_at.lower_bound(p.t_s);
-    auto near = hi;
-    if (hi == correction_at.end() ||
-        (hi != correction_at.begin() && p.t_s - std::prev(hi)->first < hi->first - p.t_s))
-      near = std::prev(hi);
-    p.T_w_x = near->second * p.T_w_x;
-  }
-  return out;
+  return corrected_trajectory(path.string(), correction_at);
 }
 
 // An unplaced run's session, copied as it is.

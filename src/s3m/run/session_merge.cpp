@@ -85,17 +85,7 @@ io::Trajectory re_expressed(const std::string& path, const slam::Map& map, const
   for (const auto& [id, kf] : map.keyframes())
     if (id >= lo && id < hi && c.T_w_kf_before.count(id) && c.T_w_kf_after.count(id))
       correction_at[kf.t_s] = c.T_w_kf_after.at(id) * c.T_w_kf_before.at(id).inverse();
-  if (correction_at.empty()) return {};
-  io::Trajectory out = io::read_tum_trajectory(path);
-  for (auto& p : out) {
-    auto hi_it = correction_at.lower_bound(p.t_s);
-    auto near = hi_it;
-    if (hi_it == correction_at.end() ||
-        (hi_it != correction_at.begin() && p.t_s - std::prev(hi_it)->first < hi_it->first - p.t_s))
-      near = std::prev(hi_it);
-    p.T_w_x = near->second * p.T_w_x;
-  }
-  return out;
+  return corrected_trajectory(path, correction_at);
 }
 
 json pose_json(const SE3& T) {
@@ -177,6 +167,20 @@ json merge_runs(const MergeRunsOptions& o) {
   write_text_atomic((out / "merge.json").string(), j.dump(2) + "\n");
   staged.commit(merge_output_names(o.out_dir));
   return j;
+}
+
+io::Trajectory corrected_trajectory(const std::string& path, const std::map<double, SE3>& correction_at) {
+  if (correction_at.empty()) return {};
+  io::Trajectory out = io::read_tum_trajectory(path);
+  for (auto& p : out) {
+    auto hi = correction_at.lower_bound(p.t_s);
+    auto near = hi;
+    if (hi == correction_at.end() ||
+        (hi != correction_at.begin() && p.t_s - std::prev(hi)->first < hi->first - p.t_s))
+      near = std::prev(hi);
+    p.T_w_x = near->second * p.T_w_x;
+  }
+  return out;
 }
 
 std::vector<std::string> merge_output_names(const std::string& out_dir) {

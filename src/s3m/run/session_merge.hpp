@@ -11,11 +11,13 @@
 // map.ot and map.ply, keyframes.txt (every keyframe, A's world), trajectory_camera_a.txt and
 // trajectory_camera_b.txt (each run's trajectory_camera.txt, when it has one, re-expressed in the
 // merged world through its nearest keyframe in time) and merge.json (what was matched).
+#include <map>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "s3m/io/trajectory.hpp"
 #include "s3m/pipeline/pipeline_config.hpp"
 #include "s3m/slam/loop/map_merge.hpp"
 
@@ -33,6 +35,10 @@ struct MergeRunsOptions {
 // file, maps of different cameras or vocabularies, runs that do not overlap (what was tried).
 // Returns what merge.json holds.
 nlohmann::json merge_runs(const MergeRunsOptions& options);
+
+// The TUM trajectory in `path` with each pose moved as the keyframe nearest to it in time moved:
+// correction_at maps keyframe stamps [s] to T_after * T_before^-1. Empty when correction_at is.
+io::Trajectory corrected_trajectory(const std::string& path, const std::map<double, SE3>& correction_at);
 
 // The names a merge owns in its output folder (for io::StagedFolder::commit): the session, the map,
 // keyframes.txt, merge.json, unplaced/, and every trajectory_camera_<a|b|N>.txt already in out_dir
