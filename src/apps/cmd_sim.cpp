@@ -136,6 +136,11 @@ void run(const SimArgs& a, const CLI::App& cmd) {
   if (given("--drop-frames")) cfg.drop_frames = a.drop_frames;
   if (given("--people")) cfg.people.count = a.people;
   if (given("--voxel-res")) cfg.voxel_resolution_m = a.voxel_res_m;
+  if (given("--camera") || given("--width") || given("--height")) {
+    const double readout = cfg.sensor.camera.rolling_shutter_s;  // the shutter's, not the lens's
+    cfg.sensor.camera = sim::sensor_camera(a.camera, a.width, a.height);
+    cfg.sensor.camera.rolling_shutter_s = readout;
+  }
   // A profile sets noise and motion blur itself; only options written out override it then.
   if (!a.sensor_profile.empty()) sim::apply_sensor_profile(a.sensor_profile, cfg.sensor);
   auto sensor_given = [&](const char* name) {
@@ -144,8 +149,6 @@ void run(const SimArgs& a, const CLI::App& cmd) {
   if (sensor_given("--motion-blur")) cfg.sensor.motion_blur_samples = a.motion_blur;
   if (sensor_given("--noise") || cmd.count("--no-noise")) cfg.sensor.noise = a.noise;
   if (cmd.count("--depth-time-offset")) cfg.sensor.depth_time_offset_s = a.depth_time_offset_s;
-  if (given("--camera") || given("--width") || given("--height"))
-    cfg.sensor.camera = sim::sensor_camera(a.camera, a.width, a.height);
   cfg.validate();
   io::require_folder_path(a.out_dir, "--out");
   refuse_recording(a.out_dir, a.force);

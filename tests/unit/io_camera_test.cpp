@@ -1,3 +1,5 @@
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include "io_test_util.hpp"
@@ -32,6 +34,26 @@ TEST(IoCamera, WriteReadRoundTripIsExact) {
   EXPECT_EQ(back.dist, cam.dist);
   EXPECT_EQ(back.depth_factor, cam.depth_factor);
   EXPECT_EQ(back.bf, cam.bf);
+  EXPECT_EQ(back.rolling_shutter_s, 0.0);  // none written: a global shutter
+}
+
+TEST(IoCamera, RollingShutterReadoutRoundTripsAndIsChecked) {
+  const auto dir = fresh_temp_dir();
+  PinholeCamera cam = *camera_preset("tum_fr1");
+  cam.rolling_shutter_s = 0.0275;
+  write_camera_yaml((dir / "c.yaml").string(), cam);
+  EXPECT_EQ(read_camera_yaml((dir / "c.yaml").string()).rolling_shutter_s, 0.0275);
+  // A readout of a whole second is not a camera's (milliseconds, not seconds, were meant).
+  std::ofstream((dir / "bad.yaml").string())
+      << "fx: 500\nfy: 500\ncx: 320\ncy: 240\nwidth: 640\nheight: 480\n"
+         "depth_factor: 1000\nrolling_shutter_s: 25\n";
+  try {
+    read_camera_yaml((dir / "bad.yaml").string());
+    FAIL() << "a 25 s readout was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("rolling_shutter_s"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
+  }
 }
 
 TEST(IoCamera, OrbSlam2SettingsWithOpenCvHeader) {
@@ -80,25 +102,32 @@ TEST(IoCamera, SevenScenesKinectPresetIsTwoCameras) {
   EXPECT_FALSE(load_camera_file("7scenes").depth);  // the dataset's own one camera stays as it was
   EXPECT_DOUBLE_EQ(load_camera("7scenes_kinect_v1").fx, 529.0);
   EXPECT_FALSE(camera_file_preset("7scenes_kinect_v2"));
-  expect_error([] { load_camera("7scenes_kinect"); }, {"7scenes_kinect", "no such camera file or preset", "7scenes_kinect_v1"});
+  expect_error([] { load_camera("7scenes_kinect"); },
+               {"7scenes_kinect", "no such camera file or preset", "7scenes_kinect_v1"});
 }
 
 TEST(IoCamera, LoadCameraPresetsAndErrors) {
   EXPECT_DOUBLE_EQ(load_camera("tum_fr3").fx, 535.4);
   EXPECT_DOUBLE_EQ(load_camera("tum_fr2").depth_factor, 5000.0);
-  expect_error([] { load_camera("tum_fr9"); }, {"tum_fr9", "no such camera file or preset", "tum_fr1, tum_fr2, tum_fr3"});
+  expect_error([] { load_camera("tum_fr9"); },
+               {"tum_fr9", "no such camera file or preset", "tum_fr1, tum_fr2, tum_fr3"});
   const auto dir = fresh_temp_dir();
-  const auto missing = write_file(dir / "m.yaml", "fx: 500\nfy: 500\ncx: 320\ncy: 240\nwidth: 640\nheight: 480\n");
+  const auto missing =
+      write_file(dir / "m.yaml", "fx: 500\nfy: 500\ncx: 320\ncy: 240\nwidth: 640\nheight: 480\n");
   expect_error([&] { read_camera_yaml(missing); }, {"m.yaml", "missing key 'depth_factor'"});
   const auto typo = write_file(dir / "t.yaml", "fx: 500\nfy: 500\ncx: 320\ncy: 240\nwidht: 640\n");
   expect_error([&] { read_camera_yaml(typo); }, {"t.yaml:5", "unknown key 'widht'"});
-  const auto bad = write_file(dir / "b.yaml", "fx: 500\nfy: abc\ncx: 320\ncy: 240\nwidth: 640\nheight: 480\ndepth_factor: 1\n");
+  const auto bad = write_file(
+      dir / "b.yaml", "fx: 500\nfy: abc\ncx: 320\ncy: 240\nwidth: 640\nheight: 480\ndepth_factor: 1\n");
   expect_error([&] { read_camera_yaml(bad); }, {"b.yaml:2", "bad value for 'fy'", "a number"});
-  const auto neg = write_file(dir / "n.yaml", "fx: -5\nfy: 5\ncx: 320\ncy: 240\nwidth: 640\nheight: 480\ndepth_factor: 1\n");
+  const auto neg = write_file(dir / "n.yaml",
+                              "fx: -5\nfy: 5\ncx: 320\ncy: 240\nwidth: 640\nheight: 480\ndepth_factor: 1\n");
   expect_error([&] { read_camera_yaml(neg); }, {"n.yaml", "fx"});
-  const auto nan = write_file(dir / "nan.yaml", "fx: .nan\nfy: 5\ncx: 320\ncy: 240\nwidth: 640\nheight: 480\ndepth_factor: 1\n");
+  const auto nan = write_file(
+      dir / "nan.yaml", "fx: .nan\nfy: 5\ncx: 320\ncy: 240\nwidth: 640\nheight: 480\ndepth_factor: 1\n");
   expect_error([&] { read_camera_yaml(nan); }, {"nan.yaml", "finite"});
-  const auto orb = write_file(dir / "o.yaml", "%YAML:1.0\nCamera.fx: 500\nCamera.fy: 500\nCamera.cx: 1\nCamera.cy: 1\n");
+  const auto orb =
+      write_file(dir / "o.yaml", "%YAML:1.0\nCamera.fx: 500\nCamera.fy: 500\nCamera.cx: 1\nCamera.cy: 1\n");
   expect_error([&] { read_orbslam_settings(orb); }, {"o.yaml", "missing key 'DepthMapFactor'"});
   const auto syntax = write_file(dir / "s.yaml", "%YAML:1.0\nCamera.fx: 500\nCamera.fy: [500\n");
   expect_error([&] { read_orbslam_settings(syntax); }, {"s.yaml:", "YAML syntax error"});
@@ -111,7 +140,8 @@ TEST(IoCamera, DepthCameraSectionRoundTripAndRotationForms) {
   DepthCamera depth;
   depth.camera.fx = depth.camera.fy = 425.25, depth.camera.cx = 423.5, depth.camera.cy = 239.5;
   depth.camera.width = 848, depth.camera.height = 480, depth.camera.dist = {0.01, -0.02, 0.001, 0, 0.003};
-  depth.T_c_d = make_se3(Vec3(-0.015, 0.0003, 0.0002), Quat(Eigen::AngleAxisd(0.006, Vec3(0.3, 1, 0.2).normalized())));
+  depth.T_c_d =
+      make_se3(Vec3(-0.015, 0.0003, 0.0002), Quat(Eigen::AngleAxisd(0.006, Vec3(0.3, 1, 0.2).normalized())));
   const PinholeCamera colour = *camera_preset("tum_fr1");
   write_camera_yaml((dir / "c.yaml").string(), colour, depth);
   const CameraFile back = read_camera_file((dir / "c.yaml").string());
@@ -122,18 +152,23 @@ TEST(IoCamera, DepthCameraSectionRoundTripAndRotationForms) {
   EXPECT_EQ(back.depth->camera.dist, depth.camera.dist);
   EXPECT_EQ(back.depth->camera.depth_factor, colour.depth_factor);  // one unit for the folder's depth images
   EXPECT_LT((back.depth->T_c_d.matrix() - depth.T_c_d.matrix()).cwiseAbs().maxCoeff(), 1e-15);
-  EXPECT_FALSE(read_camera_file(write_file(dir / "plain.yaml", "fx: 5\nfy: 5\ncx: 1\ncy: 1\nwidth: 4\nheight: 3\n"
-                                                                 "depth_factor: 1000\n"))
+  EXPECT_FALSE(read_camera_file(write_file(dir / "plain.yaml",
+                                           "fx: 5\nfy: 5\ncx: 1\ncy: 1\nwidth: 4\nheight: 3\n"
+                                           "depth_factor: 1000\n"))
                    .depth);
   EXPECT_FALSE(load_camera_file("tum_fr3").depth);
 
   // 90 degrees about z, 1.5 cm along x: the depth camera's x axis is the colour camera's y axis.
-  const std::string intrinsics = "fx: 5\nfy: 5\ncx: 1.5\ncy: 1\nwidth: 4\nheight: 3\ndepth_factor: 1000\n"
-                                 "depth_camera:\n  fx: 5\n  fy: 5\n  cx: 1.5\n  cy: 1\n  width: 4\n  height: 3\n"
-                                 "  T_c_d:\n    translation: [0.015, 0, 0]\n";
-  const auto by_matrix = write_file(dir / "r.yaml", intrinsics + "    rotation: [0, -1, 0, 1, 0, 0, 0, 0, 1]\n");
-  const auto by_quat = write_file(dir / "q.yaml", intrinsics + "    quaternion: [0, 0, 0.70710678, 0.70710678]\n");
-  const auto by_columns = write_file(dir / "c.yaml", intrinsics + "    rotation_column_major: [0, 1, 0, -1, 0, 0, 0, 0, 1]\n");
+  const std::string intrinsics =
+      "fx: 5\nfy: 5\ncx: 1.5\ncy: 1\nwidth: 4\nheight: 3\ndepth_factor: 1000\n"
+      "depth_camera:\n  fx: 5\n  fy: 5\n  cx: 1.5\n  cy: 1\n  width: 4\n  height: 3\n"
+      "  T_c_d:\n    translation: [0.015, 0, 0]\n";
+  const auto by_matrix =
+      write_file(dir / "r.yaml", intrinsics + "    rotation: [0, -1, 0, 1, 0, 0, 0, 0, 1]\n");
+  const auto by_quat =
+      write_file(dir / "q.yaml", intrinsics + "    quaternion: [0, 0, 0.70710678, 0.70710678]\n");
+  const auto by_columns =
+      write_file(dir / "c.yaml", intrinsics + "    rotation_column_major: [0, 1, 0, -1, 0, 0, 0, 0, 1]\n");
   for (const auto& path : {by_matrix, by_quat, by_columns}) {
     const Vec3 p_c = load_camera_file(path).depth->T_c_d * Vec3(1, 0, 0);
     EXPECT_NEAR(p_c.x(), 0.015, 1e-8) << path;
@@ -145,25 +180,54 @@ TEST(IoCamera, DepthCameraSectionRoundTripAndRotationForms) {
 
 TEST(IoCamera, DepthCameraSectionErrorsNameLineAndMismatch) {
   const auto dir = fresh_temp_dir();
-  const std::string head = "fx: 5\nfy: 5\ncx: 1.5\ncy: 1\nwidth: 4\nheight: 3\ndepth_factor: 1000\n"
-                           "depth_camera:\n  fx: 5\n  fy: 5\n  cx: 1.5\n  cy: 1\n  width: 4\n  height: 3\n";
-  auto yaml = [&](const std::string& name, const std::string& rest) { return write_file(dir / name, head + rest); };
+  const std::string head =
+      "fx: 5\nfy: 5\ncx: 1.5\ncy: 1\nwidth: 4\nheight: 3\ndepth_factor: 1000\n"
+      "depth_camera:\n  fx: 5\n  fy: 5\n  cx: 1.5\n  cy: 1\n  width: 4\n  height: 3\n";
+  auto yaml = [&](const std::string& name, const std::string& rest) {
+    return write_file(dir / name, head + rest);
+  };
   // Lines: 15 T_c_d, 16 translation (where yaml-cpp marks the T_c_d map too), 17 the rotation.
-  expect_error([&] { read_camera_file(yaml("mm.yaml", "  T_c_d:\n    translation: [15, 0.3, 0.2]\n    quaternion: [0, 0, 0, 1]\n")); },
-               {"mm.yaml:16", "depth camera 15 m from the colour camera", "millimetres divided by 1000"});
-  expect_error([&] { read_camera_file(yaml("skew.yaml", "  T_c_d:\n    translation: [0.015, 0, 0]\n    rotation: [1, 0.2, 0, 0, 1, 0, 0, 0, 1]\n")); },
-               {"skew.yaml:17", "not a rotation", "orthonormal rotation matrix with det +1"});
-  expect_error([&] { read_camera_file(yaml("q.yaml", "  T_c_d:\n    translation: [0.015, 0, 0]\n    quaternion: [0, 0, 0, 2]\n")); },
-               {"q.yaml:17", "norm 2.0000", "unit quaternion qx qy qz qw"});
-  expect_error([&] { read_camera_file(yaml("both.yaml", "  T_c_d:\n    translation: [0, 0, 0]\n    quaternion: [0, 0, 0, 1]\n"
-                                                        "    rotation: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n")); },
-               {"both.yaml:16", "exactly one of quaternion / rotation / rotation_column_major"});
-  expect_error([&] { read_camera_file(yaml("short.yaml", "  T_c_d:\n    translation: [0.015, 0]\n    quaternion: [0, 0, 0, 1]\n")); },
-               {"short.yaml:16", "bad value for 'translation'", "a list of 3 numbers"});
-  expect_error([&] { read_camera_file(yaml("none.yaml", "")); }, {"none.yaml:9", "missing key 'T_c_d' in depth_camera"});
+  expect_error(
+      [&] {
+        read_camera_file(
+            yaml("mm.yaml", "  T_c_d:\n    translation: [15, 0.3, 0.2]\n    quaternion: [0, 0, 0, 1]\n"));
+      },
+      {"mm.yaml:16", "depth camera 15 m from the colour camera", "millimetres divided by 1000"});
+  expect_error(
+      [&] {
+        read_camera_file(
+            yaml("skew.yaml",
+                 "  T_c_d:\n    translation: [0.015, 0, 0]\n    rotation: [1, 0.2, 0, 0, 1, 0, 0, 0, 1]\n"));
+      },
+      {"skew.yaml:17", "not a rotation", "orthonormal rotation matrix with det +1"});
+  expect_error(
+      [&] {
+        read_camera_file(
+            yaml("q.yaml", "  T_c_d:\n    translation: [0.015, 0, 0]\n    quaternion: [0, 0, 0, 2]\n"));
+      },
+      {"q.yaml:17", "norm 2.0000", "unit quaternion qx qy qz qw"});
+  expect_error(
+      [&] {
+        read_camera_file(yaml("both.yaml",
+                              "  T_c_d:\n    translation: [0, 0, 0]\n    quaternion: [0, 0, 0, 1]\n"
+                              "    rotation: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n"));
+      },
+      {"both.yaml:16", "exactly one of quaternion / rotation / rotation_column_major"});
+  expect_error(
+      [&] {
+        read_camera_file(
+            yaml("short.yaml", "  T_c_d:\n    translation: [0.015, 0]\n    quaternion: [0, 0, 0, 1]\n"));
+      },
+      {"short.yaml:16", "bad value for 'translation'", "a list of 3 numbers"});
+  expect_error([&] { read_camera_file(yaml("none.yaml", "")); },
+               {"none.yaml:9", "missing key 'T_c_d' in depth_camera"});
   // The depth unit is the folder's: a depth_factor inside the section is a mistake, not a second unit.
-  expect_error([&] { read_camera_file(yaml("df.yaml", "  depth_factor: 1000\n")); }, {"df.yaml:15", "unknown key 'depth_factor'"});
-  expect_error([&] { read_camera_file(write_file(dir / "scalar.yaml", head.substr(0, head.find("depth_camera")) +
-                                                                          "depth_camera: yes\n")); },
-               {"scalar.yaml:8", "bad value for 'depth_camera'"});
+  expect_error([&] { read_camera_file(yaml("df.yaml", "  depth_factor: 1000\n")); },
+               {"df.yaml:15", "unknown key 'depth_factor'"});
+  expect_error(
+      [&] {
+        read_camera_file(write_file(dir / "scalar.yaml",
+                                    head.substr(0, head.find("depth_camera")) + "depth_camera: yes\n"));
+      },
+      {"scalar.yaml:8", "bad value for 'depth_camera'"});
 }

@@ -70,7 +70,7 @@ TEST(SimSensorLies, DepthTimeOffsetRendersDepthAtItsOwnInstant) {
 
 TEST(SimSensorLies, RollingShutterRowsSeeTheirOwnInstants) {
   SensorConfig s = exact_sensor();
-  s.rolling_shutter_s = 0.03;
+  s.camera.rolling_shutter_s = 0.03;
   const Renderer r(test::empty_room(), s);
   const double t = 0.4;
   const RgbdFrame f = r.render_timed(moving_camera, {t, t}, 3);
@@ -150,7 +150,7 @@ SimConfig small_sim(std::uint64_t seed) {
 TEST(SimSensorLies, DefaultsWrittenOutChangeNothing) {
   SimConfig explicit_off = small_sim(5);
   SensorConfig& s = explicit_off.sensor;
-  s.depth_time_offset_s = s.time_jitter_s = s.rolling_shutter_s = s.disparity_step_px = 0.0;
+  s.depth_time_offset_s = s.time_jitter_s = s.camera.rolling_shutter_s = s.disparity_step_px = 0.0;
   s.edge_fattening_px = 0;
   s.depth_registration_error_px = 0.0;
   EXPECT_FALSE(s.timed());
@@ -245,7 +245,7 @@ TEST(SimSensorLies, ValidateNamesTheField) {
   c.sensor.time_jitter_s = 0.01;  // 6 sigma > 33 ms: stamps could swap
   EXPECT_NE(message(c).find("time_jitter_s"), std::string::npos);
   c = small_sim(1);
-  c.sensor.rolling_shutter_s = -0.01;
+  c.sensor.camera.rolling_shutter_s = -0.01;
   EXPECT_NE(message(c).find("rolling_shutter_s"), std::string::npos);
   c = small_sim(1);
   c.sensor.edge_fattening_px = -1;

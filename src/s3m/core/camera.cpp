@@ -12,6 +12,9 @@ void PinholeCamera::validate() const {
           "camera: focal lengths fx, fy must be finite and > 0 (got fx=" + std::to_string(fx) +
               ", fy=" + std::to_string(fy) + ")");
   require(std::isfinite(cx) && std::isfinite(cy), "camera: principal point cx, cy must be finite");
+  require(rolling_shutter_s >= 0 && rolling_shutter_s <= 0.1,
+          "camera: rolling_shutter_s (first row to last) must be in [0, 0.1] s (got " +
+              std::to_string(rolling_shutter_s) + ")");
   require(width > 0 && height > 0 && width <= 16384 && height <= 16384,
           "camera: width and height must be in 1..16384 (got " + std::to_string(width) + "x" +
               std::to_string(height) + ")");

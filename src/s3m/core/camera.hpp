@@ -15,13 +15,17 @@ struct PinholeCamera {
   double fy = 525.0;
   double cx = 319.5;  // principal point [px]
   double cy = 239.5;
-  int width = 640;    // image size [px]
+  int width = 640;  // image size [px]
   int height = 480;
   // Depth image value / depth_factor = depth in metres (TUM: 5000, 7-Scenes/RealSense mm: 1000).
   double depth_factor = 5000.0;
   std::array<double, 5> dist{0, 0, 0, 0, 0};  // k1 k2 p1 p2 k3; all zero = no distortion
   // Stereo-like baseline used to form a virtual right coordinate u_r = u - bf / z (ORB-SLAM's bf) [px*m].
   double bf = 40.0;
+  // Rolling shutter: the colour image's rows are read out one after another, the first at the
+  // frame's stamp and the last this long after it [s]; 0 = a global shutter. Keypoints are moved to
+  // the stamp's instant with the tracked motion (features::undo_rolling_shutter).
+  double rolling_shutter_s = 0.0;
 
   // Throws s3m::Error naming the bad field (non-positive focal length, size, depth factor, NaN...).
   void validate() const;

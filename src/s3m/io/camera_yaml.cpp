@@ -269,6 +269,7 @@ CameraFile read_camera_file(const std::string& path) {
   take_intrinsics(m, cam, path);
   m.always("depth_factor", number_into(cam.depth_factor, path));
   m.on("bf", number_into(cam.bf, path));
+  m.on("rolling_shutter_s", number_into(cam.rolling_shutter_s, path));
   m.ignore("fps");
   m.on("depth_camera", [&depth](const YAML::Node& v, const std::string&) { depth = v; });
   m.read();
@@ -286,6 +287,8 @@ void write_camera_yaml(const std::string& path, const PinholeCamera& c,
       "# Pinhole intrinsics written by s3m. Depth in metres = png value / depth_factor.\n"
       "camera_model: pinhole\n" +
       intrinsics_yaml(c, "") + fmt::format("depth_factor: {:.17g}\nbf: {:.17g}\n", c.depth_factor, c.bf);
+  if (c.rolling_shutter_s > 0)
+    text += fmt::format("rolling_shutter_s: {}  # colour rows, first to last [s]\n", c.rolling_shutter_s);
   if (depth) {
     depth->camera.validate();
     const Quat q(depth->T_c_d.rotation());

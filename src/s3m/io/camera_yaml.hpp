@@ -1,7 +1,8 @@
 #pragma once
 // Camera intrinsics from files users already have.
 //  s3m / shared-data format (camera.yaml): fx fy cx cy width height depth_factor [k1 k2 p1 p2 k3] [bf]
-//    [camera_model: pinhole] [fps]; depth in metres = png value / depth_factor.
+//    [camera_model: pinhole] [fps] [rolling_shutter_s]; depth in metres = png value / depth_factor;
+//    rolling_shutter_s: the colour rows' readout, first to last, the stamp at the first [s].
 //  ORB-SLAM2/3 settings: 'Camera.fx' ... (ORB-SLAM3: 'Camera1.fx'), 'Camera.width', 'DepthMapFactor'
 //    (ORB-SLAM3: 'RGBD.DepthMapFactor'), 'Camera.bf' (or 'Stereo.b' * fx). The OpenCV '%YAML:1.0'
 //    header that yaml-cpp rejects is handled. DepthMapFactor has the same meaning as depth_factor

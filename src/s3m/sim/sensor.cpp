@@ -24,8 +24,6 @@ void SensorConfig::validate() const {
   require(exposure_s >= 0, "sensor: exposure_s must be >= 0");
   require(std::abs(depth_time_offset_s) <= 0.5, "sensor: depth_time_offset_s must be within [-0.5, 0.5] s");
   require(time_jitter_s >= 0 && time_jitter_s <= 0.05, "sensor: time_jitter_s must be in [0, 0.05] s");
-  require(rolling_shutter_s >= 0 && rolling_shutter_s <= 0.1,
-          "sensor: rolling_shutter_s must be in [0, 0.1] s");
   require(disparity_step_px >= 0 && disparity_step_px <= 1, "sensor: disparity_step_px must be in [0, 1] px");
   require(disparity_baseline_m > 0 && disparity_baseline_m <= 1,
           "sensor: disparity_baseline_m must be in (0, 1] m");
@@ -60,7 +58,7 @@ void fields(config::FieldVisitor& v, SensorConfig& c) {
   v("exposure_s", c.exposure_s);
   v("depth_time_offset_s", c.depth_time_offset_s);
   v("time_jitter_s", c.time_jitter_s);
-  v("rolling_shutter_s", c.rolling_shutter_s);
+  v("rolling_shutter_s", c.camera.rolling_shutter_s);
   v("disparity_step_px", c.disparity_step_px);
   v("disparity_baseline_m", c.disparity_baseline_m);
   v("edge_fattening_px", c.edge_fattening_px);
@@ -104,7 +102,7 @@ void apply_sensor_profile(const std::string& name, SensorConfig& c) {
   c.exposure_s = off.exposure_s;
   c.depth_time_offset_s = off.depth_time_offset_s;
   c.time_jitter_s = off.time_jitter_s;
-  c.rolling_shutter_s = off.rolling_shutter_s;
+  c.camera.rolling_shutter_s = off.camera.rolling_shutter_s;
   c.disparity_step_px = off.disparity_step_px;
   c.disparity_baseline_m = off.disparity_baseline_m;
   c.edge_fattening_px = off.edge_fattening_px;
@@ -115,7 +113,7 @@ void apply_sensor_profile(const std::string& name, SensorConfig& c) {
   // triangulated over a 7.5 cm baseline by block matching in 1/8 px disparity steps.
   c.depth_time_offset_s = 0.015;
   c.time_jitter_s = 0.002;
-  c.rolling_shutter_s = 0.025;
+  c.camera.rolling_shutter_s = 0.025;
   c.motion_blur_samples = 4;
   c.exposure_s = 0.012;
   c.disparity_step_px = 0.125;

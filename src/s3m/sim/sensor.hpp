@@ -47,10 +47,10 @@ struct SensorConfig {
   double optics_blur_px = 0.6;    // Gaussian blur sigma of the lens [px]; 0 = off
   int motion_blur_samples = 1;    // > 1: average this many poses over the exposure
   double exposure_s = 0.012;      // exposure time for motion blur [s]
-  // Sensor lies (sensor_effects.hpp); 0 = off.
+  // Sensor lies (sensor_effects.hpp); 0 = off. The rolling shutter is the camera's
+  // (camera.rolling_shutter_s: it goes into the recording's camera.yaml like the intrinsics).
   double depth_time_offset_s = 0.0;          // depth instant minus colour instant [s]; < 0: depth leads
   double time_jitter_s = 0.0;                // sigma of each stream's capture instant, per frame [s]
-  double rolling_shutter_s = 0.0;            // colour readout time from the first row to the last [s]
   double disparity_step_px = 0.0;            // depth quantised to this disparity step [px] (Kinect v1: 1/8)
   double disparity_baseline_m = 0.075;       // projector-camera baseline of that quantisation [m]
   int edge_fattening_px = 0;                 // foreground depth bleeds this far into the background [px]
@@ -60,7 +60,7 @@ struct SensorConfig {
   double depth_sigma_m(double z_m) const { return depth_sigma0_m + depth_sigma_k * z_m * z_m; }
   // True when frames need poses at other instants or a second camera (Renderer::render_timed).
   bool timed() const {
-    return depth_time_offset_s != 0 || time_jitter_s > 0 || rolling_shutter_s > 0 ||
+    return depth_time_offset_s != 0 || time_jitter_s > 0 || camera.rolling_shutter_s > 0 ||
            depth_registration_error_px != 0;
   }
 };

@@ -135,8 +135,8 @@ RgbdFrame Renderer::render_timed(const std::function<SE3(double)>& T_w_c_at, con
   for (int k = 0; k < blur; ++k) {
     const double t0 =
         times.colour_s - (blur > 1 ? s.exposure_s * (1.0 - static_cast<double>(k) / (blur - 1)) : 0.0);
-    closing = s.rolling_shutter_s > 0
-                  ? render_ideal(rolling_shutter_poses(T_w_c_at, t0, s.rolling_shutter_s, H), movers)
+    closing = s.camera.rolling_shutter_s > 0
+                  ? render_ideal(rolling_shutter_poses(T_w_c_at, t0, s.camera.rolling_shutter_s, H), movers)
                   : render_ideal(T_w_c_at(t0), movers);
     if (blur > 1) cv::accumulate(closing.rgb, acc);
   }

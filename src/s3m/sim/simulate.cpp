@@ -66,7 +66,7 @@ void emit_sensor_lies(YAML::Emitter& e, const SensorConfig& s) {
   e << YAML::Key << "sensor_lies" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "depth_time_offset_s" << YAML::Value << s.depth_time_offset_s;
   e << YAML::Key << "time_jitter_s" << YAML::Value << s.time_jitter_s;
-  e << YAML::Key << "rolling_shutter_s" << YAML::Value << s.rolling_shutter_s;
+  e << YAML::Key << "rolling_shutter_s" << YAML::Value << s.camera.rolling_shutter_s;
   e << YAML::Key << "motion_blur_samples" << YAML::Value << s.motion_blur_samples;
   e << YAML::Key << "exposure_s" << YAML::Value << s.exposure_s;
   e << YAML::Key << "disparity_step_px" << YAML::Value << s.disparity_step_px;
