@@ -47,6 +47,7 @@ TEST(PipelineLoopClosing, LoopCorrectionReachesTheMap) {
   EXPECT_EQ(m["inputs"]["poses"].get<std::string>(), "s3m SLAM + loop closing");
   EXPECT_EQ(m["tracking"]["lost_frames"].size(), 0u);
   EXPECT_EQ(m["tracking"]["states"]["OK"].get<int>(), kLoopFrames);
+  EXPECT_EQ(m["tracking"]["rolling_shutter_s"].get<double>(), 0.0);  // the flight's camera.yaml has none
   EXPECT_GE(m["corrections"].get<int>(), 1);
   EXPECT_GE(m["map"]["rebuilds"].get<int>(), 2);  // after the loop correction, and the final one
   // The SLAM-level test measures 0.070 m without loop closing on this flight, 0.051 m with it.

@@ -184,9 +184,35 @@ int drop_masked_keypoints(std::vector<cv::KeyPoint>& keypoints, cv::Mat& descrip
   return dropped;
 }
 
+SE3 RollingShutter::T_row_c(double v_raw, int height) const {
+  const double dt = readout_s * std::clamp(v_raw, 0.0, double(height - 1)) / std::max(1, height - 1);
+  return se3_power(step, dt / step_dt_s);
+}
+
+void undo_rolling_shutter(std::vector<cv::KeyPoint>& keypoints, const std::vector<cv::Point2f>& seen,
+                          const std::vector<float>& depth_m, const PinholeCamera& camera,
+                          const RollingShutter& shutter) {
+  if (!shutter.on()) return;
+  require(seen.size() == keypoints.size() && (depth_m.empty() || depth_m.size() == keypoints.size()),
+          "undo_rolling_shutter: one seen pixel (and depth) per keypoint");
+  for (std::size_t i = 0; i < keypoints.size(); ++i) {
+    const SE3 T_c_row = shutter.T_row_c(seen[i].y, camera.height).inverse();
+    const Vec3 ray = T_c_row.linear() * camera.backproject(seen[i].x, seen[i].y, 1.0);
+    if (!(ray.z() > 0.1)) continue;
+    // With depth z at the stamp's camera: the point of the seen ray that lies at that depth.
+    const double z = depth_m.empty() ? 0.0 : double(depth_m[i]);
+    const Vec3& t = T_c_row.translation();
+    const Vec3 p = z > 0 ? Vec3(ray * ((z - t.z()) / ray.z()) + t) : ray;
+    if (!(p.z() > 0)) continue;
+    const Eigen::Vector2d u = camera.project(p);
+    keypoints[i].pt = cv::Point2f(float(u.x()), float(u.y()));
+  }
+}
+
 FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m, const PinholeCamera& camera,
                                      const OrbExtractor& extractor, const FeatureConfig& config,
-                                     const std::optional<SE3>& T_d_c, const cv::Mat& exclude) {
+                                     const std::optional<SE3>& T_d_c, const cv::Mat& exclude,
+                                     const RollingShutter& shutter) {
   require(!rgb.empty() && (rgb.type() == CV_8UC3 || rgb.type() == CV_8UC1),
           "compute_frame_features: expected a CV_8UC3 (BGR) or CV_8UC1 image");
   require(depth_m.empty() || (depth_m.type() == CV_32FC1 && depth_m.size() == rgb.size()),
@@ -204,13 +230,26 @@ FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m,
   std::vector<cv::KeyPoint> raw;
   extractor.extract(gray, raw, f.descriptors);
   if (!exclude.empty()) drop_masked_keypoints(raw, f.descriptors, exclude);
-  // 2. Undistort.
+  // 2. Undistort; a rolling shutter's rows back to the stamp's instant.
   f.keypoints = raw;
   if (camera.has_distortion()) undistort_keypoints(f.keypoints, camera);
-  // 3. Depth, its sigma and the virtual right coordinate; 4. grid.
   std::vector<cv::Point2f> raw_px(raw.size());
   for (std::size_t i = 0; i < raw.size(); ++i) raw_px[i] = raw[i].pt;
+  std::vector<cv::Point2f> seen;
+  if (shutter.on()) {
+    for (const cv::KeyPoint& k : f.keypoints) seen.push_back(k.pt);
+    undo_rolling_shutter(f.keypoints, seen, {}, camera, shutter);
+    // The depth image is one snapshot: read it where the surface is at the stamp (the shift found
+    // for the undistorted keypoint, applied at its raw pixel).
+    for (std::size_t i = 0; i < raw_px.size(); ++i) raw_px[i] += f.keypoints[i].pt - seen[i];
+  }
+  // 3. Depth, its sigma and the virtual right coordinate (with a rolling shutter, the keypoints with
+  //    depth moved by the camera's translation too); 4. grid.
   read_keypoint_depths(f, raw_px, depth_m, camera, config, T_d_c);
+  if (shutter.on()) {
+    undo_rolling_shutter(f.keypoints, seen, f.depth_m, camera, shutter);
+    set_right_coordinates(f, camera.bf);
+  }
   f.grid.build(f.keypoints, camera.width, camera.height);
   return f;
 }

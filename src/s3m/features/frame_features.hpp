@@ -105,6 +105,28 @@ void read_keypoint_depths(FrameFeatures& f, const std::vector<cv::Point2f>& raw_
 // f's undistorted keypoints back at their raw (distorted) pixels.
 std::vector<cv::Point2f> raw_pixels(const FrameFeatures& f, const PinholeCamera& camera);
 
+// A rolling shutter: raw image row v is read readout_s * v / (height - 1) after the frame's stamp
+// (the stamp is the first row's instant). step is the camera's motion over one frame period
+// step_dt_s (T_cur_prev, the motion model's guess); the camera dt seconds after the stamp is
+// step^(dt / step_dt_s). readout_s 0 = a global shutter.
+struct RollingShutter {
+  double readout_s = 0.0;
+  SE3 step = SE3::Identity();
+  double step_dt_s = 0.0;
+  bool on() const { return readout_s > 0.0 && step_dt_s > 0.0; }
+  // Maps points of the camera at the stamp into the camera that read raw row v.
+  SE3 T_row_c(double v_raw, int height) const;
+};
+
+// Moves each keypoint from where its row's camera saw it (seen[i], undistorted) to where the camera
+// at the stamp would have: the full motion for keypoints with depth (depth_m[i] > 0, the depth at
+// the stamp's camera), a turn for the others (depth_m empty: all; at hand-held speeds the turn
+// dominates the readout's skew). Rows are taken from seen (a lens moves a row by a few pixels, a
+// fraction of a millisecond).
+void undo_rolling_shutter(std::vector<cv::KeyPoint>& keypoints, const std::vector<cv::Point2f>& seen,
+                          const std::vector<float>& depth_m, const PinholeCamera& camera,
+                          const RollingShutter& shutter);
+
 // Extracts ORB from rgb (CV_8UC3 BGR or CV_8UC1), undistorts keypoints when the camera has
 // distortion, and reads depth (CV_32F metres, same size; may be empty = no depth) at the raw
 // keypoint pixels.
@@ -114,10 +136,12 @@ std::vector<cv::Point2f> raw_pixels(const FrameFeatures& f, const PinholeCamera&
 // without it (synchronised images) at the keypoint's own pixel.
 // exclude (CV_8UC1 of the image's size, or empty): keypoints on its non-zero pixels are dropped
 // (things that move: the pose and the map must not use them).
+// shutter (on()): keypoints are returned where the camera at the stamp saw them
+// (undo_rolling_shutter), and their depth is read there.
 FrameFeatures compute_frame_features(const cv::Mat& rgb, const cv::Mat& depth_m, const PinholeCamera& camera,
                                      const OrbExtractor& extractor, const FeatureConfig& config,
                                      const std::optional<SE3>& T_d_c = std::nullopt,
-                                     const cv::Mat& exclude = cv::Mat());
+                                     const cv::Mat& exclude = cv::Mat(), const RollingShutter& shutter = {});
 
 // Drops the keypoints (and their descriptor rows) that lie on non-zero pixels of mask (CV_8UC1);
 // returns how many were dropped.

@@ -32,7 +32,7 @@ class SlamPoses final : public PoseSource, public SessionMap {
  public:
   SlamPoses(const PinholeCamera& camera, const slam::SlamConfig& config,
             std::shared_ptr<const features::Vocabulary> vocabulary)
-      : system_(camera, config, std::move(vocabulary)) {}
+      : system_(camera, config, std::move(vocabulary)), rolling_shutter_s_(camera.rolling_shutter_s) {}
 
   TrackOutput track(const RgbdFrame& frame) override {
     const slam::TrackResult r = system_.track(frame);
@@ -61,7 +61,13 @@ class SlamPoses final : public PoseSource, public SessionMap {
                        ? "used in the final BA"
                        : "not used (over slam.mapper.dense_links.max_median_deg / _m: do depth and colour "
                          "line up?)");
-    spdlog::info("SLAM: {}", features::describe(system_.depth_noise()));
+    spdlog::info(
+        "SLAM: {}; {}", features::describe(system_.depth_noise()),
+        rolling_shutter_s_ > 0
+            ? fmt::format("colour rows read out over {:.1f} ms (camera rolling_shutter_s), undone with "
+                          "the tracked motion",
+                          1000 * rolling_shutter_s_)
+            : std::string("colour taken as a global shutter (camera rolling_shutter_s 0)"));
     return corrected_poses(system_.late_corrections());
   }
   io::Trajectory camera_trajectory() const override { return without_lost(system_.camera_trajectory()); }
@@ -110,6 +116,7 @@ class SlamPoses final : public PoseSource, public SessionMap {
 
  private:
   slam::System system_;
+  double rolling_shutter_s_;  // the camera's, for the run log
 };
 
 }  // namespace

@@ -233,6 +233,8 @@ json compute_metrics(const pipeline::Pipeline& p, const pipeline::FrameSource& s
                               {"world_moved", sub.world_moved}};
   if (session)
     m["tracking"]["depth_noise"] = depth_noise_json(session->depth_noise(), config.slam.features.depth_noise);
+  // Calibration, not learnt: shown because it changes what tracking does with every keypoint.
+  m["tracking"]["rolling_shutter_s"] = source.camera().rolling_shutter_s;
   m["timings_ms"] = timings_json(p.timings());
   const TrajectoryScore traj = evaluate_trajectory(p, source, config, paths);
   m["trajectory"] = traj.json;

@@ -5,6 +5,7 @@
 // local-map tracking (a failure goes to track_lost(): depth odometry, the bridge, ODOMETRY or
 // LOST), 5 keyframe decision, 6 bookkeeping for the next frame. It reads only LocalMapSnapshot
 // copies and emits KeyFrameRequests, so it can run in its own thread next to local mapping.
+#include <deque>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -210,6 +211,9 @@ class Tracker {
   // The camera at frame's depth instant relative to its colour instant, from the motion model;
   // nullopt when synchronised or without a velocity to predict it.
   std::optional<SE3> depth_instant(const RgbdFrame& frame) const;
+  // The camera's motion for the next frame's rolling-shutter correction (camera_.rolling_shutter_s),
+  // from the last frames tracked in a row; off for a global shutter or while it is not known.
+  features::RollingShutter shutter_motion() const;
   // The same for a camera that moved by step (T_c_w(frame) = step * T_c_w(last)) since the last frame.
   std::optional<SE3> depth_instant(const RgbdFrame& frame, const SE3& step) const;
   // cur's depth read again at the depth instant its current pose implies (unsynchronised depth).
@@ -231,6 +235,9 @@ class Tracker {
   std::optional<SE3> velocity_;  // T_c_prev-frame motion: T_c_w(cur) = velocity * T_c_w(last)
   double last_frame_t_s_ = std::numeric_limits<double>::quiet_NaN();  // the last frame tracked
   double step_dt_s_ = 0;  // time between the last two frames tracked, the step velocity_ spans [s]
+  double prev_frame_t_s_ = std::numeric_limits<double>::quiet_NaN();  // the frame before the last
+  // (stamp, T_c_w) of the last frames tracked OK, oldest first (in the current world frame).
+  std::deque<std::pair<double, SE3>> recent_;
   int last_keyframe_frame_ = 0;
   int peak_inliers_ = 0;       // most map points tracked in one frame since the last keyframe
   KeyframeId n_requests_ = 0;  // keyframe ids are assigned by the Map in request order
