@@ -184,19 +184,20 @@ int drop_masked_keypoints(std::vector<cv::KeyPoint>& keypoints, cv::Mat& descrip
   return dropped;
 }
 
-SE3 RollingShutter::T_row_c(double v_raw, int height) const {
-  const double dt = readout_s * std::clamp(v_raw, 0.0, double(height - 1)) / std::max(1, height - 1);
-  return se3_power(step, dt / step_dt_s);
-}
-
 void undo_rolling_shutter(std::vector<cv::KeyPoint>& keypoints, const std::vector<cv::Point2f>& seen,
                           const std::vector<float>& depth_m, const PinholeCamera& camera,
                           const RollingShutter& shutter) {
   if (!shutter.on()) return;
   require(seen.size() == keypoints.size() && (depth_m.empty() || depth_m.size() == keypoints.size()),
           "undo_rolling_shutter: one seen pixel (and depth) per keypoint");
+  // The camera that read row v: step^(dt / step_dt_s) with dt = readout_s * v / (height - 1), i.e.
+  // se3_power with the step's logarithm taken once for all keypoints.
+  const Vec6 log_step = se3_log(shutter.step);
+  const int last_row = std::max(1, camera.height - 1);
   for (std::size_t i = 0; i < keypoints.size(); ++i) {
-    const SE3 T_c_row = shutter.T_row_c(seen[i].y, camera.height).inverse();
+    const double dt = shutter.readout_s * std::clamp(double(seen[i].y), 0.0, double(last_row)) / last_row;
+    const double x = dt / shutter.step_dt_s;
+    const SE3 T_c_row = (x == 1.0 ? shutter.step : se3_exp(x * log_step)).inverse();
     const Vec3 ray = T_c_row.linear() * camera.backproject(seen[i].x, seen[i].y, 1.0);
     if (!(ray.z() > 0.1)) continue;
     // With depth z at the stamp's camera: the point of the seen ray that lies at that depth.

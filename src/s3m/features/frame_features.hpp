@@ -114,8 +114,6 @@ struct RollingShutter {
   SE3 step = SE3::Identity();
   double step_dt_s = 0.0;
   bool on() const { return readout_s > 0.0 && step_dt_s > 0.0; }
-  // Maps points of the camera at the stamp into the camera that read raw row v.
-  SE3 T_row_c(double v_raw, int height) const;
 };
 
 // Moves each keypoint from where its row's camera saw it (seen[i], undistorted) to where the camera

@@ -211,11 +211,11 @@ class Tracker {
   // The camera at frame's depth instant relative to its colour instant, from the motion model;
   // nullopt when synchronised or without a velocity to predict it.
   std::optional<SE3> depth_instant(const RgbdFrame& frame) const;
+  // The same for a camera that moved by step (T_c_w(frame) = step * T_c_w(last)) since the last frame.
+  std::optional<SE3> depth_instant(const RgbdFrame& frame, const SE3& step) const;
   // The camera's motion for the next frame's rolling-shutter correction (camera_.rolling_shutter_s),
   // from the last frames tracked in a row; off for a global shutter or while it is not known.
   features::RollingShutter shutter_motion() const;
-  // The same for a camera that moved by step (T_c_w(frame) = step * T_c_w(last)) since the last frame.
-  std::optional<SE3> depth_instant(const RgbdFrame& frame, const SE3& step) const;
   // cur's depth read again at the depth instant its current pose implies (unsynchronised depth).
   void reread_depth(Frame& cur, const RgbdFrame& frame) const;
   bool follow_merges(const LocalMapSnapshot& snapshot);  // false: a sub-map this one never joined
